@@ -1,0 +1,1 @@
+"""Route data: the built-in synthetic route and readers for real videos or frame folders."""

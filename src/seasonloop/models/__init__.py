@@ -1,0 +1,1 @@
+"""Feature learners; see registry.py."""

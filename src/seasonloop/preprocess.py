@@ -1,0 +1,45 @@
+"""The study's image preprocessing: grayscale, 32x64, contrast enhanced."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+CONTRAST_METHODS = ("clahe", "equalize", "none")
+
+
+def to_gray(frames: np.ndarray, height: int, width: int) -> np.ndarray:
+    """(N, h, w, 3) BGR uint8 -> (N, height, width) uint8 grayscale, shrunk with area averaging."""
+    if frames.ndim != 4 or frames.shape[-1] != 3:
+        raise ValueError(f"expected colour frames of shape (N, h, w, 3), got {frames.shape}")
+    out = np.empty((len(frames), height, width), dtype=np.uint8)
+    for i, frame in enumerate(frames):
+        gray = cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY)
+        out[i] = cv2.resize(gray, (width, height), interpolation=cv2.INTER_AREA)
+    return out
+
+
+def enhance_contrast(images: np.ndarray, method: str, clahe_clip: float = 2.0, clahe_grid: int = 4) -> np.ndarray:
+    """Contrast-enhance each (H, W) uint8 image independently."""
+    if method == "none":
+        return images.copy()
+    if method == "equalize":
+        return np.stack([cv2.equalizeHist(image) for image in images]) if len(images) else images.copy()
+    if method == "clahe":
+        clahe = cv2.createCLAHE(clipLimit=float(clahe_clip), tileGridSize=(int(clahe_grid), int(clahe_grid)))
+        return np.stack([clahe.apply(image) for image in images]) if len(images) else images.copy()
+    raise ValueError(f"preprocess.contrast: unknown method '{method}' (known: {', '.join(CONTRAST_METHODS)})")
+
+
+def frame_statistics(gray: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per-frame mean brightness and mean absolute change from the previous frame.
+
+    Computed on the grayscale frames before contrast enhancement, which would brighten tunnels.
+    The first frame's change is +inf (it has no predecessor and must not look like a stop).
+    """
+    brightness = gray.reshape(len(gray), -1).mean(axis=1)
+    change = np.full(len(gray), np.inf)
+    if len(gray) > 1:
+        diff = np.abs(gray[1:].astype(np.int16) - gray[:-1].astype(np.int16))
+        change[1:] = diff.reshape(len(diff), -1).mean(axis=1)
+    return brightness, change

@@ -1,0 +1,57 @@
+"""What every stage script shares: reading params.yaml and turning bad input into one clear line.
+
+Stage scripts are thin: they read params, call the seasonloop library and write their outputs.
+"""
+
+from __future__ import annotations
+
+import functools
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from seasonloop.config import check_seasons
+
+PARAMS_FILE = Path("params.yaml")
+
+
+def load_params(path: Path = PARAMS_FILE) -> dict[str, Any]:
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: parameter file not found (run from the repository root)")
+    return yaml.safe_load(path.read_text()) or {}
+
+
+def param(params: dict[str, Any], dotted_key: str) -> Any:
+    """params["a"]["b"] for "a.b", or a ValueError that names the missing key."""
+    value: Any = params
+    for part in dotted_key.split("."):
+        if not isinstance(value, dict) or part not in value:
+            raise ValueError(f"params.yaml: missing key '{dotted_key}'")
+        value = value[part]
+    return value
+
+
+def data_seasons(params: dict[str, Any]) -> list[str]:
+    return check_seasons(param(params, "data.seasons"), "data.seasons")
+
+
+def train_seasons(params: dict[str, Any]) -> list[str]:
+    """train.seasons, each of which must be among the data's seasons."""
+    return check_seasons(param(params, "train.seasons"), "train.seasons", allowed=data_seasons(params))
+
+
+def stage_main(run: Callable[[], None]) -> Callable[[], None]:
+    """Run a stage; expected failures (bad params, missing or corrupt input) print one line, exit 1."""
+
+    @functools.wraps(run)
+    def wrapper() -> None:
+        try:
+            run()
+        except (ValueError, FileNotFoundError, RuntimeError) as error:
+            print(f"error: {error}", file=sys.stderr)
+            sys.exit(1)
+
+    return wrapper

@@ -1,0 +1,40 @@
+"""Stage acquire: render the built-in synthetic route, or point at the real videos / frame folders.
+
+Writes data/acquired/sources.json (season -> what to read) and, for the synthetic route, the
+videos and the renderer's true layout (tunnels, stops) beside it.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from _common import data_seasons, load_params, param, stage_main
+
+from seasonloop.data.sources import real_sources
+from seasonloop.data.synthetic import render_route
+from seasonloop.io import staged_dir, write_json
+
+OUT = Path("data/acquired")
+
+
+@stage_main
+def main() -> None:
+    params = load_params()
+    source = param(params, "data.source")
+    seasons = data_seasons(params)
+    with staged_dir(OUT) as out:
+        if source == "synthetic":
+            syn = param(params, "synthetic")
+            render_route(out, seasons, int(syn["seconds"]), int(syn["fps"]), int(syn["width"]),
+                         int(syn["height"]), int(syn["seed"]))
+            # paths relative to the repository root: the staged folder is renamed to OUT
+            sources = {season: {"kind": "video", "path": str(OUT / f"{season}.mp4")} for season in seasons}
+        else:
+            kind = {"videos": "video", "frames": "frames"}.get(source)
+            paths = real_sources(source, seasons, param(params, "data"))
+            sources = {season: {"kind": kind, "path": str(path)} for season, path in paths.items()}
+        write_json(out / "sources.json", {"source": source, "seasons": sources})
+
+
+if __name__ == "__main__":
+    main()

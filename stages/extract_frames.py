@@ -1,0 +1,56 @@
+"""Stage extract_frames: extract.fps frames a second from every season, at the storage size.
+
+Writes data/frames/<season>.npy (N, h, w, 3) uint8 BGR, data/frames/frames.json and a preview of
+the same places in every season (plots/season_preview.png).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from _common import data_seasons, load_params, param, stage_main
+
+from seasonloop.data.sources import check_aligned, read_season
+from seasonloop.io import load_array, read_json, save_array, staged_dir, write_json
+from seasonloop.plots import plot_image_grid
+
+SOURCES = Path("data/acquired/sources.json")
+OUT = Path("data/frames")
+PREVIEW = Path("plots/season_preview.png")
+PREVIEW_PLACES = 6
+
+
+@stage_main
+def main() -> None:
+    params = load_params()
+    seasons = data_seasons(params)
+    sources = read_json(SOURCES)["seasons"]
+    missing = [season for season in seasons if season not in sources]
+    if missing:
+        raise ValueError(f"data.seasons: {', '.join(missing)} not in {SOURCES}; rerun the acquire stage")
+    fps, height, width = float(param(params, "extract.fps")), int(param(params, "extract.height")), int(param(params, "extract.width"))
+    with staged_dir(OUT) as out:
+        counts = {}
+        # one season in memory at a time: the full-scale route is ~1 GB a season at 72x128
+        for season in seasons:
+            frames = read_season(sources[season]["kind"], Path(sources[season]["path"]), fps, height, width)
+            counts[season] = len(frames)
+            save_array(out / f"{season}.npy", frames)
+            del frames
+        n_places = check_aligned(counts, bool(param(params, "extract.trim_to_shortest")),
+                                 {season: sources[season]["path"] for season in seasons})
+        for season in seasons:
+            if counts[season] > n_places:
+                save_array(out / f"{season}.npy", np.ascontiguousarray(load_array(out / f"{season}.npy", mmap=True)[:n_places]))
+        write_json(out / "frames.json", {"n_places": n_places, "seasons": seasons, "frames_per_season": counts})
+        places = np.linspace(0, n_places - 1, PREVIEW_PLACES + 2).round().astype(int)[1:-1]
+        stored = {season: load_array(out / f"{season}.npy", mmap=True) for season in seasons}
+        grid = [[stored[season][place][..., ::-1] for season in seasons] for place in places]
+        plot_image_grid(grid, PREVIEW, row_labels=[f"place {p}" for p in places], col_labels=seasons,
+                        title="The same places in every season", cmap=None)
+
+
+if __name__ == "__main__":
+    main()

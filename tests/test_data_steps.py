@@ -1,0 +1,139 @@
+"""Unit tests of the data steps on small arrays: sources, preprocessing, split, augmentation."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+
+from seasonloop.augment import augment_images, augment_training_set
+from seasonloop.config import available_pairs, check_seasons
+from seasonloop.data.sources import check_aligned, read_frame_folder, real_sources, sample_video
+from seasonloop.preprocess import enhance_contrast, frame_statistics, to_gray
+from seasonloop.split import detect_stops, detect_tunnels, make_split, section_blocks
+
+
+def write_video(path, n_frames, fps=4, size=(48, 32)):
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), fps, size)
+    for i in range(n_frames):
+        # frame i shows its own index as a flat gray level, so sampling is checkable after compression
+        writer.write(np.full((size[1], size[0], 3), 10 * i % 250, np.uint8))
+    writer.release()
+
+
+def test_sample_video_takes_one_frame_per_second(tmp_path):
+    path = tmp_path / "v.mp4"
+    write_video(path, n_frames=20, fps=4)
+    frames = sample_video(path, fps=1, height=8, width=12, progress=False)
+    assert frames.shape == (5, 8, 12, 3)
+    # sample k is video frame 4k, whose gray level is 40k
+    np.testing.assert_allclose(frames[:, 4, 6, 0], 40 * np.arange(5), atol=6)
+
+
+def test_sample_video_rejects_missing_and_corrupt_files(tmp_path):
+    with pytest.raises(FileNotFoundError, match="nothere.mp4"):
+        sample_video(tmp_path / "nothere.mp4", 1, 8, 8)
+    bad = tmp_path / "bad.mp4"
+    bad.write_bytes(b"not a video at all" * 100)
+    with pytest.raises(ValueError, match="bad.mp4"):
+        sample_video(bad, 1, 8, 8)
+
+
+def test_frame_folder_reads_sorted_and_rejects_bad(tmp_path):
+    folder = tmp_path / "summer"
+    folder.mkdir()
+    for i in (2, 0, 1):
+        cv2.imwrite(str(folder / f"{i:05d}.png"), np.full((20, 30, 3), 50 * i, np.uint8))
+    frames = read_frame_folder(folder, 10, 15, progress=False)
+    assert frames.shape == (3, 10, 15, 3)
+    assert list(frames[:, 0, 0, 0]) == [0, 50, 100]
+    (folder / "00003.png").write_bytes(b"garbage")
+    with pytest.raises(ValueError, match="00003.png"):
+        read_frame_folder(folder, 10, 15, progress=False)
+    with pytest.raises(FileNotFoundError, match="winter"):
+        real_sources("frames", ["winter"], {"frames_dir": str(tmp_path)})
+    with pytest.raises(ValueError, match="data.source"):
+        real_sources("dropbox", ["summer"], {})
+
+
+def test_mismatched_season_lengths_are_an_error_unless_trimmed():
+    counts = {"summer": 10, "winter": 9}
+    with pytest.raises(ValueError, match="winter: 9"):
+        check_aligned(counts, False, {"summer": "s.mp4", "winter": "w.mp4"})
+    assert check_aligned(counts, True, {"summer": "s.mp4", "winter": "w.mp4"}) == 9
+
+
+def test_season_checks_name_the_key():
+    with pytest.raises(ValueError, match="data.seasons: unknown season 'autumn'"):
+        check_seasons(["summer", "autumn"], "data.seasons")
+    assert available_pairs(["summer", "winter"], ["summer-fall", "winter-summer"]) == [("winter", "summer")]
+
+
+def test_preprocess_shapes_and_contrast():
+    rng = np.random.default_rng(0)
+    frames = rng.integers(90, 110, (3, 72, 128, 3), dtype=np.uint8)
+    gray = to_gray(frames, 32, 64)
+    assert gray.shape == (3, 32, 64) and gray.dtype == np.uint8
+    for method in ("clahe", "equalize"):
+        enhanced = enhance_contrast(gray, method)
+        # a low-contrast image gets its contrast stretched
+        assert enhanced.std() > 2 * gray.std()
+    with pytest.raises(ValueError, match="preprocess.contrast"):
+        enhance_contrast(gray, "sharpen")
+    brightness, change = frame_statistics(np.stack([gray[0], gray[0], gray[1]]))
+    assert change[0] == np.inf and change[1] == 0 and change[2] > 0
+    np.testing.assert_allclose(brightness[0], gray[0].mean())
+
+
+def test_split_never_puts_a_test_place_or_its_neighbours_in_training():
+    n, gap = 1000, 7
+    tunnel = np.zeros(n, bool)
+    stop = np.zeros(n, bool)
+    tunnel[95:99] = True
+    stop[190:195] = True
+    split = make_split(n, section_length=100, test_fraction=0.1, gap=gap, tunnel=tunnel, stop=stop)
+    train, test = set(split.train), set(split.test)
+    assert not train & test
+    test_block = set(split.test) | set(split.dropped_tunnel) | set(split.dropped_stop)
+    distance = np.abs(np.array(sorted(train))[:, None] - np.array(sorted(test_block))[None, :]).min()
+    assert distance > gap
+    assert set(split.dropped_tunnel) == set(range(95, 99))
+    assert set(split.dropped_stop) == set(range(190, 195))
+    assert len(test_block) == 100 and len(section_blocks(n, 100, 0.1)) == 10
+    # every place is in exactly one part
+    parts = [split.train, split.test, split.gap, split.dropped_tunnel, split.dropped_stop]
+    assert sorted(np.concatenate(parts).tolist()) == list(range(n))
+
+
+def test_tunnel_and_stop_detection_from_statistics():
+    brightness = {"summer": np.array([100, 20, 100.0]), "winter": np.array([90, 30, 90.0])}
+    assert detect_tunnels(brightness, 40).tolist() == [False, True, False]
+    change = {"summer": np.array([np.inf, 5, 0.2]), "winter": np.array([np.inf, 6, 7])}
+    assert detect_stops(change, 1.0).tolist() == [False, False, True]
+
+
+def test_augmentation_keeps_shapes_and_is_reproducible():
+    rng = np.random.default_rng(0)
+    images = rng.integers(0, 255, (50, 32, 64), dtype=np.uint8)
+    first = augment_training_set(images, copies=2, seed=3)
+    second = augment_training_set(images, copies=2, seed=3)
+    assert first.shape == (150, 32, 64) and first.dtype == np.uint8
+    np.testing.assert_array_equal(first, second)
+    np.testing.assert_array_equal(first[:50], images)
+    assert not np.array_equal(first[50:100], images)
+    assert not np.array_equal(augment_training_set(images, 1, seed=4)[50:], first[50:100])
+
+
+def test_augmentation_shift_and_flip_geometry():
+    image = np.arange(4 * 8, dtype=np.uint8).reshape(1, 4, 8)
+    flipped = augment_images(image, np.random.default_rng(0), True, 0.0, 0.0)
+    unflipped = augment_images(image, np.random.default_rng(0), False, 0.0, 0.0)
+    np.testing.assert_array_equal(unflipped, image)
+    # with no shift an augmented image is the original or its mirror image
+    assert np.array_equal(flipped, image) or np.array_equal(flipped, image[:, :, ::-1])
+    shifted = augment_images(np.repeat(image, 200, 0), np.random.default_rng(1), False, 0.3, 0.0)
+    # a horizontal shift keeps rows and repeats edge columns (Keras' fill_mode "nearest")
+    assert set(np.unique(shifted[:, 0, :])) <= set(image[0, 0])
+    assert any(np.array_equal(s[:, :-2], image[0][:, 2:]) for s in shifted)
+    with pytest.raises(ValueError, match="augment.width_shift"):
+        augment_images(image, np.random.default_rng(0), True, 1.5, 0.0)

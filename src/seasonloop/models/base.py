@@ -1,0 +1,222 @@
+"""Common interface of the feature learners: params, fit, batched describe, save/load."""
+
+from __future__ import annotations
+
+import json
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any, ClassVar
+
+import numpy as np
+
+LEARNER_FILE = "learner.json"
+
+EpochCallback = Callable[[int, dict[str, float]], None]
+
+
+def to_float(images: np.ndarray) -> np.ndarray:
+    """uint8 (N, H, W) -> float32 in [0, 1]; float input is passed through as float32."""
+    array = np.asarray(images)
+    if array.ndim != 3:
+        raise ValueError(f"images must have shape (N, H, W), got shape {array.shape}")
+    if array.dtype == np.uint8:
+        return array.astype(np.float32) / np.float32(255.0)
+    if np.issubdtype(array.dtype, np.floating):
+        return array.astype(np.float32, copy=False)
+    raise ValueError(f"images must be uint8 or float, got dtype {array.dtype}")
+
+
+def select_training_subset(
+    images: np.ndarray, max_images: int, seed: int
+) -> tuple[np.ndarray, dict[str, int]]:
+    """At most max_images images drawn at random (seeded, kept in order); 0 means all.
+
+    Returns the images and a JSON-ready record of what was used.
+    """
+    n_available = len(images)
+    if max_images == 0 or max_images >= n_available:
+        chosen = images
+    else:
+        rng = np.random.default_rng(seed)
+        chosen = images[np.sort(rng.choice(n_available, size=max_images, replace=False))]
+    return chosen, {"n_train_images_available": n_available, "n_train_images": len(chosen)}
+
+
+def with_contiguous_arrays(estimator: Any) -> Any:
+    """Give a fitted estimator C-contiguous copies of its non-contiguous array attributes.
+
+    Pickling stores such arrays contiguously, and BLAS rounding depends on memory layout, so
+    without this a saved-and-loaded estimator would not reproduce descriptors bit for bit.
+    """
+    for key, value in vars(estimator).items():
+        if isinstance(value, np.ndarray) and not (value.flags.c_contiguous or value.flags.f_contiguous):
+            setattr(estimator, key, np.ascontiguousarray(value))
+    return estimator
+
+
+def to_json_value(value: Any) -> Any:
+    """Convert numpy scalars/arrays (possibly nested) to plain Python for json.dump."""
+    if isinstance(value, Mapping):
+        return {str(key): to_json_value(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [to_json_value(item) for item in value]
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+class FeatureLearner(ABC):
+    """A method that turns (N, H, W) images into (N, D) float32 descriptors.
+
+    Subclasses set `name` and `defaults` and implement `_fit`, `_describe_batch`,
+    `_save_state` and `_load_state`; `_validate_params` checks param values early.
+    """
+
+    name: ClassVar[str]
+    defaults: ClassVar[dict[str, Any]]
+
+    def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
+        given = dict(params or {})
+        unknown = sorted(set(given) - set(self.defaults))
+        if unknown:
+            raise ValueError(
+                f"unknown parameter '{self.name}.{unknown[0]}' (known: {', '.join(self.defaults)})"
+            )
+        self.params: dict[str, Any] = {**self.defaults, **given}
+        self.seed = int(seed)
+        self.fit_info: dict[str, Any] | None = None
+        self.input_shape: tuple[int, int] | None = None
+        self._validate_params()
+
+    # ----- param checks shared by the subclasses -----
+    def _key(self, key: str) -> str:
+        return f"{self.name}.{key}"
+
+    def _check_choice(self, key: str, choices: Sequence[str]) -> None:
+        if self.params[key] not in choices:
+            raise ValueError(
+                f"{self._key(key)} must be one of {', '.join(choices)}, got {self.params[key]!r}"
+            )
+
+    def _check_int(self, key: str, minimum: int) -> None:
+        value = self.params[key]
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+            raise ValueError(f"{self._key(key)} must be an integer >= {minimum}, got {value!r}")
+
+    def _check_positive_float(self, key: str) -> None:
+        value = self.params[key]
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) or value <= 0:
+            raise ValueError(f"{self._key(key)} must be a positive number, got {value!r}")
+
+    def _validate_params(self) -> None:
+        """Raise ValueError for a bad param value (subclasses override)."""
+
+    # ----- public API -----
+    def fit(
+        self,
+        images: np.ndarray,
+        progress: bool = True,
+        on_epoch: EpochCallback | None = None,
+    ) -> dict[str, Any]:
+        """Learn from uint8 (N, H, W) training images; return JSON-serialisable fit info."""
+        images = np.asarray(images)
+        if images.ndim != 3 or len(images) < 2:
+            raise ValueError(
+                f"{self.name}: training images must have shape (N, H, W) with N >= 2, got {images.shape}"
+            )
+        self.fit_info = None  # a failed re-fit must not leave the old fit looking valid
+        self.input_shape = (int(images.shape[1]), int(images.shape[2]))
+        info = to_json_value(self._fit(images, progress=progress, on_epoch=on_epoch))
+        self.fit_info = info
+        return info
+
+    def describe(self, images: np.ndarray, batch_size: int = 1024) -> np.ndarray:
+        """(N, H, W) images -> (N, D) float32 descriptors, computed batch by batch."""
+        images = self._check_describe_input(images, "describe")
+        return self._in_batches(images, batch_size, self._describe_batch)
+
+    def save(self, directory: Path) -> None:
+        """Write directory/learner.json plus the learned state."""
+        self._require_fitted("save")
+        directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        record = {
+            "name": self.name,
+            "params": to_json_value(self.params),
+            "seed": self.seed,
+            "input_shape": list(self.input_shape),
+            "fit_info": self.fit_info,
+        }
+        (directory / LEARNER_FILE).write_text(json.dumps(record, indent=2) + "\n")
+        self._save_state(directory)
+
+    @classmethod
+    def load(cls, directory: Path) -> FeatureLearner:
+        """Rebuild a fitted learner written by `save`."""
+        record = read_learner_record(directory)
+        if record["name"] != cls.name:
+            raise ValueError(
+                f"{Path(directory) / LEARNER_FILE} holds a '{record['name']}' learner, not '{cls.name}'"
+            )
+        learner = cls(record["params"], seed=record["seed"])
+        learner.input_shape = (int(record["input_shape"][0]), int(record["input_shape"][1]))
+        learner.fit_info = record["fit_info"]
+        learner._load_state(Path(directory))
+        return learner
+
+    # ----- helpers for subclasses -----
+    def _require_fitted(self, action: str) -> None:
+        if self.fit_info is None or self.input_shape is None:
+            raise RuntimeError(f"{self.name}: call fit() (or load a saved learner) before {action}()")
+
+    def _check_describe_input(self, images: np.ndarray, action: str) -> np.ndarray:
+        """Check fitted state and that images are non-empty (N, H, W) of the trained size."""
+        self._require_fitted(action)
+        images = np.asarray(images)
+        if images.ndim != 3 or len(images) == 0 or tuple(images.shape[1:]) != self.input_shape:
+            raise ValueError(
+                f"{self.name}: expected images of shape (N>=1, {self.input_shape[0]}, "
+                f"{self.input_shape[1]}), got {images.shape}"
+            )
+        return images
+
+    @staticmethod
+    def _in_batches(
+        images: np.ndarray, batch_size: int, describe_batch: Callable[[np.ndarray], np.ndarray]
+    ) -> np.ndarray:
+        """Apply describe_batch to consecutive batches and stack the (n, D) results as float32."""
+        if batch_size < 1:
+            raise ValueError(f"batch_size must be >= 1, got {batch_size}")
+        return np.concatenate(
+            [
+                np.asarray(describe_batch(images[start : start + batch_size]), dtype=np.float32)
+                for start in range(0, len(images), batch_size)
+            ]
+        )
+
+    @abstractmethod
+    def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
+        """Fit on validated (N, H, W) images; return fit info."""
+
+    @abstractmethod
+    def _describe_batch(self, images: np.ndarray) -> np.ndarray:
+        """Descriptors of one batch of validated images."""
+
+    @abstractmethod
+    def _save_state(self, directory: Path) -> None:
+        """Write the learned arrays/estimators into directory."""
+
+    @abstractmethod
+    def _load_state(self, directory: Path) -> None:
+        """Read what `_save_state` wrote."""
+
+
+def read_learner_record(directory: Path) -> dict[str, Any]:
+    """The parsed learner.json of a saved learner directory."""
+    path = Path(directory) / LEARNER_FILE
+    if not path.is_file():
+        raise FileNotFoundError(f"no saved learner: {path} does not exist")
+    return json.loads(path.read_text())

@@ -1,0 +1,269 @@
+import json
+import warnings
+
+import numpy as np
+import pytest
+import torch
+from sklearn.decomposition import PCA
+from sklearn.exceptions import ConvergenceWarning
+
+from seasonloop.models.base import FeatureLearner, to_float
+from seasonloop.models.registry import LEARNERS, get_learner, load_learner
+
+N_PER_FAMILY = 100
+HEIGHT, WIDTH = 16, 32
+
+# Small, fast settings per learner and the descriptor length they give on 16x32 images.
+TEST_PARAMS = {
+    "raw_patchnorm": ({}, HEIGHT * WIDTH),
+    "pca": ({"n_discard": 2, "n_keep": 16}, 16),
+    # 200 images < 512 pixels: svd whitening copes with the rank deficiency without a warning.
+    "ica": ({"n_components": 16, "whiten_solver": "svd"}, 16),
+    "ica_bovw": ({"patch_size": 4, "stride": 4, "n_train_patches": 5000, "n_components": 15, "n_words": 16}, 16),
+    "fae": ({"hidden": 32, "epochs": 5, "batch_size": 32}, HEIGHT * WIDTH),
+    "cae": (
+        {"channels": [8, 16, 16], "kernels": [5, 3, 3], "epochs": 5, "batch_size": 32, "max_train_images": 0},
+        HEIGHT * WIDTH,
+    ),
+}
+
+
+def gratings(n: int, orientation: str, rng: np.random.Generator) -> np.ndarray:
+    """Noisy sinusoidal gratings of random period and phase, as uint8 (n, HEIGHT, WIDTH)."""
+    rows, cols = np.mgrid[0:HEIGHT, 0:WIDTH].astype(np.float32)
+    coordinate = rows if orientation == "horizontal" else cols
+    period = rng.uniform(5, 9, size=(n, 1, 1))
+    phase = rng.uniform(0, 2 * np.pi, size=(n, 1, 1))
+    images = 0.5 + 0.3 * np.sin(2 * np.pi * coordinate / period + phase) + rng.normal(0, 0.1, (n, HEIGHT, WIDTH))
+    return (np.clip(images, 0, 1) * 255).astype(np.uint8)
+
+
+@pytest.fixture(scope="module")
+def families() -> tuple[np.ndarray, np.ndarray]:
+    """Two clearly different image families (horizontal vs vertical gratings) and their labels."""
+    rng = np.random.default_rng(0)
+    images = np.concatenate([gratings(N_PER_FAMILY, "horizontal", rng), gratings(N_PER_FAMILY, "vertical", rng)])
+    return images, np.repeat([0, 1], N_PER_FAMILY)
+
+
+@pytest.fixture(scope="module")
+def fitted(families):
+    """Fit each learner once per module, on demand."""
+    cache: dict[str, FeatureLearner] = {}
+
+    def get(name: str) -> FeatureLearner:
+        if name not in cache:
+            learner = get_learner(name)(TEST_PARAMS[name][0], seed=3)
+            learner.fit(families[0], progress=False)
+            cache[name] = learner
+        return cache[name]
+
+    return get
+
+
+def nearest_neighbour_same_family(descriptors: np.ndarray, labels: np.ndarray) -> float:
+    distances = ((descriptors[:, None, :] - descriptors[None, :, :]) ** 2).sum(axis=-1)
+    np.fill_diagonal(distances, np.inf)
+    return float((labels[distances.argmin(axis=1)] == labels).mean())
+
+
+def test_registry_lists_every_learner():
+    assert list(LEARNERS) == ["raw_patchnorm", "pca", "ica", "ica_bovw", "fae", "cae"]
+    for name, learner_class in LEARNERS.items():
+        assert learner_class.name == name and get_learner(name) is learner_class
+        learner_class(seed=0)  # defaults pass their own validation
+
+
+@pytest.mark.parametrize("name", list(TEST_PARAMS))
+def test_descriptor_shape_and_family_separation(name, fitted, families):
+    images, labels = families
+    learner = fitted(name)
+    descriptors = learner.describe(images)
+    assert descriptors.shape == (len(images), TEST_PARAMS[name][1])
+    assert descriptors.dtype == np.float32 and np.isfinite(descriptors).all()
+    assert nearest_neighbour_same_family(descriptors, labels) > 0.9
+    json.dumps(learner.fit_info)  # fit info must be JSON-serialisable
+    np.testing.assert_allclose(learner.describe(images, batch_size=7), descriptors, rtol=1e-4, atol=1e-5)
+
+
+@pytest.mark.parametrize("name", list(TEST_PARAMS))
+def test_fit_is_deterministic_for_a_seed(name, fitted, families):
+    refit = get_learner(name)(TEST_PARAMS[name][0], seed=3)
+    refit.fit(families[0], progress=False)
+    np.testing.assert_array_equal(refit.describe(families[0]), fitted(name).describe(families[0]))
+
+
+@pytest.mark.parametrize("name", ["pca", "ica", "ica_bovw", "fae"])
+def test_other_seed_changes_the_model(name, fitted, families):
+    other = get_learner(name)(TEST_PARAMS[name][0], seed=4)
+    other.fit(families[0], progress=False)
+    assert not np.array_equal(other.describe(families[0]), fitted(name).describe(families[0]))
+
+
+@pytest.mark.parametrize("name", list(TEST_PARAMS))
+def test_saved_learner_loads_with_identical_descriptors(name, fitted, families, tmp_path):
+    learner = fitted(name)
+    learner.save(tmp_path)
+    record = json.loads((tmp_path / "learner.json").read_text())
+    assert record["name"] == name and record["seed"] == 3 and record["input_shape"] == [HEIGHT, WIDTH]
+    loaded = load_learner(tmp_path)
+    assert type(loaded) is type(learner) and loaded.params == learner.params
+    np.testing.assert_array_equal(loaded.describe(families[0]), learner.describe(families[0]))
+    with pytest.raises(ValueError, match="holds a"):
+        get_learner("raw_patchnorm" if name != "raw_patchnorm" else "pca").load(tmp_path)
+
+
+def test_pca_without_discard_reconstructs_like_sklearn(families):
+    images = families[0]
+    learner = get_learner("pca")({"n_discard": 0, "n_keep": 12}, seed=5)
+    learner.fit(images, progress=False)
+    flat = to_float(images).reshape(len(images), -1)
+    reference = PCA(n_components=12, svd_solver="randomized", random_state=5).fit(flat)
+    expected = reference.inverse_transform(reference.transform(flat)).reshape(images.shape)
+    np.testing.assert_allclose(learner.reconstruct(images, 0, 12), expected, atol=1e-4)
+    # Later components alone carry no mean, so they reconstruct a zero-mean residual.
+    partial = learner.reconstruct(images, 6, 12)
+    assert abs(partial.mean()) < 0.05 < abs(expected.mean())
+    with pytest.raises(ValueError, match="component range"):
+        learner.reconstruct(images, 0, 13)
+
+
+def test_pca_fit_info_and_too_many_components(families):
+    learner = get_learner("pca")({"n_discard": 3, "n_keep": 5}, seed=0)
+    info = learner.fit(families[0], progress=False)
+    assert 0 < info["explained_variance_ratio_kept"] < info["explained_variance_ratio_discarded"] < 1
+    with pytest.raises(ValueError, match=r"pca\.n_discard \+ pca\.n_keep"):
+        get_learner("pca")({"n_discard": 150, "n_keep": 100}).fit(families[0], progress=False)
+
+
+def test_ica_records_non_convergence_without_warning(families):
+    learner = get_learner("ica")({"n_components": 8, "max_iter": 2, "whiten_solver": "svd"}, seed=0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        info = learner.fit(families[0], progress=False)
+    assert not [warning for warning in caught if issubclass(warning.category, ConvergenceWarning)]
+    assert info["converged"] is False and info["n_iter"] == info["max_iter"] == 2
+    assert info["convergence_warnings"]
+
+
+def test_ica_training_subset_and_component_limit(families):
+    learner = get_learner("ica")({"n_components": 8, "whiten_solver": "svd", "max_train_images": 50}, seed=0)
+    info = learner.fit(families[0], progress=False)
+    assert info["n_train_images"] == 50 and info["n_train_images_available"] == 2 * N_PER_FAMILY
+    with pytest.raises(ValueError, match=r"ica\.n_components"):
+        get_learner("ica")({"n_components": 60, "max_train_images": 50}).fit(families[0], progress=False)
+
+
+def test_ica_bovw_histograms_filters_and_word_examples(fitted, families):
+    learner = fitted("ica_bovw")
+    descriptors = learner.describe(families[0][:10])
+    np.testing.assert_allclose(descriptors.sum(axis=1), 1.0, rtol=1e-6)
+    assert (descriptors >= 0).all()
+    assert learner.filters().shape == (15, 4, 4)
+    examples = learner.word_examples(families[0], n_words=5, n_examples=3)
+    assert examples.shape == (5, 3, 4, 4)
+    assert np.nanmin(examples) >= 0 and np.nanmax(examples) <= 1
+    with pytest.raises(ValueError, match="n_components"):
+        get_learner("ica_bovw")({"patch_size": 4, "n_components": 16})
+
+
+@pytest.mark.parametrize("name, code_length", [("fae", 32), ("cae", 16 * (HEIGHT // 4) * (WIDTH // 4))])
+def test_autoencoder_descriptors_and_epoch_callback(name, code_length, fitted, families):
+    images = families[0][:12]
+    learner = fitted(name)
+    assert learner.describe_as(images, "code").shape == (12, code_length)
+    output = learner.describe_as(images, "output")
+    assert output.shape == (12, HEIGHT * WIDTH) and 0 <= output.min() and output.max() <= 1
+    np.testing.assert_array_equal(learner.describe_as(images, "output_patchnorm"), learner.describe(images))
+    with pytest.raises(ValueError, match="descriptor"):
+        learner.describe_as(images, "bottleneck")
+    epochs_seen = []
+    params = {**TEST_PARAMS[name][0], "epochs": 2, "max_train_images": 40}
+    info = get_learner(name)(params).fit(
+        families[0], progress=False, on_epoch=lambda epoch, metrics: epochs_seen.append((epoch, metrics))
+    )
+    assert [epoch for epoch, _ in epochs_seen] == [1, 2] and info["n_train_images"] == 40
+    assert [metrics["loss"] for _, metrics in epochs_seen] == info["loss_per_epoch"]
+
+
+def test_cae_layers_match_table_5():
+    learner = get_learner("cae")(seed=0)
+    learner.input_shape = (32, 64)
+    model = learner._build_model(32, 64)
+    convolutions = [module for module in model.modules() if isinstance(module, torch.nn.Conv2d)]
+    assert [(conv.in_channels, conv.out_channels, conv.kernel_size) for conv in convolutions] == [
+        (1, 96, (11, 11)),
+        (96, 256, (5, 5)),
+        (256, 384, (3, 3)),
+        (384, 384, (3, 3)),
+        (384, 256, (5, 5)),
+        (256, 96, (11, 11)),
+        (96, 1, (3, 3)),
+    ]
+    assert sum(isinstance(module, torch.nn.MaxPool2d) for module in model.encoder) == 2
+    assert sum(isinstance(module, torch.nn.Upsample) for module in model.decoder) == 2
+    with torch.no_grad():
+        code = model.encoder(torch.rand(2, 1, 32, 64))
+        output = model.decoder(code)
+    assert code.shape == (2, 384, 8, 16) and output.shape == (2, 1, 32, 64)
+    assert 0 <= output.min() and output.max() <= 1
+
+
+def test_cae_rejects_size_not_divisible_by_4():
+    images = np.zeros((4, 18, 32), dtype=np.uint8)
+    with pytest.raises(ValueError, match="divisible by 4"):
+        get_learner("cae")({"channels": [2, 2, 2], "patch_size": 2}).fit(images, progress=False)
+
+
+@pytest.mark.skipif(torch.cuda.is_available(), reason="needs a machine without CUDA")
+def test_cuda_requested_without_cuda_raises(families):
+    with pytest.raises(ValueError, match=r"fae\.device"):
+        get_learner("fae")({"device": "cuda"}).fit(families[0], progress=False)
+
+
+@pytest.mark.parametrize(
+    "name, params, match",
+    [
+        ("pca", {"n_kept": 3}, r"unknown parameter 'pca\.n_kept'"),
+        ("fae", {"descriptor": "code_vector"}, r"fae\.descriptor"),
+        ("cae", {"channels": [8, 16]}, r"cae\.channels"),
+        ("ica", {"max_iter": 0}, r"ica\.max_iter"),
+        ("raw_patchnorm", {"mode": "l2"}, r"raw_patchnorm\.mode"),
+        ("fae", {"device": "tpu"}, r"fae\.device"),
+    ],
+)
+def test_bad_params_raise_naming_the_key(name, params, match):
+    with pytest.raises(ValueError, match=match):
+        get_learner(name)(params)
+
+
+def test_unknown_method_and_missing_directory(tmp_path):
+    with pytest.raises(ValueError, match=r"unknown method 'sift'.*pca"):
+        get_learner("sift")
+    with pytest.raises(FileNotFoundError, match="learner.json"):
+        load_learner(tmp_path)
+
+
+@pytest.mark.parametrize("name", list(LEARNERS))
+def test_describe_and_save_before_fit_raise(name, tmp_path):
+    learner = get_learner(name)(seed=0)
+    with pytest.raises(RuntimeError, match="fit"):
+        learner.describe(np.zeros((2, 32, 64), dtype=np.uint8))
+    with pytest.raises(RuntimeError, match="fit"):
+        learner.save(tmp_path)
+
+
+def test_describe_rejects_other_image_size(fitted):
+    with pytest.raises(ValueError, match="shape"):
+        fitted("raw_patchnorm").describe(np.zeros((2, 32, 64), dtype=np.uint8))
+
+
+def test_to_float():
+    images = np.array([[[0, 255]]], dtype=np.uint8)
+    converted = to_float(images)
+    assert converted.dtype == np.float32 and converted.tolist() == [[[0.0, 1.0]]]
+    assert to_float(np.full((1, 2, 2), 0.5)).dtype == np.float32
+    with pytest.raises(ValueError, match="shape"):
+        to_float(np.zeros((2, 2), dtype=np.uint8))
+    with pytest.raises(ValueError, match="dtype"):
+        to_float(np.zeros((1, 2, 2), dtype=np.int64))

@@ -1,0 +1,181 @@
+"""Place-recognition metrics: correct matches, the study's PR curve, recall@N, per-pair summary.
+
+Places are frame indices (frame i of every season is the same place); the database and query
+place ids of a test pair need not be contiguous because test sets drop tunnel and station frames.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pandas as pd
+from sklearn.metrics import auc
+
+from seasonloop.matching import best_matches
+
+METRIC_KEYS = (
+    "fraction_correct",
+    "precision_at_full_recall",
+    "recall_at_100_precision",
+    "auc_pr",
+    "recall_at_1",
+    "recall_at_5",
+    "recall_at_10",
+    "n_queries",
+    "n_database",
+)
+
+
+def _as_places(places, name: str) -> np.ndarray:
+    """Validate a 1-D integer array of place ids (frame indices)."""
+    places = np.asarray(places)
+    if places.ndim != 1:
+        raise ValueError(f"{name} must be a 1-D array of place ids, got shape {places.shape}")
+    if not np.issubdtype(places.dtype, np.integer):
+        raise ValueError(f"{name} must hold integer place ids (frame indices), got dtype {places.dtype}")
+    return places.astype(np.int64)
+
+
+def _check_tolerance(tolerance: int) -> int:
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, np.integer)) or tolerance < 0:
+        raise ValueError(f"tolerance must be a non-negative integer number of frames, got {tolerance!r}")
+    return int(tolerance)
+
+
+def _check_distances(distances: np.ndarray, database_places: np.ndarray, query_places: np.ndarray) -> np.ndarray:
+    distances = np.asarray(distances)
+    if distances.ndim != 2 or distances.shape[0] == 0 or distances.shape[1] == 0:
+        raise ValueError(f"distances must be a non-empty 2-D (N, M) array, got shape {distances.shape}")
+    if distances.shape != (len(query_places), len(database_places)):
+        raise ValueError(
+            f"distances shape {distances.shape} does not match (len(query_places), len(database_places))"
+            f" = ({len(query_places)}, {len(database_places)})"
+        )
+    return distances
+
+
+def correct_matches(matched_places, query_places, tolerance: int) -> np.ndarray:
+    """Boolean per query: |matched place - true place| <= tolerance (frames)."""
+    matched_places = _as_places(matched_places, "matched_places")
+    query_places = _as_places(query_places, "query_places")
+    tolerance = _check_tolerance(tolerance)
+    if matched_places.shape != query_places.shape:
+        raise ValueError(
+            f"matched_places has {matched_places.size} entries but query_places has {query_places.size}"
+        )
+    return np.abs(matched_places - query_places) <= tolerance
+
+
+def pr_curve(confidence: np.ndarray, correct: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Precision-recall curve in the study's (Lowry & Milford) convention.
+
+    Queries are sorted by confidence, descending, with a stable sort, so tied queries keep their
+    input order. For k = 1..N the k most confident matches are accepted: TP = accepted and correct,
+    FP = accepted and wrong, FN = queries not accepted (N - k; every query has a true match, so
+    there are no true negatives). Returns (recall, precision), each of length N, entry k-1 for k.
+    Recall = TP / (TP + FN) is 0 where TP = 0 (including 0/0 at k = N when every match is wrong);
+    otherwise recall is 1 at k = N, where precision equals the fraction of correct matches.
+    """
+    confidence = np.asarray(confidence, dtype=np.float64)
+    correct = np.asarray(correct)
+    if confidence.ndim != 1 or confidence.size == 0:
+        raise ValueError(f"confidence must be a non-empty 1-D array, got shape {confidence.shape}")
+    if correct.shape != confidence.shape:
+        raise ValueError(f"correct has shape {correct.shape} but confidence has shape {confidence.shape}")
+    if correct.dtype != np.bool_:
+        raise ValueError(f"correct must be a boolean array, got dtype {correct.dtype}")
+    if np.isnan(confidence).any():
+        raise ValueError("confidence contains NaN values")
+
+    order = np.argsort(-confidence, kind="stable")
+    true_positives = np.cumsum(correct[order], dtype=np.int64)
+    accepted = np.arange(1, confidence.size + 1)
+    false_negatives = confidence.size - accepted
+    precision = true_positives / accepted
+    found = true_positives + false_negatives
+    recall = np.divide(
+        true_positives, found, out=np.zeros(confidence.size), where=true_positives > 0
+    )
+    return recall, precision
+
+
+def recall_at_n(
+    distances: np.ndarray,
+    database_places,
+    query_places,
+    tolerance: int,
+    ns: Sequence[int] = (1, 5, 10),
+) -> dict[int, float]:
+    """Fraction of queries with a database image within tolerance among their N nearest, per N.
+
+    N larger than the database size is capped at the database size. The nearest max(ns) columns
+    are found with np.argpartition and ordered by (distance, column), so ties at the top resolve to
+    the lowest column like np.argmin; which tied columns enter at the max(ns) boundary is unspecified.
+    """
+    database_places = _as_places(database_places, "database_places")
+    query_places = _as_places(query_places, "query_places")
+    tolerance = _check_tolerance(tolerance)
+    distances = _check_distances(distances, database_places, query_places)
+    ns = [int(n) for n in ns]
+    if not ns or min(ns) < 1:
+        raise ValueError(f"ns must be a non-empty sequence of integers >= 1, got {ns}")
+
+    n_database = distances.shape[1]
+    depth = min(max(ns), n_database)
+    if depth < n_database:
+        nearest = np.argpartition(distances, depth - 1, axis=1)[:, :depth]
+    else:
+        nearest = np.broadcast_to(np.arange(n_database), distances.shape).copy()
+    nearest_distances = np.take_along_axis(distances, nearest, axis=1)
+    # lexsort keys: last is primary, so rows sort by distance, then by column index.
+    rank = np.lexsort((nearest, nearest_distances), axis=1)
+    nearest = np.take_along_axis(nearest, rank, axis=1)
+    hits = np.abs(database_places[nearest] - query_places[:, None]) <= tolerance
+    hit_within = np.logical_or.accumulate(hits, axis=1)
+    return {n: float(hit_within[:, min(n, n_database) - 1].mean()) for n in ns}
+
+
+def evaluate_pair(
+    distances: np.ndarray,
+    database_places,
+    query_places,
+    tolerance: int,
+    confidence: str = "distance",
+) -> tuple[dict[str, float | int], pd.DataFrame]:
+    """Summary metrics and the PR curve of one test pair from its (N queries, M database) distances.
+
+    Metrics (keys in METRIC_KEYS): fraction_correct of best matches, in [0, 1];
+    precision_at_full_recall (precision at k = N); recall_at_100_precision (largest recall at which
+    precision is still 1.0, 0 if the most confident match is wrong); auc_pr, the trapezoidal area
+    (sklearn.metrics.auc) under the study-convention curve with a leading point at recall 0 that
+    carries the precision of the most confident match; recall_at_1/5/10; n_queries; n_database.
+    The PR DataFrame has columns recall, precision (one row per k = 1..N).
+    """
+    database_places = _as_places(database_places, "database_places")
+    query_places = _as_places(query_places, "query_places")
+    tolerance = _check_tolerance(tolerance)
+    distances = _check_distances(distances, database_places, query_places)
+
+    best_columns, match_confidence = best_matches(distances, confidence)
+    correct = correct_matches(database_places[best_columns], query_places, tolerance)
+    recall, precision = pr_curve(match_confidence, correct)
+
+    perfect = precision == 1.0  # a prefix: once a wrong match is accepted precision stays < 1
+    recall_at_100_precision = float(recall[perfect].max()) if perfect.any() else 0.0
+    # The curve starts at recall TP/N > 0; extend its first precision to recall 0.
+    auc_pr = float(auc(np.concatenate(([0.0], recall)), np.concatenate(([precision[0]], precision))))
+    recalls = recall_at_n(distances, database_places, query_places, tolerance, ns=(1, 5, 10))
+
+    metrics: dict[str, float | int] = {
+        "fraction_correct": float(correct.mean()),
+        "precision_at_full_recall": float(precision[-1]),
+        "recall_at_100_precision": recall_at_100_precision,
+        "auc_pr": auc_pr,
+        "recall_at_1": recalls[1],
+        "recall_at_5": recalls[5],
+        "recall_at_10": recalls[10],
+        "n_queries": int(distances.shape[0]),
+        "n_database": int(distances.shape[1]),
+    }
+    return metrics, pd.DataFrame({"recall": recall, "precision": precision})

@@ -1,0 +1,223 @@
+"""Figures of the study, written as PNG files.
+
+Figures are built with matplotlib's object API (matplotlib.figure.Figure, rendered by the Agg
+canvas): no pyplot, so no global figure registry to leak into and nothing to close; each figure is
+released when the function returns.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
+
+# Largest side, in cells, of a distance matrix drawn without downsampling.
+_MAX_MATRIX_SIDE = 1000
+
+
+def _save(figure: Figure, path) -> None:
+    """Write the figure as a PNG at path, creating parent directories."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    figure.savefig(path, format="png", dpi=120, bbox_inches="tight")
+
+
+def plot_pr_curves(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], title: str, path) -> None:
+    """Overlay precision-recall curves, label -> (recall, precision), on 0..1 axes."""
+    if not curves:
+        raise ValueError("curves is empty: nothing to plot")
+    figure = Figure(figsize=(5.5, 4.5))
+    axes = figure.add_subplot()
+    for label, (recall, precision) in curves.items():
+        recall, precision = np.asarray(recall), np.asarray(precision)
+        if recall.ndim != 1 or recall.shape != precision.shape:
+            raise ValueError(
+                f"curve {label!r}: recall and precision must be 1-D of equal length, "
+                f"got shapes {recall.shape} and {precision.shape}"
+            )
+        axes.plot(recall, precision, label=label, linewidth=1.5)
+    axes.set_xlim(0.0, 1.0)
+    axes.set_ylim(0.0, 1.02)
+    axes.set_xlabel("Recall")
+    axes.set_ylabel("Precision")
+    axes.set_title(title)
+    axes.grid(True, alpha=0.3)
+    axes.legend(loc="lower left")
+    _save(figure, path)
+
+
+def _check_fractions(table: pd.DataFrame, name: str) -> None:
+    values = table.to_numpy(dtype=np.float64)
+    finite = values[~np.isnan(values)]
+    if ((finite < 0) | (finite > 1)).any():
+        raise ValueError(f"{name} must hold fractions in [0, 1] (NaN where absent), not percentages")
+
+
+def plot_fraction_correct(
+    table: pd.DataFrame,
+    path,
+    title: str = "Fraction of correct matches",
+    reference: pd.DataFrame | None = None,
+) -> None:
+    """Grouped bars of the fraction of correct matches, in %: one group per pair, one bar per method.
+
+    table: rows = methods, columns = test pairs, values are fractions in [0, 1] (as evaluate_pair's
+    fraction_correct). reference: the study's numbers, also as fractions, with the same row and
+    column labels (NaN where the study gives none); drawn as hollow diamonds over the bars.
+    """
+    if table.empty:
+        raise ValueError("table is empty: nothing to plot")
+    _check_fractions(table, "table")
+    if reference is not None:
+        if set(reference.index) != set(table.index) or set(reference.columns) != set(table.columns):
+            raise ValueError("reference must have the same methods (rows) and pairs (columns) as table")
+        _check_fractions(reference, "reference")
+        reference = reference.loc[table.index, table.columns]
+
+    methods, pairs = list(table.index), list(table.columns)
+    group_positions = np.arange(len(pairs))
+    bar_width = 0.8 / len(methods)
+    figure = Figure(figsize=(max(6.0, 0.35 * len(pairs) * len(methods) + 2.0), 4.5))
+    axes = figure.add_subplot()
+    for index, method in enumerate(methods):
+        positions = group_positions + (index - (len(methods) - 1) / 2) * bar_width
+        axes.bar(positions, 100.0 * table.loc[method].to_numpy(dtype=np.float64), bar_width, label=str(method))
+        if reference is not None:
+            study = 100.0 * reference.loc[method].to_numpy(dtype=np.float64)
+            axes.scatter(
+                positions,
+                study,
+                marker="D",
+                facecolors="none",
+                edgecolors="black",
+                zorder=3,
+                label="study (S)" if index == 0 else None,
+            )
+    axes.set_xticks(group_positions)
+    axes.set_xticklabels(pairs, rotation=20, ha="right")
+    axes.set_ylim(0.0, 100.0)
+    axes.set_ylabel("Correct matches (%)")
+    axes.set_title(title)
+    axes.grid(True, axis="y", alpha=0.3)
+    axes.legend(fontsize="small")
+    _save(figure, path)
+
+
+def _block_minimum(matrix: np.ndarray, max_side: int) -> np.ndarray:
+    """Downsample by the minimum over blocks, so low-distance lines (true matches) stay visible."""
+    for axis in (0, 1):
+        size = matrix.shape[axis]
+        if size > max_side:
+            block = int(np.ceil(size / max_side))
+            matrix = np.minimum.reduceat(matrix, np.arange(0, size, block), axis=axis)
+    return matrix
+
+
+def plot_distance_matrix(distances: np.ndarray, title: str, path) -> None:
+    """Image of the similarity (-distance) of query rows vs database columns.
+
+    Matrices larger than 1000 cells a side are downsampled by block minima of the distance, which
+    keeps the diagonal of true matches visible; infinite distances are drawn blank.
+    """
+    distances = np.asarray(distances, dtype=np.float64)
+    if distances.ndim != 2 or distances.size == 0:
+        raise ValueError(f"distances must be a non-empty 2-D array, got shape {distances.shape}")
+    if np.isnan(distances).any():
+        raise ValueError("distances contains NaN values")
+    n_queries, n_database = distances.shape
+    similarity = np.ma.masked_invalid(-_block_minimum(distances, _MAX_MATRIX_SIDE))
+    figure = Figure(figsize=(6.0, 5.0))
+    axes = figure.add_subplot()
+    image = axes.imshow(
+        similarity,
+        cmap="viridis",
+        aspect="auto",
+        interpolation="nearest",
+        extent=(-0.5, n_database - 0.5, n_queries - 0.5, -0.5),
+    )
+    figure.colorbar(image, ax=axes, label="similarity (-distance)")
+    axes.set_xlabel("database image")
+    axes.set_ylabel("query image")
+    axes.set_title(title)
+    _save(figure, path)
+
+
+def plot_image_grid(
+    images: Sequence[Sequence[np.ndarray]],
+    path,
+    row_labels: Sequence[str] | None = None,
+    col_labels: Sequence[str] | None = None,
+    title: str | None = None,
+    cmap: str = "gray",
+) -> None:
+    """Grid of images, images[row][col]: 2-D arrays each scaled to its own min..max, or
+    (H, W, 3) RGB uint8 arrays shown as they are.
+
+    Rows may be of different lengths (missing cells stay blank). Used for the PCA projections,
+    ICA filters, visual words, example matches and data previews.
+    """
+    if len(images) == 0 or max(len(row) for row in images) == 0:
+        raise ValueError("images is empty: nothing to plot")
+    n_rows, n_cols = len(images), max(len(row) for row in images)
+    if row_labels is not None and len(row_labels) != n_rows:
+        raise ValueError(f"row_labels has {len(row_labels)} entries for {n_rows} rows")
+    if col_labels is not None and len(col_labels) != n_cols:
+        raise ValueError(f"col_labels has {len(col_labels)} entries for {n_cols} columns")
+    first = np.asarray(next(image for row in images for image in row))
+    aspect = first.shape[1] / first.shape[0] if first.ndim in (2, 3) and first.shape[0] else 1.0
+    cell_height = 1.2
+    figure = Figure(figsize=(max(2.0, n_cols * cell_height * aspect + 1.0), max(1.5, n_rows * cell_height + 0.6)))
+    grid = figure.subplots(n_rows, n_cols, squeeze=False)
+    for row_index in range(n_rows):
+        for col_index in range(n_cols):
+            axes = grid[row_index, col_index]
+            axes.set_xticks([])
+            axes.set_yticks([])
+            if col_index < len(images[row_index]):
+                image = np.asarray(images[row_index][col_index])
+                if image.ndim == 3 and image.shape[2] == 3 and image.dtype == np.uint8:
+                    axes.imshow(image, interpolation="nearest")
+                elif image.ndim == 2:
+                    axes.imshow(image.astype(np.float64), cmap=cmap, interpolation="nearest")
+                else:
+                    raise ValueError(
+                        f"images[{row_index}][{col_index}] must be 2-D or (H, W, 3) uint8, got shape {image.shape}"
+                    )
+            else:
+                axes.set_axis_off()
+            if row_labels is not None and col_index == 0:
+                axes.set_ylabel(str(row_labels[row_index]), fontsize="small")
+            if col_labels is not None and row_index == 0:
+                axes.set_title(str(col_labels[col_index]), fontsize="small")
+    if title is not None:
+        figure.suptitle(title)
+    _save(figure, path)
+
+
+def plot_series(
+    series: Mapping[str, tuple[Sequence[str], Sequence[float]]],
+    path,
+    title: str,
+    xlabel: str,
+    ylabel: str,
+) -> None:
+    """Lines with markers over categorical x ticks, label -> (x tick labels, values)."""
+    if not series:
+        raise ValueError("series is empty: nothing to plot")
+    figure = Figure(figsize=(6.0, 4.0))
+    axes = figure.add_subplot()
+    for label, (ticks, values) in series.items():
+        ticks, values = [str(tick) for tick in ticks], np.asarray(values, dtype=np.float64)
+        if values.ndim != 1 or len(ticks) != values.size:
+            raise ValueError(f"series {label!r}: {len(ticks)} x tick labels but values of shape {values.shape}")
+        axes.plot(ticks, values, marker="o", label=label)
+    axes.set_xlabel(xlabel)
+    axes.set_ylabel(ylabel)
+    axes.set_title(title)
+    axes.grid(True, alpha=0.3)
+    axes.legend(fontsize="small")
+    axes.tick_params(axis="x", labelrotation=15)
+    _save(figure, path)

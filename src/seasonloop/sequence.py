@@ -1,0 +1,124 @@
+"""SeqSLAM sequence matching (Milford & Wyeth 2012) on a query x database distance matrix.
+
+Local contrast enhancement, then for every (query, database) cell the mean enhanced difference
+along straight trailing trajectories of several velocities; the best velocity gives the score.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+# Rows processed at once by enhance_contrast: bounds its float64 temporaries (~6 x rows x M x 8 B).
+_ENHANCE_ROWS_PER_BLOCK = 256
+
+
+def _as_distance_matrix(distances: np.ndarray) -> np.ndarray:
+    distances = np.asarray(distances)
+    if distances.ndim != 2 or distances.shape[0] == 0 or distances.shape[1] == 0:
+        raise ValueError(f"distances must be a non-empty 2-D (N, M) array, got shape {distances.shape}")
+    if not np.all(np.isfinite(distances)):
+        raise ValueError("distances contains NaN or infinite values")
+    return distances
+
+
+def enhance_contrast(distances: np.ndarray, window: int = 10) -> np.ndarray:
+    """SeqSLAM local contrast enhancement of an (N queries, M database) distance matrix.
+
+    Each entry (i, j) becomes (d[i, j] - mean) / std, with mean and (population) std of row i over
+    database columns j - window//2 .. j + window//2, clipped at the matrix edges (as OpenSeqSLAM
+    does). Windows with zero spread give 0. As in OpenSeqSLAM the result is then shifted so its
+    minimum is 0, which keeps it a non-negative distance (a uniform shift changes no ranking).
+    Window sums come from cumulative sums; returns float32.
+    """
+    distances = _as_distance_matrix(distances)
+    if isinstance(window, bool) or not isinstance(window, (int, np.integer)) or window < 2:
+        raise ValueError(f"window must be an integer >= 2 (database columns), got {window!r}")
+    half = int(window) // 2
+    n_queries, n_database = distances.shape
+    columns = np.arange(n_database)
+    window_start = np.clip(columns - half, 0, n_database)
+    window_stop = np.clip(columns + half + 1, 0, n_database)
+    window_size = window_stop - window_start
+
+    enhanced = np.empty((n_queries, n_database), dtype=np.float32)
+    for start in range(0, n_queries, _ENHANCE_ROWS_PER_BLOCK):
+        block = distances[start : start + _ENHANCE_ROWS_PER_BLOCK].astype(np.float64)
+        # Centring each row first keeps the cumulative sums of squares from losing precision.
+        block -= block.mean(axis=1, keepdims=True)
+        sums = np.zeros((block.shape[0], n_database + 1))
+        np.cumsum(block, axis=1, out=sums[:, 1:])
+        squares = np.zeros_like(sums)
+        np.cumsum(block * block, axis=1, out=squares[:, 1:])
+        local_mean = (sums[:, window_stop] - sums[:, window_start]) / window_size
+        local_var = (squares[:, window_stop] - squares[:, window_start]) / window_size - local_mean**2
+        local_std = np.sqrt(np.maximum(local_var, 0.0))
+        # Treat spreads at rounding-noise level as zero (constant windows).
+        scale = 1.0 + np.abs(block).max(axis=1, keepdims=True)
+        enhanced[start : start + block.shape[0]] = np.divide(
+            block - local_mean, local_std, out=np.zeros_like(block), where=local_std > 1e-9 * scale
+        )
+    enhanced -= enhanced.min()
+    return enhanced
+
+
+def sequence_distances(
+    distances: np.ndarray,
+    length: int = 10,
+    v_min: float = 0.8,
+    v_max: float = 1.2,
+    v_steps: int = 5,
+    window: int = 10,
+) -> np.ndarray:
+    """SeqSLAM sequence scores as an (N, M) distance (lower = better), float32.
+
+    For query i and database j: the minimum over velocities v in linspace(v_min, v_max, v_steps)
+    of the mean contrast-enhanced difference along the trailing, online-causal trajectory
+    (i - k, j - round(v * k)), k = 0..length-1 (round half up). Points before the first query are
+    left out of the mean, so the first queries use shorter sequences. A trajectory whose database
+    index leaves the matrix is disqualified (infinite score for that velocity), as in OpenSeqSLAM:
+    averaging over only the points left would let the shorter, noisier sequences at the first
+    database columns win by chance. Each (v, k) adds one shifted copy of the enhanced matrix (no
+    loop over cells); memory is three N x M float32 arrays besides the input.
+    Cells with no complete trajectory at any velocity are +inf (e.g. the first database columns
+    for later queries); ValueError when a whole query row has none.
+    """
+    distances = _as_distance_matrix(distances)
+    if isinstance(length, bool) or not isinstance(length, (int, np.integer)) or length < 1:
+        raise ValueError(f"length must be an integer >= 1, got {length!r}")
+    if isinstance(v_steps, bool) or not isinstance(v_steps, (int, np.integer)) or v_steps < 1:
+        raise ValueError(f"v_steps must be an integer >= 1, got {v_steps!r}")
+    if not (np.isfinite(v_min) and np.isfinite(v_max)) or v_min > v_max:
+        raise ValueError(f"need finite v_min <= v_max, got v_min={v_min!r}, v_max={v_max!r}")
+
+    enhanced = enhance_contrast(distances, window)
+    n_queries, n_database = enhanced.shape
+    best = np.full((n_queries, n_database), np.inf, dtype=np.float32)
+    total = np.empty_like(best)
+    steps = np.arange(min(int(length), n_queries))
+    # Points before the first query are left out: query i averages min(i + 1, length) points.
+    points = np.minimum(np.arange(1, n_queries + 1), steps.size).astype(np.float32)[:, None]
+    for velocity in np.linspace(v_min, v_max, int(v_steps)):
+        shifts = np.floor(velocity * steps + 0.5).astype(np.int64)
+        total.fill(0.0)
+        for step, shift in zip(steps, shifts):
+            # Target (i, j) reads source (i - step, j - shift); targets whose source column lies
+            # outside the database ran out of data and are disqualified for this velocity.
+            if abs(shift) >= n_database:
+                total[step:] = np.inf
+                continue
+            if shift >= 0:
+                target_columns, source_columns = slice(shift, n_database), slice(0, n_database - shift)
+                outside_columns = slice(0, shift)
+            else:
+                target_columns, source_columns = slice(0, n_database + shift), slice(-shift, n_database)
+                outside_columns = slice(n_database + shift, n_database)
+            total[step:, target_columns] += enhanced[: n_queries - step, source_columns]
+            total[step:, outside_columns] = np.inf
+        total /= points
+        np.minimum(best, total, out=best)
+    if not np.isfinite(best).any(axis=1).all():
+        raise ValueError(
+            f"database of {n_database} columns is too short for sequences of length {length} "
+            f"at velocities {v_min}..{v_max}: some queries have no complete trajectory"
+        )
+    return best

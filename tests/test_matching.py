@@ -1,0 +1,89 @@
+"""Tests for seasonloop.matching."""
+
+import numpy as np
+import pytest
+from scipy.spatial.distance import cdist
+
+from seasonloop.matching import best_matches, distance_matrix
+
+
+@pytest.fixture
+def descriptors():
+    rng = np.random.default_rng(0)
+    return rng.normal(size=(7, 5)), rng.normal(size=(4, 5))
+
+
+@pytest.mark.parametrize("metric", ["cosine", "euclidean"])
+def test_distance_matrix_matches_scipy(descriptors, metric):
+    database, queries = descriptors
+    distances = distance_matrix(database, queries, metric=metric)
+    assert distances.shape == (4, 7)
+    assert distances.dtype == np.float32
+    np.testing.assert_allclose(distances, cdist(queries, database, metric=metric), rtol=1e-5, atol=1e-6)
+
+
+@pytest.mark.parametrize("metric", ["cosine", "euclidean"])
+def test_batching_does_not_change_result(descriptors, metric):
+    database, queries = descriptors
+    whole = distance_matrix(database, queries, metric=metric)
+    batched = distance_matrix(database, queries, metric=metric, batch_size=3)
+    np.testing.assert_array_equal(whole, batched)
+
+
+def test_zero_vector_cosine_is_finite():
+    database = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 2.0]])
+    queries = np.array([[0.0, 0.0], [3.0, 0.0]])
+    distances = distance_matrix(database, queries, metric="cosine")
+    assert np.isfinite(distances).all()
+    # A zero vector is orthogonal to everything: distance 1.
+    np.testing.assert_allclose(distances[0], [1.0, 1.0, 1.0])
+    np.testing.assert_allclose(distances[1], [1.0, 0.0, 1.0], atol=1e-7)
+
+
+def test_euclidean_identical_large_vectors_is_zero():
+    vectors = np.full((2, 64), 1e4) + np.arange(64)
+    distances = distance_matrix(vectors, vectors, metric="euclidean")
+    assert np.all(distances >= 0)
+    np.testing.assert_allclose(np.diag(distances), 0.0, atol=1e-2)
+
+
+def test_bad_inputs_raise(descriptors):
+    database, queries = descriptors
+    with pytest.raises(ValueError, match="manhattan"):
+        distance_matrix(database, queries, metric="manhattan")
+    with pytest.raises(ValueError, match="dimension"):
+        distance_matrix(database, queries[:, :3])
+    with pytest.raises(ValueError, match="NaN"):
+        distance_matrix(database, np.full((1, 5), np.nan))
+    with pytest.raises(ValueError, match="batch_size"):
+        distance_matrix(database, queries, batch_size=0)
+
+
+def test_best_matches_known_matrix():
+    distances = np.array(
+        [
+            [0.5, 0.1, 0.9],
+            [0.3, 0.6, 0.2],
+            [0.0, 0.4, 0.8],
+            [0.0, 0.0, 0.7],
+        ]
+    )
+    columns, confidence = best_matches(distances, confidence="distance")
+    np.testing.assert_array_equal(columns, [1, 2, 0, 0])  # tie in the last row -> lowest column
+    np.testing.assert_allclose(confidence, [-0.1, -0.2, -0.0, -0.0])
+
+    columns, ratio = best_matches(distances, confidence="ratio")
+    np.testing.assert_array_equal(columns, [1, 2, 0, 0])
+    # 0.5/0.1, 0.3/0.2, second 0.4 over best 0 -> inf, both 0 -> 1 (not distinctive)
+    np.testing.assert_allclose(ratio, [5.0, 1.5, np.inf, 1.0])
+
+
+def test_best_matches_bad_inputs_raise():
+    with pytest.raises(ValueError, match="sharpness"):
+        best_matches(np.ones((2, 2)), confidence="sharpness")
+    with pytest.raises(ValueError, match="non-negative"):
+        best_matches(np.array([[-1.0, 0.5]]), confidence="ratio")
+    with pytest.raises(ValueError, match="two database columns"):
+        best_matches(np.ones((3, 1)), confidence="ratio")
+    with pytest.raises(ValueError, match="NaN"):
+        best_matches(np.array([[np.nan, 1.0]]))

@@ -1,0 +1,105 @@
+"""Tests for seasonloop.sequence (SeqSLAM)."""
+
+import numpy as np
+import pytest
+
+from seasonloop.sequence import enhance_contrast, sequence_distances
+
+
+def reference_enhance(distances: np.ndarray, window: int) -> np.ndarray:
+    """Loop version: z-score over clipped windows of +-window//2 columns, then shift min to 0."""
+    half = window // 2
+    out = np.zeros(distances.shape)
+    for i in range(distances.shape[0]):
+        for j in range(distances.shape[1]):
+            values = distances[i, max(0, j - half) : j + half + 1]
+            if values.std() > 0:
+                out[i, j] = (distances[i, j] - values.mean()) / values.std()
+    return out - out.min()
+
+
+def reference_sequence(distances, length, velocities, window):
+    """Loop version of the trailing-trajectory score."""
+    enhanced = reference_enhance(distances, window)
+    n_queries, n_database = enhanced.shape
+    best = np.full(enhanced.shape, np.inf)
+    for i in range(n_queries):
+        for j in range(n_database):
+            for velocity in velocities:
+                points = [(i - k, j - int(np.floor(velocity * k + 0.5))) for k in range(length) if i - k >= 0]
+                if all(0 <= column < n_database for _, column in points):
+                    best[i, j] = min(best[i, j], np.mean([enhanced[row, column] for row, column in points]))
+    return best
+
+
+def noisy_diagonal(size: int, depth: float, seed: int) -> np.ndarray:
+    """Unit-variance noise around 1 with the true-match diagonal lowered by depth."""
+    rng = np.random.default_rng(seed)
+    distances = 1.0 + rng.normal(size=(size, size))
+    distances[np.arange(size), np.arange(size)] -= depth
+    return distances - distances.min()
+
+
+def test_enhance_contrast_matches_loop_reference():
+    rng = np.random.default_rng(0)
+    distances = rng.random((6, 17)) * 3.0 + 100.0  # offset: checks the cumulative sums stay precise
+    np.testing.assert_allclose(enhance_contrast(distances, window=6), reference_enhance(distances, 6), atol=1e-5)
+
+
+def test_enhance_contrast_constant_rows_are_finite():
+    distances = np.vstack([np.full(10, 0.5), np.arange(10.0)])
+    enhanced = enhance_contrast(distances, window=4)
+    assert np.isfinite(enhanced).all()
+    assert enhanced.min() == 0.0
+    assert np.ptp(enhanced[0]) == 0.0
+
+
+def test_sequence_distances_matches_loop_reference():
+    rng = np.random.default_rng(1)
+    distances = rng.random((12, 15))
+    velocities = np.linspace(0.5, 1.5, 3)
+    expected = reference_sequence(distances, length=4, velocities=velocities, window=4)
+    result = sequence_distances(distances, length=4, v_min=0.5, v_max=1.5, v_steps=3, window=4)
+    assert result.shape == (12, 15) and result.dtype == np.float32
+    np.testing.assert_array_equal(np.isinf(result), np.isinf(expected))
+    finite = np.isfinite(expected)
+    np.testing.assert_allclose(result[finite], expected[finite], atol=1e-5)
+
+
+def test_sequence_recovers_weak_diagonal():
+    size = 200
+    distances = noisy_diagonal(size, depth=2.0, seed=0)
+    truth = np.arange(size)
+    single_fraction = np.mean(distances.argmin(axis=1) == truth)
+    sequence_fraction = np.mean(sequence_distances(distances).argmin(axis=1) == truth)
+    assert single_fraction < 0.5
+    assert sequence_fraction > 0.9
+
+
+def test_sequence_recovers_weak_diagonal_single_velocity():
+    size = 200
+    distances = noisy_diagonal(size, depth=2.0, seed=2)
+    truth = np.arange(size)
+    assert np.mean(distances.argmin(axis=1) == truth) < 0.5
+    scores = sequence_distances(distances, length=10, v_min=1.0, v_max=1.0, v_steps=1)
+    assert np.mean(scores.argmin(axis=1) == truth) > 0.9
+
+
+def test_sequence_length_one_is_enhanced_matrix():
+    rng = np.random.default_rng(3)
+    distances = rng.random((5, 8))
+    np.testing.assert_allclose(sequence_distances(distances, length=1), enhance_contrast(distances), atol=1e-6)
+
+
+def test_sequence_bad_inputs_raise():
+    distances = np.random.default_rng(4).random((10, 10))
+    with pytest.raises(ValueError, match="too short"):
+        sequence_distances(distances[:, :3], length=10)
+    with pytest.raises(ValueError, match="length"):
+        sequence_distances(distances, length=0)
+    with pytest.raises(ValueError, match="v_min"):
+        sequence_distances(distances, v_min=1.5, v_max=1.0)
+    with pytest.raises(ValueError, match="window"):
+        enhance_contrast(distances, window=1)
+    with pytest.raises(ValueError, match="NaN"):
+        enhance_contrast(np.full((2, 2), np.nan))

@@ -11,9 +11,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import yaml
 
 from seasonloop.config import check_seasons
+from seasonloop.io import load_array
 
 PARAMS_FILE = Path("params.yaml")
 
@@ -41,6 +43,15 @@ def data_seasons(params: dict[str, Any]) -> list[str]:
 def train_seasons(params: dict[str, Any]) -> list[str]:
     """train.seasons, each of which must be among the data's seasons."""
     return check_seasons(param(params, "train.seasons"), "train.seasons", allowed=data_seasons(params))
+
+
+def training_images(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
+    """The concatenated training images of `seasons`, augmented or not as train.augmented says."""
+    if bool(param(params, "train.augmented")):
+        paths = [Path("data/augmented") / f"{season}.npy" for season in seasons]
+    else:
+        paths = [Path("data/split") / f"{season}_train.npy" for season in seasons]
+    return np.concatenate([load_array(path) for path in paths])
 
 
 def stage_main(run: Callable[[], None]) -> Callable[[], None]:

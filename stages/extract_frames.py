@@ -49,7 +49,7 @@ def main() -> None:
         stored = {season: load_array(out / f"{season}.npy", mmap=True) for season in seasons}
         grid = [[stored[season][place][..., ::-1] for season in seasons] for place in places]
         plot_image_grid(grid, PREVIEW, row_labels=[f"place {p}" for p in places], col_labels=seasons,
-                        title="The same places in every season", cmap=None)
+                        title="The same places in every season")
 
 
 if __name__ == "__main__":

@@ -1,0 +1,47 @@
+"""Tables of the study built from the per-pair metrics: fraction correct, runtimes."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+import pandas as pd
+
+from seasonloop.study import STUDY_FRACTION_CORRECT
+
+
+def fraction_correct_table(results: Mapping[str, Mapping[str, Mapping[str, float]]], pairs: Sequence[str]) -> pd.DataFrame:
+    """results[label][pair] = metrics dict -> DataFrame (labels x pairs) of fraction correct in %."""
+    return pd.DataFrame(
+        {pair: [100 * results[label][pair]["fraction_correct"] if pair in results[label] else np.nan
+                for label in results] for pair in pairs},
+        index=list(results),
+    )
+
+
+def study_table(labels: Sequence[str], pairs: Sequence[str]) -> pd.DataFrame:
+    """The study's fraction correct (%) in the same shape, NaN where it gives no number."""
+    return pd.DataFrame(
+        {pair: [STUDY_FRACTION_CORRECT.get(label, {}).get(pair, np.nan) for label in labels] for pair in pairs},
+        index=list(labels),
+    )
+
+
+def markdown_table(table: pd.DataFrame, index_name: str) -> str:
+    """A markdown table of `table`'s cells as they print (format numbers before calling)."""
+    lines = [
+        f"| {index_name} | " + " | ".join(map(str, table.columns)) + " |",
+        "|" + "---|" * (len(table.columns) + 1),
+    ]
+    lines += [f"| {label} | " + " | ".join(map(str, row)) + " |" for label, row in zip(table.index, table.to_numpy())]
+    return "\n".join(lines) + "\n"
+
+
+def side_by_side_markdown(ours: pd.DataFrame, study: pd.DataFrame) -> str:
+    """Each cell 'ours (study)', the study's number only where it gives one."""
+    cells = ours.map(lambda value: "n/a" if np.isnan(value) else f"{value:.1f}")
+    for label in ours.index.intersection(study.index):
+        for pair in ours.columns:
+            if not np.isnan(study.loc[label, pair]):
+                cells.loc[label, pair] += f" ({study.loc[label, pair]:.0f})"
+    return markdown_table(cells, "method")

@@ -1,0 +1,79 @@
+"""Stage figures: the study's figures that need the fitted models.
+
+Writes under plots/figures/: fig02_pca_projection.png (an image of one place in two seasons and
+its projection on the first, condition-dependent principal components vs the kept ones),
+fig12_patch_ica_filters.png, fig13_visual_words.png, fig19_autoencoder_descriptors.png (code vs
+output vs patch-normalised output, single-image fraction correct) and metrics/autoencoder_descriptors.json.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from _common import data_seasons, load_params, param, stage_main
+
+from seasonloop.config import available_pairs, pair_name
+from seasonloop.evaluation import match_pair
+from seasonloop.io import load_array, read_json, staged_dir, write_json
+from seasonloop.models.registry import load_learner
+from seasonloop.plots import plot_image_grid, plot_series
+
+AE_DESCRIPTORS = ("code", "output", "output_patchnorm")
+AUTOENCODERS = ("fae", "cae")
+N_WORDS_SHOWN, N_EXAMPLES_SHOWN = 12, 10
+FILTERS_PER_ROW = 16
+
+
+@stage_main
+def main() -> None:
+    params = load_params()
+    seasons = data_seasons(params)
+    test = {season: load_array(Path("data/split") / f"{season}_test.npy") for season in seasons}
+    places = np.asarray(read_json(Path("data/split/split.json"))["test"])
+    # the study's Figure 2 contrasts summer and winter; fall back to the first and last season present
+    shown = ["summer" if "summer" in seasons else seasons[0], "winter" if "winter" in seasons else seasons[-1]]
+    middle = len(places) // 2
+
+    with staged_dir(Path("plots/figures")) as out:
+        pca = load_learner(Path("models/pca"))
+        first, kept = int(pca.params["n_discard"]), int(pca.params["n_keep"])
+        images = np.stack([test[season][middle] for season in shown])
+        rows = [[image, low, high] for image, low, high in zip(
+            images, pca.reconstruct(images, 0, first), pca.reconstruct(images, first, first + kept))]
+        plot_image_grid(rows, out / "fig02_pca_projection.png", row_labels=[f"{s}, place {places[middle]}" for s in shown],
+                        col_labels=["image", f"PCs 1-{first}", f"PCs {first + 1}-{first + kept}"],
+                        title="Projection on the first vs the kept principal components (study Fig. 2)")
+
+        bovw = load_learner(Path("models/ica_bovw"))
+        filters = bovw.filters()
+        plot_image_grid([list(filters[i:i + FILTERS_PER_ROW]) for i in range(0, len(filters), FILTERS_PER_ROW)],
+                        out / "fig12_patch_ica_filters.png", title="ICA filters learned on image patches (study Fig. 12)")
+        examples = bovw.word_examples(test[seasons[0]], N_WORDS_SHOWN, N_EXAMPLES_SHOWN)
+        plot_image_grid([[patch for patch in word if not np.isnan(patch).all()] for word in examples],
+                        out / "fig13_visual_words.png", row_labels=[f"word {i + 1}" for i in range(len(examples))],
+                        title=f"Patches of the {N_WORDS_SHOWN} most frequent visual words, {seasons[0]} (study Fig. 13)")
+
+        pairs = available_pairs(seasons, param(params, "evaluate.pairs"))
+        fraction_correct: dict[str, dict[str, dict[str, float]]] = {}
+        for method in AUTOENCODERS:
+            learner = load_learner(Path("models") / method)
+            fraction_correct[method] = {}
+            for descriptor in AE_DESCRIPTORS:
+                described = {s: learner.describe_as(test[s], descriptor, batch_size=int(param(params, "features.batch_size")))
+                             for s in seasons}
+                fraction_correct[method][descriptor] = {
+                    pair_name(a, b): match_pair(described[a], described[b], places, places, "single",
+                                                param(params, "evaluate"), param(params, "sequence"))[0]["fraction_correct"]
+                    for a, b in pairs}
+        plot_series({f"{method} {pair_name(a, b)}": (list(AE_DESCRIPTORS),
+                                                     [100 * fraction_correct[method][d][pair_name(a, b)] for d in AE_DESCRIPTORS])
+                     for method in AUTOENCODERS for a, b in pairs},
+                    out / "fig19_autoencoder_descriptors.png", title="Auto-encoder descriptors (study Fig. 19)",
+                    xlabel="descriptor", ylabel="fraction correct (%)")
+    write_json(Path("metrics/autoencoder_descriptors.json"), fraction_correct)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,53 @@
+"""Stage fit@<method>: fit one feature learner on the training images of train.seasons.
+
+Writes models/<method>/ (the fitted learner), logs/<method>/ (dvclive training curves for
+learners that train in epochs) and metrics/fit/<method>.json (fit time, training-set size, the
+learner's fit report such as ICA convergence).
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from dvclive import Live
+
+from _common import load_params, param, stage_main, train_seasons, training_images
+
+from seasonloop.io import staged_dir, write_json
+from seasonloop.models.registry import get_learner
+
+
+@stage_main
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("method")
+    method = parser.parse_args().method
+    params = load_params()
+    learner_class = get_learner(method)
+    seasons = train_seasons(params)
+    images = training_images(params, seasons)
+    learner = learner_class(param(params, method), seed=int(param(params, "seed")))
+    with Live(dir=str(Path("logs") / method), save_dvc_exp=False, dvcyaml=None, report=None) as live:
+
+        def on_epoch(epoch: int, values: dict[str, float]) -> None:
+            for name, value in values.items():
+                live.log_metric(f"train/{name}", value)
+            live.next_step()
+
+        start = time.perf_counter()
+        info = learner.fit(images, progress=True, on_epoch=on_epoch)
+        fit_seconds = time.perf_counter() - start
+    with staged_dir(Path("models") / method) as out:
+        learner.save(out)
+    write_json(Path("metrics/fit") / f"{method}.json", {
+        "fit_seconds": fit_seconds,
+        "n_train_images": len(images),
+        "train_seasons": seasons,
+        "info": info,
+    })
+
+
+if __name__ == "__main__":
+    main()

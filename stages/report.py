@@ -1,0 +1,89 @@
+"""Stage report: every result of the study in one self-contained HTML file, plots/report.html.
+
+Reads the other stages' metrics and figures, recomputes the single-image best matches of
+report.example_pair to show example matches and failures, and embeds params.yaml verbatim.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main
+
+from seasonloop.config import available_pairs, pair_name, parse_pair
+from seasonloop.evaluation import MATCHERS
+from seasonloop.io import load_array, read_json, staged_file
+from seasonloop.matching import distance_matrix
+from seasonloop.report import (
+    build_report,
+    dataset_section,
+    example_grid_png,
+    examples_section,
+    figures_section,
+    fraction_correct_section,
+    parameters_section,
+    pr_section,
+    runtime_section,
+    select_examples,
+    similarity_section,
+    training_seasons_section,
+)
+
+N_EXAMPLES = 3  # correct matches, and as many failures, shown per learner
+
+
+@stage_main
+def main() -> None:
+    params = load_params()
+    methods = list(param(params, "learners"))
+    matchers = list(param(params, "evaluate.matchers"))
+    evaluate = param(params, "evaluate")
+    seasons = data_seasons(params)
+    pairs = [pair_name(a, b) for a, b in available_pairs(seasons, param(params, "evaluate.pairs"))]
+    database, query = parse_pair(param(params, "report.example_pair"), "report.example_pair")
+    for season in (database, query):
+        if season not in seasons:
+            raise ValueError(f"report.example_pair: season '{season}' is not in data.seasons")
+
+    results = {method + MATCHERS[matcher]: {pair: read_json(Path("metrics/eval") / method / f"{pair}{MATCHERS[matcher]}.json")
+                                            for pair in pairs}
+               for matcher in matchers for method in methods}
+
+    places = np.asarray(read_json(Path("data/split/split.json"))["test"])
+    images = {season: load_array(Path("data/split") / f"{season}_test.npy") for season in (database, query)}
+    example_pair = pair_name(database, query)
+    grids = {}
+    for method in methods:
+        features = Path("data/features") / method
+        distances = distance_matrix(load_array(features / f"{database}.npy"), load_array(features / f"{query}.npy"),
+                                    metric=evaluate["metric"])
+        examples = select_examples(distances, places, places, evaluate["confidence"],
+                                   int(evaluate["tolerance_frames"]), N_EXAMPLES)
+        grids[method] = example_grid_png(images[database], images[query], examples, places, places,
+                                         title=f"{method}: {query} queries vs {database} database")
+
+    figures = sorted(Path("plots/figures").glob("*.png"))
+    if not figures:
+        raise FileNotFoundError("plots/figures: no PNG figures found (run the figures stage first)")
+
+    sections = [
+        dataset_section(read_json(Path("metrics/dataset.json")), Path("plots/season_preview.png")),
+        fraction_correct_section(results, methods, matchers, pairs, Path("plots/summary/fraction_correct.png")),
+        pr_section({pair: Path("plots/summary") / f"pr_{pair}.png" for pair in pairs}),
+        similarity_section({method: {pair: Path("plots/similarity") / method / f"{pair}.png" for pair in pairs}
+                            for method in methods}, pairs),
+        examples_section(example_pair, grids),
+        runtime_section(read_json(Path("metrics/runtime.json"))),
+        training_seasons_section(read_json(Path("metrics/training_seasons.json")), Path("plots/training_seasons.png")),
+        figures_section({path.stem.replace("_", " "): path for path in figures},
+                        read_json(Path("metrics/autoencoder_descriptors.json"))),
+        parameters_section(PARAMS_FILE.read_text()),
+    ]
+    with staged_file(Path("plots/report.html")) as tmp:
+        tmp.write_text(build_report("seasonloop: loop-closure detection across seasons", sections), encoding="utf-8")
+
+
+if __name__ == "__main__":
+    main()

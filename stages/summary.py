@@ -1,0 +1,81 @@
+"""Stage summary: the study's tables and comparison figures from every learner's pair metrics.
+
+Writes metrics/summary.json (fraction correct per learner and pair, and its mean),
+metrics/runtime.json (fit seconds, the study's Table 6; feature milliseconds per image, Table 7),
+plots/summary/fraction_correct.{md,csv} (ours beside the study's numbers; the CSV feeds
+`dvc plots show`), plots/summary/runtime.md, and the PNG figures of fraction correct per pair
+(study Figures 10, 11, 16, 17) and overlaid PR curves per pair (Figures 9, 14, 15, 17).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from _common import data_seasons, load_params, param, stage_main
+
+from seasonloop.config import available_pairs, pair_name
+from seasonloop.evaluation import MATCHERS
+from seasonloop.io import read_json, staged_dir, write_json
+from seasonloop.plots import plot_fraction_correct, plot_pr_curves
+from seasonloop.summary import fraction_correct_table, markdown_table, side_by_side_markdown, study_table
+
+
+@stage_main
+def main() -> None:
+    params = load_params()
+    methods = list(param(params, "learners"))
+    matchers = list(param(params, "evaluate.matchers"))
+    pairs = [pair_name(a, b) for a, b in available_pairs(data_seasons(params), param(params, "evaluate.pairs"))]
+    labels = [method + MATCHERS[matcher] for matcher in matchers for method in methods]
+
+    results = {label: {} for label in labels}
+    curves = {pair: {} for pair in pairs}
+    for matcher in matchers:
+        for method in methods:
+            label = method + MATCHERS[matcher]
+            for pair in pairs:
+                name = pair + MATCHERS[matcher]
+                results[label][pair] = read_json(Path("metrics/eval") / method / f"{name}.json")
+                pr = pd.read_csv(Path("plots/pr") / method / f"{name}.csv")
+                curves[pair][label] = (pr["recall"].to_numpy(), pr["precision"].to_numpy())
+
+    ours = fraction_correct_table(results, pairs)
+    study = study_table(labels, pairs)
+    write_json(Path("metrics/summary.json"), {
+        "fraction_correct": {label: {pair: results[label][pair]["fraction_correct"] for pair in pairs} for label in labels},
+        "mean_fraction_correct": {label: float(np.mean([results[label][pair]["fraction_correct"] for pair in pairs])) for label in labels},
+    })
+
+    runtime = {}
+    for method in methods:
+        fit = read_json(Path("metrics/fit") / f"{method}.json")
+        per_season = [read_json(Path("metrics/features") / method / f"{season}.json") for season in data_seasons(params)]
+        runtime[method] = {
+            "fit_seconds": fit["fit_seconds"],
+            "n_train_images": fit["n_train_images"],
+            "feature_ms_per_image": float(np.mean([s["ms_per_image"] for s in per_season])),
+            "descriptor_dimension": per_season[0]["dimension"],
+        }
+    write_json(Path("metrics/runtime.json"), runtime)
+
+    with staged_dir(Path("plots/summary")) as out:
+        (out / "fraction_correct.md").write_text(
+            "Fraction of correct matches (%), ours (the study's in brackets where it gives one)\n\n"
+            + side_by_side_markdown(ours, study))
+        long = ours.reset_index(names="method").melt(id_vars="method", var_name="pair", value_name="fraction_correct")
+        long["label"] = long["pair"] + " " + long["method"]
+        long.to_csv(out / "fraction_correct.csv", index=False, float_format="%.3f")
+        runtime_cells = pd.DataFrame(runtime).T.map(lambda value: f"{value:.4g}" if isinstance(value, float) else str(value))
+        (out / "runtime.md").write_text("Fit time (study Table 6) and feature time per test image (Table 7)\n\n"
+                                        + markdown_table(runtime_cells, "method"))
+        plot_fraction_correct(ours / 100, out / "fraction_correct.png", title="Fraction of correct matches per pair",
+                              reference=study / 100)
+        for pair in pairs:
+            plot_pr_curves(curves[pair], f"Precision-recall, {pair} (database-queries)", out / f"pr_{pair}.png")
+
+
+if __name__ == "__main__":
+    main()

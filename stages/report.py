@@ -34,6 +34,14 @@ from seasonloop.report import (
 N_EXAMPLES = 3  # correct matches, and as many failures, shown per learner
 
 
+def ordered(mapping: dict, keys: list[str], source: str) -> dict:
+    """mapping's entries in the order of keys (the JSON files store their keys sorted)."""
+    missing = [key for key in keys if key not in mapping]
+    if missing:
+        raise ValueError(f"{source}: no entry for {', '.join(missing)} (rerun the stage that writes it)")
+    return {key: mapping[key] for key in keys}
+
+
 @stage_main
 def main() -> None:
     params = load_params()
@@ -64,21 +72,32 @@ def main() -> None:
         grids[method] = example_grid_png(images[database], images[query], examples, places, places,
                                          title=f"{method}: {query} queries vs {database} database")
 
+    dataset = read_json(Path("metrics/dataset.json"))
+    dataset["seasons"] = ordered(dataset["seasons"], seasons, "metrics/dataset.json")
+    runtime = ordered(read_json(Path("metrics/runtime.json")), methods, "metrics/runtime.json")
+    training = read_json(Path("metrics/training_seasons.json"))
+    season_sets = ["+".join(chosen) for chosen in param(params, "ablation.training_seasons")]
+    training["fraction_correct"] = {
+        method: ordered(values, season_sets, "metrics/training_seasons.json")
+        for method, values in ordered(training["fraction_correct"], list(param(params, "ablation.methods")),
+                                      "metrics/training_seasons.json").items()}
+    autoencoders = read_json(Path("metrics/autoencoder_descriptors.json"))
+    autoencoders = ordered(autoencoders, [method for method in methods if method in autoencoders],
+                           "metrics/autoencoder_descriptors.json")
     figures = sorted(Path("plots/figures").glob("*.png"))
     if not figures:
         raise FileNotFoundError("plots/figures: no PNG figures found (run the figures stage first)")
 
     sections = [
-        dataset_section(read_json(Path("metrics/dataset.json")), Path("plots/season_preview.png")),
+        dataset_section(dataset, Path("plots/season_preview.png")),
         fraction_correct_section(results, methods, matchers, pairs, Path("plots/summary/fraction_correct.png")),
         pr_section({pair: Path("plots/summary") / f"pr_{pair}.png" for pair in pairs}),
         similarity_section({method: {pair: Path("plots/similarity") / method / f"{pair}.png" for pair in pairs}
                             for method in methods}, pairs),
         examples_section(example_pair, grids),
-        runtime_section(read_json(Path("metrics/runtime.json"))),
-        training_seasons_section(read_json(Path("metrics/training_seasons.json")), Path("plots/training_seasons.png")),
-        figures_section({path.stem.replace("_", " "): path for path in figures},
-                        read_json(Path("metrics/autoencoder_descriptors.json"))),
+        runtime_section(runtime),
+        training_seasons_section(training, Path("plots/training_seasons.png")),
+        figures_section({path.stem.replace("_", " "): path for path in figures}, autoencoders),
         parameters_section(PARAMS_FILE.read_text()),
     ]
     with staged_file(Path("plots/report.html")) as tmp:

@@ -1,0 +1,126 @@
+"""Tests for seasonloop.report: one self-contained, escaped HTML file from small hand-made inputs."""
+
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from seasonloop.plots import plot_image_grid
+from seasonloop.report import (
+    Image,
+    Section,
+    Table,
+    Text,
+    build_report,
+    dataset_section,
+    example_grid_png,
+    examples_section,
+    figures_section,
+    fraction_correct_section,
+    parameters_section,
+    runtime_section,
+    select_examples,
+    similarity_section,
+    training_seasons_section,
+)
+
+PAIRS = ["summer-fall", "winter-fall"]
+
+
+@pytest.fixture
+def pngs(tmp_path):
+    """Two tiny PNG files written with plot_image_grid."""
+    rng = np.random.default_rng(0)
+    paths = [tmp_path / "a.png", tmp_path / "b.png"]
+    for path in paths:
+        plot_image_grid([[rng.random((8, 16))]], path)
+    return paths
+
+
+def metrics(fraction_correct):
+    return {"fraction_correct": fraction_correct, "recall_at_1": fraction_correct, "recall_at_5": 0.95,
+            "recall_at_10": 0.975, "recall_at_100_precision": 0.25, "auc_pr": 0.5}
+
+
+def test_report_is_self_contained_and_escaped(tmp_path, pngs):
+    results = {"pca": {"summer-fall": metrics(0.8), "winter-fall": metrics(0.1)},
+               "pca+seq": {"summer-fall": metrics(0.9), "winter-fall": metrics(0.4)}}
+    dataset = {"seasons": {"summer": {"frames": 1800, "train": 1510, "test": 158, "train_augmented": 3020}},
+               "dropped_tunnel": 2, "dropped_stop": 20, "gap": 110,
+               "detection": {"tunnel": {"found": 66, "true": 66, "precision": 1.0, "recall": 1.0}}}
+    sections = [
+        dataset_section(dataset, pngs[0]),
+        fraction_correct_section(results, ["pca"], ["single", "sequence"], PAIRS, pngs[1]),
+        similarity_section({"pca": {pair: pngs[0] for pair in PAIRS}}, PAIRS),
+        Section("Odd <labels> & co", [Table("a <b> table", pd.DataFrame({"x<y": [1.25]}, index=["m<n"])),
+                                      Text("if a < b then")]),
+        parameters_section("seed: 0\nname: <tag>\n"),
+    ]
+    page = build_report("seasonloop", sections)
+
+    assert page.startswith("<!DOCTYPE html>") and page.count("<html") == 1
+    assert page.count("data:image/png;base64,") == 2 + len(PAIRS)
+    assert 'src="http' not in page and "<link" not in page and "<script" not in page
+    assert str(tmp_path) not in page and ".png" not in page
+    for heading in ["1. Dataset", "2. Fraction correct", "3. Similarity matrices", "5. Parameters"]:
+        assert f"<h2>{heading}</h2>" in page
+    # values: dataset counts, ours in %, the study's number for pca summer-fall (88), the +seq gain, recall in %
+    for value in ["1510", "3020", "110", "80.0", "88", "+10.0", "+30.0", "97.5", "25.0", "50.0"]:
+        assert f">{value}</td>" in page, value
+    # the study gives no winter numbers: that pair has an "ours" column only
+    assert page.count("<th>study (S)</th>") == 1  # summer-fall, single-image matching
+    assert "x&lt;y" in page and "m&lt;n" in page and "a &lt;b&gt; table" in page
+    assert "Odd &lt;labels&gt; &amp; co" in page and "if a &lt; b then" in page and "name: &lt;tag&gt;" in page
+    assert not re.search(r"<(labels|b|tag|y|n)>", page)
+
+
+def test_report_rejects_missing_and_non_png_images(tmp_path):
+    with pytest.raises(FileNotFoundError, match="missing.png"):
+        build_report("r", [Section("s", [Image("c", tmp_path / "missing.png")])])
+    (tmp_path / "fake.png").write_text("not a png")
+    with pytest.raises(ValueError, match="fake.png: not a PNG"):
+        build_report("r", [Section("s", [Image("c", tmp_path / "fake.png")])])
+
+
+def test_select_examples_picks_most_confident_correct_and_wrong():
+    places = np.array([10, 11, 12, 13])
+    # query 0 -> 0 (correct, distance 0.1), query 1 -> 1 (correct, 0.3),
+    # query 2 -> 0 (wrong, 0.05), query 3 -> 2 (wrong, 0.2)
+    distances = np.array([[0.1, 0.9, 0.9, 0.9],
+                          [0.9, 0.3, 0.9, 0.9],
+                          [0.05, 0.9, 0.6, 0.9],
+                          [0.9, 0.9, 0.2, 0.7]])
+    examples = select_examples(distances, places, places, "distance", tolerance=0, n=1)
+    assert [(e.query, e.match, e.truth, e.correct) for e in examples] == [(0, 0, 0, True), (2, 0, 2, False)]
+    examples = select_examples(distances, places, places, "distance", tolerance=1, n=5)
+    # within one place query 3's match (place 12 for 13) counts as correct
+    assert [e.query for e in examples if e.correct] == [0, 3, 1]
+    assert [e.query for e in examples if not e.correct] == [2]
+    with pytest.raises(ValueError, match="does not match"):
+        select_examples(distances[:3], places, places, "distance", tolerance=0, n=1)
+
+
+def test_example_grid_is_embedded():
+    rng = np.random.default_rng(1)
+    images = rng.integers(0, 255, size=(4, 8, 16), dtype=np.uint8)
+    places = np.arange(4)
+    examples = select_examples(rng.random((4, 4)), places, places, "distance", tolerance=0, n=2)
+    png = example_grid_png(images, images, examples, places, places, title="pca")
+    page = build_report("r", [examples_section("summer-fall", {"pca": png})])
+    assert page.count("data:image/png;base64,") == 1
+    assert "Example matches and failures, summer-fall" in page
+
+
+def test_runtime_training_and_figures_sections(pngs):
+    runtime = {"pca": {"n_train_images": 120, "fit_seconds": 1.5, "descriptor_dimension": 100, "feature_ms_per_image": 0.25}}
+    training = {"pair": "summer-fall", "fraction_correct": {"pca": {"summer": 0.5, "summer+winter": 0.625}}}
+    autoencoders = {"fae": {"code": {"summer-fall": 0.375}, "output_patchnorm": {"summer-fall": 0.875}}}
+    page = build_report("r", [runtime_section(runtime), training_seasons_section(training, pngs[0]),
+                              figures_section({"fig12 patch ica filters": pngs[1]}, autoencoders)])
+    # runtime columns in the study's order (fit, then feature time), not the JSON's sorted order
+    headers = re.findall(r"<th>([^<]+)</th>", page)
+    assert [h for h in headers if h in ("fit (s)", "features (ms / image)")] == ["fit (s)", "features (ms / image)"]
+    for value in ["1.5", "0.25", "120", "50.0", "62.5", "37.5", "87.5", "summer+winter", "output_patchnorm"]:
+        assert f">{value}</" in page, value
+    assert page.count("data:image/png;base64,") == 2

@@ -36,17 +36,22 @@ def merge(base: dict, override: dict) -> dict:
     return base
 
 
-def tracked_files() -> list[str]:
+# What `dvc repro` writes: a developer's checkout may hold them, a fresh clone does not.
+PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock", "benchmarks/results/")
+
+
+def source_files() -> list[str]:
+    """The repository as a fresh clone would have it, plus uncommitted source changes."""
     listed = subprocess.run(["git", "ls-files", "--cached", "--others", "--exclude-standard"],
                             cwd=REPO, check=True, capture_output=True, text=True).stdout.split()
-    return [name for name in listed if (REPO / name).is_file()]
+    return [name for name in listed if (REPO / name).is_file() and not name.startswith(PIPELINE_OUTPUTS)]
 
 
 @pytest.fixture(scope="module")
 def workspace(tmp_path_factory) -> Path:
     """A fresh git + DVC copy of the repository with the tiny params, after one `dvc repro`."""
     root = tmp_path_factory.mktemp("repo")
-    for name in tracked_files():
+    for name in source_files():
         (root / name).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(REPO / name, root / name)
     params = merge(yaml.safe_load((root / "params.yaml").read_text()), TINY)

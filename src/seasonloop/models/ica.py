@@ -1,4 +1,9 @@
-"""Global ICA: FastICA on whole training images; descriptor = projection on the unmixing matrix."""
+"""Global ICA: FastICA on whole training images; descriptor = projection on the unmixing matrix.
+
+Two solvers of the same algorithm: "torch" (default; seasonloop.fastica.TorchFastICA, float32,
+CUDA when present, parallel algorithm only; benchmarks/bench_ica.py compares them) or "sklearn"
+(scikit-learn's FastICA, which also offers the deflation algorithm).
+"""
 
 from __future__ import annotations
 
@@ -9,9 +14,12 @@ from typing import Any
 
 import joblib
 import numpy as np
+import torch
 from sklearn.decomposition import FastICA
 from sklearn.exceptions import ConvergenceWarning
 
+from seasonloop.fastica import TorchFastICA
+from seasonloop.models._torch import DEVICES, resolve_device
 from seasonloop.models.base import (
     EpochCallback,
     FeatureLearner,
@@ -21,6 +29,8 @@ from seasonloop.models.base import (
 )
 
 ESTIMATOR_FILE = "fastica.joblib"
+TORCH_STATE_FILE = "fastica.npz"
+ICA_SOLVERS = ("sklearn", "torch")
 ICA_ALGORITHMS = ("parallel", "deflation")
 ICA_FUNCTIONS = ("logcosh", "exp", "cube")
 WHITEN_SOLVERS = ("eigh", "svd")
@@ -72,7 +82,11 @@ def fit_fastica(
 
 
 class ICALearner(FeatureLearner):
-    """FastICA on flattened training images; descriptor = its sources (transform)."""
+    """FastICA on flattened training images; descriptor = its sources (transform).
+
+    solver "sklearn" uses scikit-learn; "torch" uses TorchFastICA on `device` and is saved as plain
+    numpy arrays (mean, whitening, unmixing).
+    """
 
     name = "ica"
     defaults = {
@@ -83,11 +97,13 @@ class ICALearner(FeatureLearner):
         "tol": 1e-4,
         "whiten_solver": "eigh",
         "max_train_images": 0,
+        "solver": "torch",
+        "device": "auto",
     }
 
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
         super().__init__(params, seed)
-        self.estimator: FastICA | None = None
+        self.estimator: FastICA | TorchFastICA | None = None
 
     def _validate_params(self) -> None:
         self._check_int("n_components", 1)
@@ -97,6 +113,15 @@ class ICALearner(FeatureLearner):
         self._check_positive_float("tol")
         self._check_choice("whiten_solver", WHITEN_SOLVERS)
         self._check_int("max_train_images", 0)
+        self._check_choice("solver", ICA_SOLVERS)
+        self._check_choice("device", DEVICES)
+        if self.params["solver"] == "torch" and self.params["algorithm"] != "parallel":
+            raise ValueError(
+                f"{self._key('algorithm')} = {self.params['algorithm']!r} needs {self._key('solver')} = 'sklearn' "
+                f"(the torch solver implements the parallel algorithm)"
+            )
+        if self.params["solver"] == "sklearn" and self.params["device"] == "cuda":
+            raise ValueError(f"{self._key('device')} = 'cuda' needs {self._key('solver')} = 'torch'")
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         subset, subset_info = select_training_subset(images, self.params["max_train_images"], self.seed)
@@ -108,6 +133,8 @@ class ICALearner(FeatureLearner):
                 f"{self._key('n_components')} = {self.params['n_components']} exceeds {limit}, the most "
                 f"{len(flat)} training images of {flat.shape[1]} pixels allow"
             )
+        if self.params["solver"] == "torch":
+            return {**subset_info, "n_components": self.params["n_components"], **self._fit_torch(flat)}
         self.estimator, convergence = fit_fastica(
             flat,
             n_components=self.params["n_components"],
@@ -118,13 +145,56 @@ class ICALearner(FeatureLearner):
             fun=self.params["fun"],
             whiten_solver=self.params["whiten_solver"],
         )
-        return {**subset_info, "n_components": self.params["n_components"], **convergence}
+        return {**subset_info, "n_components": self.params["n_components"], "solver": "sklearn", **convergence}
+
+    def _fit_torch(self, flat: np.ndarray) -> dict[str, Any]:
+        device = resolve_device(self.params["device"], self._key("device"))
+        estimator = self._torch_estimator(device)
+        try:
+            estimator.fit(flat)
+        except ValueError as error:
+            raise ValueError(f"{self.name}: {error}") from error
+        self.estimator = estimator
+        messages = [] if estimator.converged_ else [
+            f"FastICA did not converge in {estimator.n_iter_} iterations (last change "
+            f"{estimator.last_change_:.3g} >= tol {estimator.tol}); raise max_iter or tol"
+        ]
+        return {
+            "solver": "torch",
+            "device": str(device),
+            "n_iter": int(estimator.n_iter_),
+            "max_iter": int(estimator.max_iter),
+            "converged": bool(estimator.converged_),
+            "convergence_warnings": messages,
+        }
+
+    def _torch_estimator(self, device: torch.device | str) -> TorchFastICA:
+        return TorchFastICA(
+            n_components=self.params["n_components"],
+            max_iter=self.params["max_iter"],
+            tol=self.params["tol"],
+            seed=self.seed,
+            fun=self.params["fun"],
+            whiten_solver=self.params["whiten_solver"],
+            device=device,
+        )
 
     def _describe_batch(self, images: np.ndarray) -> np.ndarray:
         return self.estimator.transform(to_float(images).reshape(len(images), -1))
 
     def _save_state(self, directory: Path) -> None:
-        joblib.dump(self.estimator, directory / ESTIMATOR_FILE)
+        if isinstance(self.estimator, TorchFastICA):
+            np.savez(directory / TORCH_STATE_FILE, **self.estimator.to_arrays())
+        else:
+            joblib.dump(self.estimator, directory / ESTIMATOR_FILE)
 
     def _load_state(self, directory: Path) -> None:
-        self.estimator = joblib.load(directory / ESTIMATOR_FILE)
+        if self.params["solver"] == "torch":
+            path = directory / TORCH_STATE_FILE
+            if not path.is_file():
+                raise FileNotFoundError(f"no saved torch FastICA state: {path} does not exist")
+            with np.load(path) as arrays:
+                # The arrays alone define the model; describe() runs in numpy on any machine.
+                self.estimator = self._torch_estimator("cpu").load_arrays(dict(arrays))
+        else:
+            self.estimator = joblib.load(directory / ESTIMATOR_FILE)

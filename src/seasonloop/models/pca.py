@@ -20,7 +20,7 @@ class PCALearner(FeatureLearner):
     """Descriptor = projections on principal components [n_discard, n_discard + n_keep)."""
 
     name = "pca"
-    defaults = {"n_discard": 100, "n_keep": 100, "svd_solver": "randomized"}
+    defaults = {"n_discard": 100, "n_keep": 100, "svd_solver": "covariance_eigh"}
 
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
         super().__init__(params, seed)

@@ -1,0 +1,131 @@
+"""Shared helpers of the benchmark scripts (run from the repository root; not a pytest module).
+
+Data: the pipeline's preprocessed images when `dvc repro` has written data/split/, otherwise
+images rendered by seasonloop.data.synthetic and preprocessed by seasonloop.preprocess.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+
+from seasonloop.augment import augment_training_set
+from seasonloop.data.synthetic import SyntheticRoute
+from seasonloop.io import read_json, write_json
+from seasonloop.models.base import to_json_value
+from seasonloop.preprocess import enhance_contrast, to_gray
+
+SPLIT_DIR = Path("data/split")
+RESULTS_DIR = Path("benchmarks/results")
+SEASONS = ("summer", "spring", "fall", "winter")
+# Fallback synthetic route: frames at the pipeline's storage size, then its preprocessing defaults.
+FRAME_HEIGHT, FRAME_WIDTH, HEIGHT, WIDTH = 72, 128, 32, 64
+SYNTHETIC_PLACES = 1000
+SYNTHETIC_TEST_FROM = 850  # places [0, 800) train, a gap of 50, [850, 1000) test
+
+
+def has_split() -> bool:
+    return all((SPLIT_DIR / f"{season}_train.npy").is_file() for season in SEASONS)
+
+
+def _render(seasons: tuple[str, ...], places: range, seed: int) -> dict[str, np.ndarray]:
+    """Preprocessed (N, 32, 64) uint8 images of `places` (seconds) of the synthetic route per season."""
+    route = SyntheticRoute(SYNTHETIC_PLACES, seed)
+    images = {}
+    for season in seasons:
+        frames = np.stack([route.frame(season, float(t), FRAME_WIDTH, FRAME_HEIGHT) for t in places])
+        images[season] = enhance_contrast(to_gray(frames, HEIGHT, WIDTH), "clahe", 2.0, 4)
+    return images
+
+
+def training_images(n_samples: int, seed: int) -> tuple[np.ndarray, str]:
+    """n_samples uint8 (N, 32, 64) training images of all seasons, and a line saying where from.
+
+    Seasons' training images concatenated, topped up with seeded flipped/shifted copies (the
+    study's augmentation) when fewer than n_samples exist.
+    """
+    if has_split():
+        originals = np.concatenate([np.load(SPLIT_DIR / f"{season}_train.npy") for season in SEASONS])
+        source = f"data/split/*_train.npy ({len(originals)} images)"
+    else:
+        rendered = _render(SEASONS, range(SYNTHETIC_TEST_FROM - 50), seed)
+        originals = np.concatenate([rendered[season] for season in SEASONS])
+        source = f"synthetic route rendered and preprocessed ({len(originals)} images)"
+    copies = max(0, -(-n_samples // len(originals)) - 1)
+    images = augment_training_set(originals, copies, seed)[:n_samples]
+    if copies:
+        source += f" + {copies} augmented cop{'y' if copies == 1 else 'ies'} each"
+    return images, source
+
+
+def pair_images(database: str, query: str, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
+    """Test images of two seasons, their place ids, and where they came from."""
+    if has_split():
+        places = np.asarray(read_json(SPLIT_DIR / "split.json")["test"])
+        images = [np.load(SPLIT_DIR / f"{season}_test.npy") for season in (database, query)]
+        return images[0], images[1], places, "data/split/<season>_test.npy"
+    places = np.arange(SYNTHETIC_TEST_FROM, SYNTHETIC_PLACES)
+    rendered = _render((database, query), range(SYNTHETIC_TEST_FROM, SYNTHETIC_PLACES), seed)
+    return rendered[database], rendered[query], places, "synthetic route, places 850-999"
+
+
+def timed(function: Callable[[], Any]) -> tuple[Any, float]:
+    """(function(), wall seconds)."""
+    start = time.perf_counter()
+    result = function()
+    return result, time.perf_counter() - start
+
+
+def cpu_busy_fraction(seconds: float = 1.0) -> float | None:
+    """Fraction of all cores busy over `seconds` while this process sleeps, i.e. other work
+    (from /proc/stat; None where it does not exist)."""
+    def snapshot() -> tuple[int, int] | None:
+        try:
+            fields = [int(value) for value in Path("/proc/stat").read_text().split("\n")[0].split()[1:]]
+        except OSError:
+            return None
+        idle = fields[3] + fields[4]  # idle + iowait
+        return sum(fields) - idle, sum(fields)
+
+    first = snapshot()
+    time.sleep(seconds)
+    second = snapshot()
+    if first is None or second is None or second[1] == first[1]:
+        return None
+    return (second[0] - first[0]) / (second[1] - first[1])
+
+
+def machine() -> dict[str, Any]:
+    """What the timings are measured on, and how busy the CPU is with other work just now."""
+    return {
+        "cpu_count": os.cpu_count(),
+        "torch_threads": torch.get_num_threads(),
+        "cuda": torch.cuda.get_device_name(0) if torch.cuda.is_available() else None,
+        "other_cpu_busy_fraction": cpu_busy_fraction(),
+        "python": platform.python_version(),
+        "torch": torch.__version__,
+    }
+
+
+def load_note(before: dict[str, Any]) -> str:
+    """A warning line when other work kept the CPU busy before or after the run, else ''."""
+    busy = {"before": before["other_cpu_busy_fraction"], "after": cpu_busy_fraction()}
+    if any(value is not None and value > 0.25 for value in busy.values()):
+        shown = ", ".join(f"{key} {value:.0%}" for key, value in busy.items() if value is not None)
+        return f"NOTE: other work kept the CPU busy ({shown} of all cores): these timings may be slowed"
+    return ""
+
+
+def write_result(name: str, record: dict[str, Any], measured_on: dict[str, Any]) -> Path:
+    """Write benchmarks/results/<name>.json with `measured_on` (machine(), taken at the start) and
+    return its path."""
+    path = RESULTS_DIR / f"{name}.json"
+    write_json(path, to_json_value({**record, "machine": measured_on}))
+    return path

@@ -1,0 +1,147 @@
+import numpy as np
+import pytest
+import torch
+from sklearn.decomposition import FastICA
+
+from seasonloop.fastica import TorchFastICA, amari_distance
+from seasonloop.models.base import to_float
+from seasonloop.models.registry import get_learner, load_learner
+
+N_SOURCES, N_FEATURES, N_SAMPLES = 6, 16, 4000
+
+
+@pytest.fixture(scope="module")
+def mixture() -> tuple[np.ndarray, np.ndarray]:
+    """Independent super-Gaussian (Laplace) sources mixed into more features, plus a little noise:
+    (n_samples, n_features) float32 data and the (n_features, n_sources) mixing matrix."""
+    rng = np.random.default_rng(0)
+    sources = rng.laplace(size=(N_SAMPLES, N_SOURCES))
+    mixing = rng.normal(size=(N_FEATURES, N_SOURCES))
+    data = sources @ mixing.T + 0.01 * rng.normal(size=(N_SAMPLES, N_FEATURES))
+    return data.astype(np.float32), mixing
+
+
+def images(n: int, seed: int) -> np.ndarray:
+    """uint8 (n, 8, 16) images: 8 fixed patterns weighted by independent Laplace sources, plus noise."""
+    patterns = np.random.default_rng(100).normal(size=(8, 8 * 16))
+    rng = np.random.default_rng(seed)
+    pixels = 128 + 6 * rng.laplace(size=(n, 8)) @ patterns + rng.normal(0, 3, (n, 8 * 16))
+    return np.clip(pixels, 0, 255).astype(np.uint8).reshape(n, 8, 16)
+
+
+def test_amari_distance_is_zero_for_a_scaled_permutation_only():
+    mixing = np.random.default_rng(1).normal(size=(5, 5))
+    permuted_scaled = np.diag([2.0, -1.0, 0.5, 3.0, 1.0])[[2, 0, 1, 4, 3]] @ np.linalg.inv(mixing)
+    assert amari_distance(permuted_scaled, mixing) < 1e-12
+    assert amari_distance(np.ones((5, 5)), np.eye(5)) == pytest.approx(1.0)
+
+
+def test_recovers_known_sources(mixture):
+    data, mixing = mixture
+    ica = TorchFastICA(N_SOURCES, max_iter=200, tol=1e-4, seed=0).fit(data)
+    assert ica.converged_ and ica.n_iter_ < 200
+    assert amari_distance(ica.components_, mixing) < 0.03
+    sources = ica.transform(data)
+    assert sources.dtype == np.float32 and sources.shape == (N_SAMPLES, N_SOURCES)
+    # unit-variance, uncorrelated sources on the training data, as scikit-learn's whiten="unit-variance"
+    np.testing.assert_allclose(np.cov(sources, rowvar=False, bias=True), np.eye(N_SOURCES), atol=1e-3)
+
+
+@pytest.mark.parametrize("fun", ["logcosh", "exp", "cube"])
+@pytest.mark.parametrize("whiten_solver", ["eigh", "svd"])
+def test_agrees_with_scikit_learn(mixture, fun, whiten_solver):
+    data, mixing = mixture
+    ours = TorchFastICA(N_SOURCES, max_iter=200, tol=1e-4, seed=3, fun=fun, whiten_solver=whiten_solver).fit(data)
+    reference = FastICA(
+        N_SOURCES, fun=fun, whiten="unit-variance", whiten_solver=whiten_solver, max_iter=200, tol=1e-4, random_state=3
+    ).fit(data)
+    # Same start (scikit-learn's initial matrix for the seed), same iteration: same answer up to rounding.
+    assert abs(ours.n_iter_ - reference.n_iter_) <= 1
+    assert amari_distance(ours.components_, mixing) <= amari_distance(reference.components_, mixing) + 0.005
+    np.testing.assert_allclose(ours.mean_, reference.mean_, atol=1e-5)
+    np.testing.assert_allclose(ours.transform(data), reference.transform(data), atol=2e-3)
+
+
+def test_deterministic_for_a_seed(mixture):
+    data, _ = mixture
+    first = TorchFastICA(N_SOURCES, seed=7).fit(data)
+    second = TorchFastICA(N_SOURCES, seed=7).fit(data)
+    for key, value in first.to_arrays().items():
+        np.testing.assert_array_equal(second.to_arrays()[key], value)
+    other = TorchFastICA(N_SOURCES, seed=8).fit(data)
+    assert not np.array_equal(other.unmixing_, first.unmixing_)
+
+
+def test_converged_flag_is_honest(mixture):
+    data, _ = mixture
+    stopped = TorchFastICA(N_SOURCES, max_iter=1, tol=1e-4, seed=0).fit(data)
+    assert stopped.converged_ is False and stopped.n_iter_ == 1 and stopped.last_change_ >= 1e-4
+    finished = TorchFastICA(N_SOURCES, max_iter=500, tol=1e-4, seed=0).fit(data)
+    assert finished.converged_ is True and finished.n_iter_ < 500 and finished.last_change_ < 1e-4
+
+
+def test_bad_input_raises(mixture):
+    data, _ = mixture
+    with pytest.raises(ValueError, match="n_components = 17 exceeds"):
+        TorchFastICA(17).fit(data)
+    # 10 samples centred have rank 9: the 10th direction is rounding noise.
+    few = np.random.default_rng(0).normal(size=(10, N_FEATURES)).astype(np.float32)
+    for whiten_solver in ("eigh", "svd"):
+        TorchFastICA(9, whiten_solver=whiten_solver).fit(few)
+        with pytest.raises(ValueError, match="n_components = 10 exceeds the 9 directions"):
+            TorchFastICA(10, whiten_solver=whiten_solver).fit(few)
+    with pytest.raises(ValueError, match="fun"):
+        TorchFastICA(3, fun="tanh")
+    with pytest.raises(ValueError, match="whiten_solver"):
+        TorchFastICA(3, whiten_solver="qr")
+
+
+@pytest.mark.skipif(not torch.cuda.is_available(), reason="no CUDA device")
+def test_cuda_matches_cpu(mixture):
+    data, mixing = mixture
+    cpu = TorchFastICA(N_SOURCES, seed=0, device="cpu").fit(data)
+    cuda = TorchFastICA(N_SOURCES, seed=0, device="cuda").fit(data)
+    assert abs(cuda.n_iter_ - cpu.n_iter_) <= 1
+    assert amari_distance(cuda.components_, mixing) < 0.03
+    np.testing.assert_allclose(cuda.transform(data), cpu.transform(data), atol=2e-3)
+
+
+def test_ica_learner_torch_solver_saves_and_loads_identically(tmp_path):
+    train, test = images(600, 0), images(50, 1)
+    params = {"n_components": 8, "solver": "torch", "device": "cpu"}
+    learner = get_learner("ica")(params, seed=2)
+    info = learner.fit(train, progress=False)
+    assert info["solver"] == "torch" and info["device"] == "cpu" and info["converged"] is True
+    assert info["convergence_warnings"] == [] and 1 <= info["n_iter"] < info["max_iter"]
+    descriptors = learner.describe(test)
+    # The descriptor is the projection on the unmixing matrix (after centring and whitening).
+    estimator = learner.estimator
+    expected = (to_float(test).reshape(len(test), -1) - estimator.mean_) @ (estimator.unmixing_ @ estimator.whitening_).T
+    np.testing.assert_allclose(descriptors, expected, rtol=1e-5, atol=1e-5)
+
+    learner.save(tmp_path)
+    assert (tmp_path / "fastica.npz").is_file() and not (tmp_path / "fastica.joblib").exists()
+    loaded = load_learner(tmp_path)
+    assert loaded.params == learner.params and loaded.fit_info == info
+    np.testing.assert_array_equal(loaded.describe(test), descriptors)
+
+    # Same data, scikit-learn solver: the same descriptors up to float32 rounding.
+    reference = get_learner("ica")({**params, "solver": "sklearn", "device": "auto"}, seed=2)
+    reference.fit(train, progress=False)
+    np.testing.assert_allclose(reference.describe(test), descriptors, atol=1e-2)
+    reference.save(tmp_path / "sklearn")
+    assert (tmp_path / "sklearn" / "fastica.joblib").is_file()
+    np.testing.assert_array_equal(load_learner(tmp_path / "sklearn").describe(test), reference.describe(test))
+
+
+def test_ica_learner_torch_solver_records_non_convergence_and_checks_params():
+    learner = get_learner("ica")({"n_components": 8, "max_iter": 2, "solver": "torch"}, seed=0)
+    info = learner.fit(images(200, 0), progress=False)
+    assert info["converged"] is False and info["n_iter"] == info["max_iter"] == 2
+    assert info["convergence_warnings"]
+    with pytest.raises(ValueError, match=r"ica\.algorithm"):
+        get_learner("ica")({"solver": "torch", "algorithm": "deflation"})
+    with pytest.raises(ValueError, match=r"ica\.solver"):
+        get_learner("ica")({"solver": "jax"})
+    with pytest.raises(ValueError, match=r"ica\.device"):
+        get_learner("ica")({"solver": "sklearn", "device": "cuda"})

@@ -137,3 +137,30 @@ def test_augmentation_shift_and_flip_geometry():
     assert any(np.array_equal(s[:, :-2], image[0][:, 2:]) for s in shifted)
     with pytest.raises(ValueError, match="augment.width_shift"):
         augment_images(image, np.random.default_rng(0), True, 1.5, 0.0)
+
+
+def test_detection_finds_the_renderers_tunnels_and_stops():
+    """Image-based tunnel and stop detection against the synthetic route's true layout."""
+    from seasonloop.data.synthetic import SyntheticRoute
+
+    route = SyntheticRoute(seconds=700, seed=1)
+    layout = route.layout
+    assert layout.tunnels and layout.stops
+    brightness, change = {}, {}
+    for season in ("summer", "winter"):
+        # one frame per second, as extract_frames takes them, at the preprocessing size
+        frames = np.stack([route.frame(season, float(t), 128, 72) for t in range(layout.seconds)])
+        brightness[season], change[season] = frame_statistics(to_gray(frames, 32, 64))
+    tunnel = detect_tunnels(brightness, dark_threshold=40)
+    stop = detect_stops(change, stop_threshold=1.0)
+    true_tunnel, true_stop = layout.in_tunnel(), layout.stopped()
+    assert (tunnel & true_tunnel).sum() >= 0.9 * true_tunnel.sum()
+    assert (tunnel & ~true_tunnel).sum() <= 0.1 * true_tunnel.sum() + 4   # tunnel mouths are dark too
+    assert (stop & true_stop).sum() >= 0.9 * true_stop.sum()
+    # the train slows down before a stop and speeds up after it, so the seconds just around a
+    # stop look still too; a dark tunnel looks still as well, and the split counts it as a tunnel.
+    # Anything else would be a false stop.
+    near_stop = np.zeros_like(true_stop)
+    for start, end in layout.stops:
+        near_stop[max(0, start - 8) : end + 8] = True
+    assert not (stop & ~near_stop & ~tunnel).any()

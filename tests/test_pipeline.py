@@ -18,6 +18,7 @@ REPO = Path(__file__).resolve().parents[1]
 # (so pairs are filtered to the seasons present), every learner, both matchers.
 TINY = {
     "data": {"seasons": ["summer", "fall", "winter"]},
+    "train": {"seasons": ["summer", "fall", "winter"]},
     "synthetic": {"seconds": 300, "fps": 2, "width": 128, "height": 72},
     "extract": {"height": 36, "width": 64},
     "split": {"section_length": 100, "test_fraction": 0.3, "gap": 3},

@@ -19,12 +19,21 @@ from typing import Any
 import numpy as np
 
 
+def _default_mode(directory: bool) -> int:
+    """The permissions a plain mkdir/open would give: tempfile's private 0o700/0o600 would
+    otherwise stick to the renamed result."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return (0o777 if directory else 0o666) & ~umask
+
+
 @contextlib.contextmanager
 def staged_dir(final: Path) -> Iterator[Path]:
     """Yield an empty temporary directory beside `final`; it replaces `final` only on success."""
     final = Path(final)
     final.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{final.name}.", dir=final.parent))
+    os.chmod(tmp, _default_mode(directory=True))
     try:
         yield tmp
     except BaseException:
@@ -43,6 +52,7 @@ def staged_file(final: Path) -> Iterator[Path]:
     fd, name = tempfile.mkstemp(prefix=f".{final.name}.", suffix=final.suffix, dir=final.parent)
     os.close(fd)
     tmp = Path(name)
+    os.chmod(tmp, _default_mode(directory=False))
     try:
         yield tmp
     except BaseException:

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import matplotlib
 from matplotlib.figure import Figure
 
 # Largest side, in cells, of a distance matrix drawn without downsampling.
@@ -25,12 +26,24 @@ def _save(figure: Figure, path) -> None:
     figure.savefig(path, format="png", dpi=120, bbox_inches="tight")
 
 
+def _series_styles(labels: Sequence[str]) -> dict[str, dict]:
+    """One colour per learner, shared by its variants ("pca" and "pca+seq"); variants are dashed
+    lines / hatched bars, so a dozen series stay tellable apart."""
+    bases = list(dict.fromkeys(str(label).split("+")[0] for label in labels))
+    palette = matplotlib.colormaps["tab10" if len(bases) <= 10 else "tab20"]
+    return {
+        label: {"color": palette(bases.index(str(label).split("+")[0])), "variant": "+" in str(label)}
+        for label in labels
+    }
+
+
 def plot_pr_curves(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], title: str, path) -> None:
     """Overlay precision-recall curves, label -> (recall, precision), on 0..1 axes."""
     if not curves:
         raise ValueError("curves is empty: nothing to plot")
     figure = Figure(figsize=(5.5, 4.5))
     axes = figure.add_subplot()
+    styles = _series_styles(list(curves))
     for label, (recall, precision) in curves.items():
         recall, precision = np.asarray(recall), np.asarray(precision)
         if recall.ndim != 1 or recall.shape != precision.shape:
@@ -38,7 +51,8 @@ def plot_pr_curves(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], title: s
                 f"curve {label!r}: recall and precision must be 1-D of equal length, "
                 f"got shapes {recall.shape} and {precision.shape}"
             )
-        axes.plot(recall, precision, label=label, linewidth=1.5)
+        axes.plot(recall, precision, label=label, linewidth=1.5, color=styles[label]["color"],
+                  linestyle="--" if styles[label]["variant"] else "-")
     axes.set_xlim(0.0, 1.0)
     axes.set_ylim(0.0, 1.02)
     axes.set_xlabel("Recall")
@@ -82,9 +96,12 @@ def plot_fraction_correct(
     bar_width = 0.8 / len(methods)
     figure = Figure(figsize=(max(6.0, 0.35 * len(pairs) * len(methods) + 2.0), 4.5))
     axes = figure.add_subplot()
+    styles = _series_styles(methods)
     for index, method in enumerate(methods):
         positions = group_positions + (index - (len(methods) - 1) / 2) * bar_width
-        axes.bar(positions, 100.0 * table.loc[method].to_numpy(dtype=np.float64), bar_width, label=str(method))
+        axes.bar(positions, 100.0 * table.loc[method].to_numpy(dtype=np.float64), bar_width, label=str(method),
+                 color=styles[method]["color"], hatch="//" if styles[method]["variant"] else None,
+                 edgecolor="white" if styles[method]["variant"] else None)
         if reference is not None:
             study = 100.0 * reference.loc[method].to_numpy(dtype=np.float64)
             axes.scatter(

@@ -41,7 +41,7 @@ def plot_pr_curves(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], title: s
     """Overlay precision-recall curves, label -> (recall, precision), on 0..1 axes."""
     if not curves:
         raise ValueError("curves is empty: nothing to plot")
-    figure = Figure(figsize=(5.5, 4.5))
+    figure = Figure(figsize=(7.5, 4.5))
     axes = figure.add_subplot()
     styles = _series_styles(list(curves))
     for label, (recall, precision) in curves.items():
@@ -59,7 +59,8 @@ def plot_pr_curves(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], title: s
     axes.set_ylabel("Precision")
     axes.set_title(title)
     axes.grid(True, alpha=0.3)
-    axes.legend(loc="lower left")
+    # beside the axes: a dozen curves would hide the high-precision corner
+    axes.legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize="small")
     _save(figure, path)
 
 

@@ -49,7 +49,8 @@ def main() -> None:
         seconds_of_place = (np.arange(n_places) / float(param(params, "extract.fps"))).astype(int)
         record["detection"] = {
             "tunnel": detection_scores(tunnel, layout.in_tunnel()[seconds_of_place]),
-            "stop": detection_scores(stop, layout.stopped()[seconds_of_place]),
+            # a still, dark tunnel frame looks like a stop too; the split counts it as a tunnel
+            "stop": detection_scores(stop & ~tunnel, layout.stopped()[seconds_of_place]),
         }
     with staged_dir(OUT) as out:
         for season in seasons:

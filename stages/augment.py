@@ -15,6 +15,7 @@ from seasonloop.io import load_array, read_json, save_array, staged_dir, write_j
 SPLIT = Path("data/split")
 OUT = Path("data/augmented")
 DATASET = Path("metrics/dataset.json")
+DETECTION = Path("metrics/detection.json")
 
 
 @stage_main
@@ -38,6 +39,7 @@ def main() -> None:
                 "train_augmented": len(augmented),
                 "test": len(split["test"]),
             }
+    detection = read_json(DETECTION)   # empty unless the renderer's truth was available
     write_json(DATASET, {
         "seasons": per_season,
         "total_images": split["n_places"] * len(seasons),
@@ -46,7 +48,7 @@ def main() -> None:
         "dropped_tunnel": len(split["dropped_tunnel"]),
         "dropped_stop": len(split["dropped_stop"]),
         "gap": len(split["gap"]),
-        **({"detection": split["detection"]} if "detection" in split else {}),
+        **({"detection": detection} if detection else {}),
     })
 
 

@@ -1,7 +1,9 @@
 """Stage split: geographic train/test sections with gaps; tunnels and stops out of the test sets.
 
-Writes data/split/split.json (the place ids of every part, and how well tunnel and stop detection
-matched the renderer's truth when the data is synthetic) and data/split/<season>_{train,test}.npy.
+Writes data/split/split.json (the place ids of every part), data/split/<season>_{train,test}.npy
+and metrics/detection.json: how well tunnel and stop detection matched the renderer's truth when the
+data is synthetic (empty otherwise). The scores live outside data/split so that scoring changes do
+not invalidate the learners, which depend on data/split.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from seasonloop.split import detect_stops, detect_tunnels, make_split
 PREPROCESSED = Path("data/preprocessed")
 LAYOUT = Path("data/acquired/layout.json")
 OUT = Path("data/split")
+DETECTION = Path("metrics/detection.json")
 
 
 def detection_scores(found: np.ndarray, truth: np.ndarray) -> dict[str, float | int]:
@@ -42,12 +45,12 @@ def main() -> None:
     n_places = len(tunnel)
     split = make_split(n_places, int(split_params["section_length"]), float(split_params["test_fraction"]),
                        int(split_params["gap"]), tunnel, stop)
-    record = split.to_json()
+    detection = {}
     if param(params, "data.source") == "synthetic" and LAYOUT.is_file():
         # the renderer knows where its tunnels and stops are: score the image-based detection
         layout = RouteLayout.from_json(read_json(LAYOUT))
         seconds_of_place = (np.arange(n_places) / float(param(params, "extract.fps"))).astype(int)
-        record["detection"] = {
+        detection = {
             "tunnel": detection_scores(tunnel, layout.in_tunnel()[seconds_of_place]),
             # a still, dark tunnel frame looks like a stop too; the split counts it as a tunnel
             "stop": detection_scores(stop & ~tunnel, layout.stopped()[seconds_of_place]),
@@ -57,7 +60,8 @@ def main() -> None:
             images = load_array(PREPROCESSED / f"{season}.npy")
             save_array(out / f"{season}_train.npy", images[split.train])
             save_array(out / f"{season}_test.npy", images[split.test])
-        write_json(out / "split.json", record)
+        write_json(out / "split.json", split.to_json())
+    write_json(DETECTION, detection)
 
 
 if __name__ == "__main__":

@@ -15,7 +15,7 @@ import numpy as np
 import yaml
 
 from seasonloop.config import check_seasons
-from seasonloop.io import load_array
+from seasonloop.io import load_array, read_json
 
 PARAMS_FILE = Path("params.yaml")
 
@@ -52,6 +52,16 @@ def training_images(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
     else:
         paths = [Path("data/split") / f"{season}_train.npy" for season in seasons]
     return np.concatenate([load_array(path) for path in paths])
+
+
+def test_places() -> np.ndarray:
+    """Place ids of the test images, the same for every season (rows of <season>_test.npy)."""
+    return np.asarray(read_json(Path("data/split/split.json"))["test"])
+
+
+def test_images(seasons: list[str]) -> dict[str, np.ndarray]:
+    """season -> its (N_test, H, W) test images."""
+    return {season: load_array(Path("data/split") / f"{season}_test.npy") for season in seasons}
 
 
 def stage_main(run: Callable[[], None]) -> Callable[[], None]:

@@ -12,13 +12,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import numpy as np
 
-from _common import data_seasons, load_params, param, stage_main
+from _common import data_seasons, load_params, param, stage_main, test_places
 
 from seasonloop.config import available_pairs, pair_name
 from seasonloop.evaluation import MATCHERS, match_pair
-from seasonloop.io import load_array, read_json, staged_dir, write_json
+from seasonloop.io import load_array, staged_dir, write_json
 from seasonloop.plots import plot_distance_matrix
 
 
@@ -36,7 +35,7 @@ def main() -> None:
     pairs = available_pairs(data_seasons(params), evaluate["pairs"])
     if not pairs:
         raise ValueError("evaluate.pairs: no pair has both of its seasons in data.seasons")
-    places = np.asarray(read_json(Path("data/split/split.json"))["test"])
+    places = test_places()
     features = Path("data/features") / method
     with staged_dir(Path("metrics/eval") / method) as metrics_dir, \
             staged_dir(Path("plots/pr") / method) as pr_dir, \

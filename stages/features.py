@@ -10,9 +10,9 @@ import argparse
 import time
 from pathlib import Path
 
-from _common import data_seasons, load_params, param, stage_main
+from _common import data_seasons, load_params, param, stage_main, test_images
 
-from seasonloop.io import load_array, save_array, write_json
+from seasonloop.io import save_array, write_json
 from seasonloop.models.registry import load_learner
 
 
@@ -26,7 +26,7 @@ def main() -> None:
     if args.season not in data_seasons(params):
         raise ValueError(f"season '{args.season}' is not in data.seasons")
     learner = load_learner(Path("models") / args.method)
-    images = load_array(Path("data/split") / f"{args.season}_test.npy")
+    images = test_images([args.season])[args.season]
     start = time.perf_counter()
     features = learner.describe(images, batch_size=int(param(params, "features.batch_size")))
     seconds = time.perf_counter() - start

@@ -12,11 +12,11 @@ from pathlib import Path
 
 import numpy as np
 
-from _common import data_seasons, load_params, param, stage_main
+from _common import data_seasons, load_params, param, stage_main, test_images, test_places
 
 from seasonloop.config import available_pairs, pair_name
 from seasonloop.evaluation import match_pair
-from seasonloop.io import load_array, read_json, staged_dir, write_json
+from seasonloop.io import staged_dir, write_json
 from seasonloop.models.registry import load_learner
 from seasonloop.patchnorm import patch_normalise
 from seasonloop.plots import plot_image_grid, plot_series
@@ -47,8 +47,8 @@ def autoencoder_descriptors(learner, test: dict[str, np.ndarray], batch_size: in
 def main() -> None:
     params = load_params()
     seasons = data_seasons(params)
-    test = {season: load_array(Path("data/split") / f"{season}_test.npy") for season in seasons}
-    places = np.asarray(read_json(Path("data/split/split.json"))["test"])
+    test = test_images(seasons)
+    places = test_places()
     # the study's Figure 2 contrasts summer and winter; fall back to the first and last season present
     shown = ["summer" if "summer" in seasons else seasons[0], "winter" if "winter" in seasons else seasons[-1]]
     middle = len(places) // 2

@@ -8,9 +8,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
 
-from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main
+from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main, test_images, test_places
 
 from seasonloop.config import available_pairs, pair_name, parse_pair
 from seasonloop.evaluation import MATCHERS
@@ -59,8 +58,8 @@ def main() -> None:
                                             for pair in pairs}
                for matcher in matchers for method in methods}
 
-    places = np.asarray(read_json(Path("data/split/split.json"))["test"])
-    images = {season: load_array(Path("data/split") / f"{season}_test.npy") for season in (database, query)}
+    places = test_places()
+    images = test_images([database, query])
     example_pair = pair_name(database, query)
     grids = {}
     for method in methods:

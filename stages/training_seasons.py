@@ -9,13 +9,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
 
-from _common import data_seasons, load_params, param, stage_main, training_images
+from _common import data_seasons, load_params, param, stage_main, test_images, test_places, training_images
 
 from seasonloop.config import check_seasons, parse_pair
 from seasonloop.evaluation import match_pair
-from seasonloop.io import load_array, read_json, write_json
+from seasonloop.io import write_json
 from seasonloop.models.registry import get_learner
 from seasonloop.plots import plot_series
 
@@ -31,8 +30,8 @@ def main() -> None:
             raise ValueError(f"ablation.pair: season '{season}' is not in data.seasons")
     season_sets = [check_seasons(chosen, "ablation.training_seasons", allowed=seasons)
                    for chosen in ablation["training_seasons"]]
-    places = np.asarray(read_json(Path("data/split/split.json"))["test"])
-    test = {season: load_array(Path("data/split") / f"{season}_test.npy") for season in (database, query)}
+    places = test_places()
+    test = test_images([database, query])
     labels = ["+".join(chosen) for chosen in season_sets]
     # fraction_correct[method][training seasons joined by "+"]
     fraction_correct: dict[str, dict[str, float]] = {}

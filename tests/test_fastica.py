@@ -72,6 +72,15 @@ def test_deterministic_for_a_seed(mixture):
     assert not np.array_equal(other.unmixing_, first.unmixing_)
 
 
+def test_progress_bar_counts_iterations_and_changes_nothing(mixture, capsys):
+    data, _ = mixture
+    quiet = TorchFastICA(N_SOURCES, max_iter=30, seed=2).fit(data)
+    shown = TorchFastICA(N_SOURCES, max_iter=30, seed=2).fit(data, progress=True)
+    bar = capsys.readouterr().err
+    assert "FastICA iterations" in bar and f"{shown.n_iter_}/30" in bar
+    np.testing.assert_array_equal(shown.unmixing_, quiet.unmixing_)
+
+
 def test_converged_flag_is_honest(mixture):
     data, _ = mixture
     stopped = TorchFastICA(N_SOURCES, max_iter=1, tol=1e-4, seed=0).fit(data)

@@ -14,6 +14,7 @@ from collections.abc import Callable, Iterator
 
 import numpy as np
 import torch
+from tqdm.auto import tqdm
 
 WHITEN_SOLVERS = ("eigh", "svd")
 NONLINEARITIES = ("logcosh", "exp", "cube")
@@ -101,8 +102,9 @@ class TorchFastICA:
         self.last_change_: float | None = None
 
     # ----- fitting -----
-    def fit(self, data: np.ndarray) -> TorchFastICA:
-        """Learn from (n_samples, n_features) data (converted to float32)."""
+    def fit(self, data: np.ndarray, progress: bool = False) -> TorchFastICA:
+        """Learn from (n_samples, n_features) data (converted to float32); `progress` shows a bar
+        over the fixed-point iterations (minutes each at the study's scale on a CPU)."""
         data = np.asarray(data)
         if data.ndim != 2 or not np.issubdtype(data.dtype, np.number):
             raise ValueError(f"data must be a numeric (n_samples, n_features) array, got shape {data.shape}")
@@ -118,7 +120,7 @@ class TorchFastICA:
         mean = torch.from_numpy(data.mean(axis=0, dtype=np.float64).astype(np.float32)).to(self.device)
         whitening = self._whitening(data, mean)
         whitened = self._project(data, mean, whitening)  # (k, n), unit covariance
-        unmixing = self._iterate(whitened)
+        unmixing = self._iterate(whitened, progress)
         # scikit-learn's whiten="unit-variance": scale each source to unit standard deviation.
         source_std = (unmixing @ whitened).std(dim=1, correction=0)
         unmixing = unmixing / source_std[:, None]
@@ -164,13 +166,14 @@ class TorchFastICA:
         """(k, n) whitened data."""
         return torch.cat([whitening @ block.T for block in self._blocks(data, mean)], dim=1)
 
-    def _iterate(self, whitened: torch.Tensor) -> torch.Tensor:
+    def _iterate(self, whitened: torch.Tensor, progress: bool = False) -> torch.Tensor:
         """The parallel fixed-point iteration from scikit-learn's initial matrix for `seed`."""
         nonlinearity = _NONLINEARITY[self.fun]
         n_samples = whitened.shape[1]
         initial = np.random.RandomState(self.seed).normal(size=(self.n_components, self.n_components))
         unmixing = symmetric_decorrelation(torch.from_numpy(initial.astype(np.float32)).to(self.device))
         self.converged_ = False
+        bar = tqdm(total=self.max_iter, desc="FastICA iterations", unit="it", disable=not progress)
         for iteration in range(1, self.max_iter + 1):
             squashed, mean_derivative = nonlinearity(unmixing @ whitened)
             updated = symmetric_decorrelation(
@@ -178,9 +181,12 @@ class TorchFastICA:
             )
             change = float(((updated * unmixing).sum(dim=1).abs() - 1.0).abs().max())
             unmixing = updated
+            bar.update()
+            bar.set_postfix(change=f"{change:.2g}", tol=f"{self.tol:.2g}", refresh=False)
             if change < self.tol:
                 self.converged_ = True
                 break
+        bar.close()
         self.n_iter_ = iteration
         self.last_change_ = change
         return unmixing

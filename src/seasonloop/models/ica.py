@@ -134,7 +134,7 @@ class ICALearner(FeatureLearner):
                 f"{len(flat)} training images of {flat.shape[1]} pixels allow"
             )
         if self.params["solver"] == "torch":
-            return {**subset_info, "n_components": self.params["n_components"], **self._fit_torch(flat)}
+            return {**subset_info, "n_components": self.params["n_components"], **self._fit_torch(flat, progress)}
         self.estimator, convergence = fit_fastica(
             flat,
             n_components=self.params["n_components"],
@@ -147,11 +147,11 @@ class ICALearner(FeatureLearner):
         )
         return {**subset_info, "n_components": self.params["n_components"], "solver": "sklearn", **convergence}
 
-    def _fit_torch(self, flat: np.ndarray) -> dict[str, Any]:
+    def _fit_torch(self, flat: np.ndarray, progress: bool) -> dict[str, Any]:
         device = resolve_device(self.params["device"], self._key("device"))
         estimator = self._torch_estimator(device)
         try:
-            estimator.fit(flat)
+            estimator.fit(flat, progress=progress)
         except ValueError as error:
             raise ValueError(f"{self.name}: {error}") from error
         self.estimator = estimator

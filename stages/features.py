@@ -28,7 +28,7 @@ def main() -> None:
     learner = load_learner(Path("models") / args.method)
     images = test_images([args.season])[args.season]
     start = time.perf_counter()
-    features = learner.describe(images, batch_size=int(param(params, "features.batch_size")))
+    features = learner.describe(images, batch_size=int(param(params, "features.batch_size")), progress=True)
     seconds = time.perf_counter() - start
     save_array(Path("data/features") / args.method / f"{args.season}.npy", features)
     write_json(Path("metrics/features") / args.method / f"{args.season}.json", {

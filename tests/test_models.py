@@ -179,6 +179,10 @@ def test_autoencoder_descriptors_and_epoch_callback(name, code_length, fitted, f
     np.testing.assert_array_equal(learner.describe_as(images, "output_patchnorm"), learner.describe(images))
     with pytest.raises(ValueError, match="descriptor"):
         learner.describe_as(images, "bottleneck")
+    # one forward pass for Figure 19 gives what the two separate passes give, batch size aside
+    code, output_once = learner.describe_code_and_output(images, batch_size=5)
+    np.testing.assert_array_equal(code, learner.describe_as(images, "code", batch_size=5))
+    np.testing.assert_array_equal(output_once, learner.describe_as(images, "output", batch_size=5))
     epochs_seen = []
     params = {**TEST_PARAMS[name][0], "epochs": 2, "max_train_images": 40}
     info = get_learner(name)(params).fit(
@@ -253,6 +257,15 @@ def test_describe_and_save_before_fit_raise(name, tmp_path):
         learner.describe(np.zeros((2, 32, 64), dtype=np.uint8))
     with pytest.raises(RuntimeError, match="fit"):
         learner.save(tmp_path)
+
+
+def test_describe_progress_bar_counts_batches_and_changes_nothing(fitted, families, capsys):
+    learner = fitted("pca")
+    images = families[0][:12]
+    shown = learner.describe(images, batch_size=5, progress=True)
+    bar = capsys.readouterr().err
+    assert "pca describe" in bar and "0/3 " in bar  # 12 images in batches of 5
+    np.testing.assert_array_equal(shown, learner.describe(images, batch_size=5))
 
 
 def test_describe_rejects_other_image_size(fitted):

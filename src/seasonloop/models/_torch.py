@@ -186,28 +186,49 @@ class TorchAutoEncoderLearner(FeatureLearner):
             "loss_per_epoch": losses,
         }
 
-    def _descriptor_batch(self, images: np.ndarray, descriptor: str) -> np.ndarray:
+    def _forward_batch(self, images: np.ndarray, decode: bool = True) -> tuple[np.ndarray, ...]:
+        """(code (n, C),) or (code, output (n, H*W)) of one batch, as numpy arrays."""
         device = next(self.model.parameters()).device
         inputs = torch.from_numpy(to_float(images)).unsqueeze(1).to(device)
         with torch.inference_mode():
             code = self.model.encoder(inputs)
-            if descriptor == "code":
-                return code.flatten(1).cpu().numpy()
-            output = self.model.decoder(code)[:, 0].cpu().numpy()
+            if not decode:
+                return (code.flatten(1).cpu().numpy(),)
+            output = self.model.decoder(code)[:, 0]
+            return code.flatten(1).cpu().numpy(), output.reshape(len(images), -1).cpu().numpy()
+
+    def _descriptor_batch(self, images: np.ndarray, descriptor: str) -> np.ndarray:
+        if descriptor == "code":
+            return self._forward_batch(images, decode=False)[0]
+        output = self._forward_batch(images)[1]
         if descriptor == "output":
-            return output.reshape(len(images), -1)
-        return patch_normalise(output, self.params["patch_size"]).reshape(len(images), -1)
+            return output
+        return patch_normalise(output.reshape(images.shape), self.params["patch_size"]).reshape(len(images), -1)
 
     def _describe_batch(self, images: np.ndarray) -> np.ndarray:
         return self._descriptor_batch(images, self.params["descriptor"])
 
-    def describe_as(self, images: np.ndarray, descriptor: str, batch_size: int = 1024) -> np.ndarray:
+    def describe_as(
+        self, images: np.ndarray, descriptor: str, batch_size: int = 1024, progress: bool = False
+    ) -> np.ndarray:
         """(N, D) float32 descriptors of one kind ("code", "output" or "output_patchnorm") from the
         trained model, whatever the `descriptor` param says."""
         if descriptor not in AE_DESCRIPTORS:
             raise ValueError(f"descriptor must be one of {', '.join(AE_DESCRIPTORS)}, got {descriptor!r}")
         images = self._check_describe_input(images, "describe_as")
-        return self._in_batches(images, batch_size, lambda batch: self._descriptor_batch(batch, descriptor))
+        return self._in_batches(images, batch_size, lambda batch: self._descriptor_batch(batch, descriptor),
+                                progress, f"{self.name} {descriptor}")
+
+    def describe_code_and_output(
+        self, images: np.ndarray, batch_size: int = 1024, progress: bool = False
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The code vectors (N, C) and the reconstructed outputs (N, H*W), float32, from one forward
+        pass: the study's Figure 19 compares them, and a second pass would redo the encoder."""
+        images = self._check_describe_input(images, "describe_code_and_output")
+        n_pixels = images.shape[1] * images.shape[2]
+        joined = self._in_batches(images, batch_size, lambda batch: np.concatenate(self._forward_batch(batch), axis=1),
+                                  progress, f"{self.name} code and output")
+        return np.ascontiguousarray(joined[:, :-n_pixels]), np.ascontiguousarray(joined[:, -n_pixels:])
 
     def _save_state(self, directory: Path) -> None:
         torch.save(self.model.state_dict(), directory / MODEL_FILE)

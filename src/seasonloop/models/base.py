@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
+from tqdm.auto import tqdm
 
 LEARNER_FILE = "learner.json"
 
@@ -133,10 +134,11 @@ class FeatureLearner(ABC):
         self.fit_info = info
         return info
 
-    def describe(self, images: np.ndarray, batch_size: int = 1024) -> np.ndarray:
-        """(N, H, W) images -> (N, D) float32 descriptors, computed batch by batch."""
+    def describe(self, images: np.ndarray, batch_size: int = 1024, progress: bool = False) -> np.ndarray:
+        """(N, H, W) images -> (N, D) float32 descriptors, computed batch by batch (`progress`: a bar
+        over the batches, for learners such as the CAE that take minutes per season)."""
         images = self._check_describe_input(images, "describe")
-        return self._in_batches(images, batch_size, self._describe_batch)
+        return self._in_batches(images, batch_size, self._describe_batch, progress, f"{self.name} describe")
 
     def save(self, directory: Path) -> None:
         """Write directory/learner.json plus the learned state."""
@@ -185,16 +187,18 @@ class FeatureLearner(ABC):
 
     @staticmethod
     def _in_batches(
-        images: np.ndarray, batch_size: int, describe_batch: Callable[[np.ndarray], np.ndarray]
+        images: np.ndarray,
+        batch_size: int,
+        describe_batch: Callable[[np.ndarray], np.ndarray],
+        progress: bool = False,
+        description: str = "describe",
     ) -> np.ndarray:
         """Apply describe_batch to consecutive batches and stack the (n, D) results as float32."""
         if batch_size < 1:
             raise ValueError(f"batch_size must be >= 1, got {batch_size}")
+        starts = tqdm(range(0, len(images), batch_size), desc=description, unit="batch", disable=not progress, leave=False)
         return np.concatenate(
-            [
-                np.asarray(describe_batch(images[start : start + batch_size]), dtype=np.float32)
-                for start in range(0, len(images), batch_size)
-            ]
+            [np.asarray(describe_batch(images[start : start + batch_size]), dtype=np.float32) for start in starts]
         )
 
     @abstractmethod

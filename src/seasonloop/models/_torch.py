@@ -186,21 +186,19 @@ class TorchAutoEncoderLearner(FeatureLearner):
             "loss_per_epoch": losses,
         }
 
-    def _forward_batch(self, images: np.ndarray, decode: bool = True) -> tuple[np.ndarray, ...]:
-        """(code (n, C),) or (code, output (n, H*W)) of one batch, as numpy arrays."""
+    def _forward_batch(self, images: np.ndarray, decode: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+        """Code (n, C) and, if `decode`, output (n, H*W) of one batch, as numpy arrays."""
         device = next(self.model.parameters()).device
         inputs = torch.from_numpy(to_float(images)).unsqueeze(1).to(device)
         with torch.inference_mode():
             code = self.model.encoder(inputs)
-            if not decode:
-                return (code.flatten(1).cpu().numpy(),)
-            output = self.model.decoder(code)[:, 0]
-            return code.flatten(1).cpu().numpy(), output.reshape(len(images), -1).cpu().numpy()
+            output = self.model.decoder(code)[:, 0].reshape(len(images), -1).cpu().numpy() if decode else None
+            return code.flatten(1).cpu().numpy(), output
 
     def _descriptor_batch(self, images: np.ndarray, descriptor: str) -> np.ndarray:
+        code, output = self._forward_batch(images, decode=descriptor != "code")
         if descriptor == "code":
-            return self._forward_batch(images, decode=False)[0]
-        output = self._forward_batch(images)[1]
+            return code
         if descriptor == "output":
             return output
         return patch_normalise(output.reshape(images.shape), self.params["patch_size"]).reshape(len(images), -1)
@@ -225,10 +223,15 @@ class TorchAutoEncoderLearner(FeatureLearner):
         """The code vectors (N, C) and the reconstructed outputs (N, H*W), float32, from one forward
         pass: the study's Figure 19 compares them, and a second pass would redo the encoder."""
         images = self._check_describe_input(images, "describe_code_and_output")
-        n_pixels = images.shape[1] * images.shape[2]
-        joined = self._in_batches(images, batch_size, lambda batch: np.concatenate(self._forward_batch(batch), axis=1),
-                                  progress, f"{self.name} code and output")
-        return np.ascontiguousarray(joined[:, :-n_pixels]), np.ascontiguousarray(joined[:, -n_pixels:])
+        outputs: list[np.ndarray] = []
+
+        def code_keeping_output(batch: np.ndarray) -> np.ndarray:
+            code, output = self._forward_batch(batch)
+            outputs.append(output)
+            return code
+
+        codes = self._in_batches(images, batch_size, code_keeping_output, progress, f"{self.name} code and output")
+        return codes, np.concatenate(outputs)
 
     def _save_state(self, directory: Path) -> None:
         torch.save(self.model.state_dict(), directory / MODEL_FILE)

@@ -54,6 +54,14 @@ def training_images(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
     return np.concatenate([load_array(path) for path in paths])
 
 
+def training_places(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
+    """The place id of every image that training_images returns: data/augmented/<season>.npy holds
+    the training places' originals followed by augment.copies augmented copies of each."""
+    places = np.asarray(read_json(Path("data/split/split.json"))["train"])
+    copies = int(param(params, "augment.copies")) if bool(param(params, "train.augmented")) else 0
+    return np.tile(places, (copies + 1) * len(seasons))
+
+
 def test_places() -> np.ndarray:
     """Place ids of the test images, the same for every season (rows of <season>_test.npy)."""
     return np.asarray(read_json(Path("data/split/split.json"))["test"])

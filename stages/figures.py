@@ -3,7 +3,10 @@
 Writes under plots/figures/: fig02_pca_projection.png (an image of one place in two seasons and
 its projection on the first, condition-dependent principal components vs the kept ones),
 fig12_patch_ica_filters.png, fig13_visual_words.png, fig19_autoencoder_descriptors.png (code vs
-output vs patch-normalised output, single-image fraction correct) and metrics/autoencoder_descriptors.json.
+output vs patch-normalised output, single-image fraction correct), fig19b_autoencoder_reconstructions.png
+(test inputs of every season beside the FAE's and CAE's reconstructions) and
+fig19c_autoencoder_loss.png (training and validation loss per epoch); metrics/autoencoder_descriptors.json
+and metrics/autoencoder_training.json (how each auto-encoder's training ended).
 """
 
 from __future__ import annotations
@@ -19,12 +22,17 @@ from seasonloop.evaluation import match_pair
 from seasonloop.io import staged_dir, write_json
 from seasonloop.models.registry import load_learner
 from seasonloop.patchnorm import patch_normalise
-from seasonloop.plots import plot_image_grid, plot_series
+from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
 
 AE_DESCRIPTORS = ("code", "output", "output_patchnorm")
 AUTOENCODERS = ("fae", "cae")
 N_WORDS_SHOWN, N_EXAMPLES_SHOWN = 12, 10
 FILTERS_PER_ROW = 16
+N_RECONSTRUCTIONS = 2  # test places shown per season
+# what metrics/autoencoder_training.json keeps of each auto-encoder's fit info
+TRAINING_RECORD = ("stop_reason", "converged", "epochs_run", "best_epoch", "best_validation_loss", "final_train_loss",
+                   "n_train_images", "n_validation_images", "images_seen", "training_seconds", "precision",
+                   "torch_threads")
 
 
 def autoencoder_descriptors(learner, test: dict[str, np.ndarray], batch_size: int) -> dict[str, dict[str, np.ndarray]]:
@@ -74,10 +82,20 @@ def main() -> None:
 
         pairs = available_pairs(seasons, param(params, "evaluate.pairs"))
         fraction_correct: dict[str, dict[str, dict[str, float]]] = {}
+        training: dict[str, dict] = {}
+        losses: dict[str, dict[str, list[float]]] = {}
+        shown_places = np.linspace(0, len(places) - 1, N_RECONSTRUCTIONS + 2).astype(int)[1:-1]
+        reconstructions = {season: [list(test[season][shown_places])] for season in seasons}
         for method in AUTOENCODERS:
             learner = load_learner(Path("models") / method)
             fraction_correct[method] = {}
+            training[method] = {key: learner.fit_info[key] for key in TRAINING_RECORD}
+            losses[method] = {"train": learner.fit_info["loss_per_epoch"],
+                              "validation": learner.fit_info["validation_loss_per_epoch"]}
             described = autoencoder_descriptors(learner, test, int(param(params, "features.batch_size")))
+            for season in seasons:
+                reconstructions[season].append(list(
+                    described["output"][season][shown_places].reshape(-1, *test[season].shape[1:])))
             for descriptor in AE_DESCRIPTORS:
                 fraction_correct[method][descriptor] = {
                     pair_name(a, b): match_pair(described[descriptor][a], described[descriptor][b], places, places, "single",
@@ -88,7 +106,16 @@ def main() -> None:
                      for method in AUTOENCODERS for a, b in pairs},
                     out / "fig19_autoencoder_descriptors.png", title="Auto-encoder descriptors (study Fig. 19)",
                     xlabel="descriptor", ylabel="fraction correct (%)")
+        # rows: a season's input images, then each auto-encoder's reconstructions of them
+        plot_image_grid([images for season in seasons for images in zip(*reconstructions[season])],
+                        out / "fig19b_autoencoder_reconstructions.png",
+                        row_labels=[f"{season}, place {places[index]}" for season in seasons for index in shown_places],
+                        col_labels=["input", *(f"{method} output" for method in AUTOENCODERS)],
+                        title="Test images and the auto-encoders' reconstructions")
+        plot_loss_curves(losses, out / "fig19c_autoencoder_loss.png",
+                         title="Auto-encoder training: loss per epoch (validation on held-out training places)")
     write_json(Path("metrics/autoencoder_descriptors.json"), fraction_correct)
+    write_json(Path("metrics/autoencoder_training.json"), training)
 
 
 if __name__ == "__main__":

@@ -1,19 +1,23 @@
 """Stage fit@<method>: fit one feature learner on the training images of train.seasons.
 
-Writes models/<method>/ (the fitted learner), logs/<method>/ (dvclive training curves for
-learners that train in epochs) and metrics/fit/<method>.json (fit time, training-set size, the
-learner's fit report such as ICA convergence).
+Writes models/<method>/ (the fitted learner), logs/<method>/ (dvclive training and validation
+curves for learners that train in epochs) and metrics/fit/<method>.json (fit time, training-set
+size, the learner's fit report such as ICA convergence or why an auto-encoder stopped, and the
+torch threads and library versions, so that a different result elsewhere can be traced).
 """
 
 from __future__ import annotations
 
 import argparse
+import platform
 import time
+from importlib.metadata import version
 from pathlib import Path
 
+import torch
 from dvclive import Live
 
-from _common import load_params, param, stage_main, train_seasons, training_images
+from _common import load_params, param, stage_main, train_seasons, training_images, training_places
 
 from seasonloop.io import staged_dir, write_json
 from seasonloop.models.registry import get_learner
@@ -28,16 +32,19 @@ def main() -> None:
     learner_class = get_learner(method)
     seasons = train_seasons(params)
     images = training_images(params, seasons)
+    places = training_places(params, seasons)
     learner = learner_class(param(params, method), seed=int(param(params, "seed")))
     with Live(dir=str(Path("logs") / method), save_dvc_exp=False, dvcyaml=None, report=None) as live:
 
         def on_epoch(epoch: int, values: dict[str, float]) -> None:
-            for name, value in values.items():
-                live.log_metric(f"train/{name}", value)
+            # one plot of both losses (logs/<method>/plots/metrics/loss/{train,validation}.tsv)
+            live.log_metric("loss/train", values["train_loss"])
+            live.log_metric("loss/validation", values["validation_loss"])
+            live.log_metric("learning_rate", values["learning_rate"])
             live.next_step()
 
         start = time.perf_counter()
-        info = learner.fit(images, progress=True, on_epoch=on_epoch)
+        info = learner.fit(images, progress=True, on_epoch=on_epoch, places=places)
         fit_seconds = time.perf_counter() - start
     with staged_dir(Path("models") / method) as out:
         learner.save(out)
@@ -46,6 +53,11 @@ def main() -> None:
         "n_train_images": len(images),
         "train_seasons": seasons,
         "info": info,
+        "environment": {
+            "torch_threads": torch.get_num_threads(),
+            "python": platform.python_version(),
+            **{package: version(package) for package in ("numpy", "scikit-learn", "torch", "opencv-python-headless")},
+        },
     })
 
 

@@ -17,6 +17,7 @@ from seasonloop.io import load_array, read_json, staged_file
 from seasonloop.matching import distance_matrix
 from seasonloop.report import (
     build_report,
+    autoencoder_training_section,
     dataset_section,
     example_grid_png,
     examples_section,
@@ -83,6 +84,7 @@ def main() -> None:
     autoencoders = read_json(Path("metrics/autoencoder_descriptors.json"))
     autoencoders = ordered(autoencoders, [method for method in methods if method in autoencoders],
                            "metrics/autoencoder_descriptors.json")
+    autoencoder_training = read_json(Path("metrics/autoencoder_training.json"))
     figures = sorted(Path("plots/figures").glob("*.png"))
     if not figures:
         raise FileNotFoundError("plots/figures: no PNG figures found (run the figures stage first)")
@@ -96,6 +98,7 @@ def main() -> None:
         examples_section(example_pair, grids),
         runtime_section(runtime),
         training_seasons_section(training, Path("plots/training_seasons.png")),
+        autoencoder_training_section(autoencoder_training),
         figures_section({path.stem.replace("_", " "): path for path in figures}, autoencoders),
         parameters_section(PARAMS_FILE.read_text()),
     ]

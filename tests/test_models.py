@@ -20,9 +20,10 @@ TEST_PARAMS = {
     # 200 images < 512 pixels: svd whitening copes with the rank deficiency without a warning.
     "ica": ({"n_components": 16, "whiten_solver": "svd"}, 16),
     "ica_bovw": ({"patch_size": 4, "stride": 4, "n_train_patches": 5000, "n_components": 15, "n_words": 16}, 16),
-    "fae": ({"hidden": 32, "epochs": 5, "batch_size": 32}, HEIGHT * WIDTH),
+    "fae": ({"hidden": 32, "max_epochs": 5, "batch_size": 32}, HEIGHT * WIDTH),
     "cae": (
-        {"channels": [8, 16, 16], "kernels": [5, 3, 3], "epochs": 5, "batch_size": 32, "max_train_images": 0},
+        {"channels": [8, 16, 16], "kernels": [5, 3, 3], "max_epochs": 5, "batch_size": 32, "max_train_images": 0,
+         "max_validation_images": 0},
         HEIGHT * WIDTH,
     ),
 }
@@ -184,12 +185,14 @@ def test_autoencoder_descriptors_and_epoch_callback(name, code_length, fitted, f
     np.testing.assert_array_equal(code, learner.describe_as(images, "code", batch_size=5))
     np.testing.assert_array_equal(output_once, learner.describe_as(images, "output", batch_size=5))
     epochs_seen = []
-    params = {**TEST_PARAMS[name][0], "epochs": 2, "max_train_images": 40}
+    params = {**TEST_PARAMS[name][0], "max_epochs": 2, "max_train_images": 40}
     info = get_learner(name)(params).fit(
         families[0], progress=False, on_epoch=lambda epoch, metrics: epochs_seen.append((epoch, metrics))
     )
     assert [epoch for epoch, _ in epochs_seen] == [1, 2] and info["n_train_images"] == 40
-    assert [metrics["loss"] for _, metrics in epochs_seen] == info["loss_per_epoch"]
+    assert [metrics["train_loss"] for _, metrics in epochs_seen] == info["loss_per_epoch"]
+    assert [metrics["validation_loss"] for _, metrics in epochs_seen] == info["validation_loss_per_epoch"]
+    assert info["stop_reason"] == "max_epochs" and info["converged"] is False and info["epochs_run"] == 2
 
 
 def test_cae_layers_match_table_5():
@@ -236,6 +239,12 @@ def test_cuda_requested_without_cuda_raises(families):
         ("ica", {"max_iter": 0}, r"ica\.max_iter"),
         ("raw_patchnorm", {"mode": "l2"}, r"raw_patchnorm\.mode"),
         ("fae", {"device": "tpu"}, r"fae\.device"),
+        ("fae", {"precision": "float16"}, r"fae\.precision"),
+        ("cae", {"patience": 0}, r"cae\.patience"),
+        ("fae", {"validation_fraction": 1.0}, r"fae\.validation_fraction"),
+        ("fae", {"lr_factor": 1.5}, r"fae\.lr_factor"),
+        ("cae", {"budget_seconds": -1}, r"cae\.budget_seconds"),
+        ("fae", {"epochs": 3}, r"unknown parameter 'fae\.epochs'"),
     ],
 )
 def test_bad_params_raise_naming_the_key(name, params, match):

@@ -239,3 +239,28 @@ def plot_series(
     axes.legend(fontsize="small")
     axes.tick_params(axis="x", labelrotation=15)
     _save(figure, path)
+
+
+def plot_loss_curves(curves: Mapping[str, Mapping[str, Sequence[float]]], path, title: str) -> None:
+    """One panel per model, its loss per epoch on a log scale, curves[model][name] (e.g. "train",
+    "validation"); the lowest point of a curve named "validation" is marked (the weights kept)."""
+    if not curves or not all(curves.values()):
+        raise ValueError("curves is empty: nothing to plot")
+    figure = Figure(figsize=(4.5 * len(curves), 3.6))
+    panels = figure.subplots(1, len(curves), squeeze=False)[0]
+    for axes, (model, by_name) in zip(panels, curves.items()):
+        for name, values in by_name.items():
+            values = np.asarray(values, dtype=np.float64)
+            epochs = np.arange(1, len(values) + 1)
+            axes.plot(epochs, values, marker="." if len(values) < 40 else None, label=name)
+            if name == "validation":
+                best = int(np.argmin(values))
+                axes.plot(epochs[best], values[best], "k*", markersize=10, label=f"kept (epoch {epochs[best]})")
+        axes.set_yscale("log")
+        axes.set_xlabel("epoch")
+        axes.set_ylabel("mean squared error")
+        axes.set_title(model)
+        axes.grid(True, alpha=0.3)
+        axes.legend(fontsize="small")
+    figure.suptitle(title)
+    _save(figure, path)

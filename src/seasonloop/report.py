@@ -338,6 +338,17 @@ def figures_section(figures: Mapping[str, Png], autoencoder_descriptors: Mapping
         Table("Auto-encoder descriptors (study Fig. 19): fraction correct (%), single-image matching", table)])
 
 
+def autoencoder_training_section(training: Mapping[str, Mapping[str, Any]]) -> Section:
+    """How each auto-encoder's training ended, training[method][key] (metrics/autoencoder_training.json)."""
+    table = pd.DataFrame.from_dict(training, orient="index")
+    return Section("Auto-encoder training", [
+        Text("Each auto-encoder trains until its loss on held-out training places stops improving "
+             "(stop reason 'plateau', converged), or stops at its maximum number of epochs or its "
+             "wall-clock budget (not converged); the weights of the lowest validation loss are kept. "
+             "The loss curves and reconstructions are under 'The study's other figures'."),
+        Table("Auto-encoder training (metrics/autoencoder_training.json)", table, float_format="{:.4g}")])
+
+
 def parameters_section(params_text: str) -> Section:
     """The parameter file that produced the report, verbatim."""
     return Section("Parameters", [Text("The parameters that produced this report:"), Text(params_text, preformatted=True)])

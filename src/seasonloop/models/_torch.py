@@ -1,5 +1,6 @@
-"""Shared torch machinery of the two auto-encoders: device choice, deterministic training loop,
-batched inference with the three descriptors, and save/load of the state_dict."""
+"""Shared torch machinery of the two auto-encoders: device, precision and thread choice, the
+held-out validation places, batched inference with the three descriptors, and save/load of the
+state_dict. The training loop itself is in _training.py."""
 
 from __future__ import annotations
 
@@ -12,8 +13,16 @@ from typing import Any
 import numpy as np
 import torch
 from torch import nn
-from tqdm.auto import tqdm
 
+from seasonloop.models._training import (
+    PRECISIONS,
+    TrainingConfig,
+    autocast,
+    cpu_has_native_bfloat16,
+    resolve_precision,
+    train_until_plateau,
+    validation_places,
+)
 from seasonloop.models.base import EpochCallback, FeatureLearner, select_training_subset, to_float
 from seasonloop.patchnorm import patch_normalise
 
@@ -65,65 +74,31 @@ def deterministic_algorithms(device: torch.device) -> Iterator[None]:
         torch.backends.cudnn.deterministic, torch.backends.cudnn.benchmark = previous[2:]
 
 
-def train_autoencoder(
-    model: nn.Module,
-    images: torch.Tensor,
-    epochs: int,
-    batch_size: int,
-    learning_rate: float,
-    seed: int,
-    device: torch.device,
-    progress: bool = True,
-    on_epoch: EpochCallback | None = None,
-    description: str = "train",
-) -> list[float]:
-    """Minimise the MSE reconstruction loss with Adam; return the mean training loss per epoch.
-
-    images: (N, 1, H, W) float32 on the CPU; batches are moved to `device` one at a time.
-    Shuffling uses its own generator seeded with `seed`; on_epoch(epoch (1-based), {"loss": ...})
-    runs after each epoch.
-    """
-    generator = torch.Generator().manual_seed(seed)
-    optimiser = torch.optim.Adam(model.parameters(), lr=learning_rate)
-    loss_function = nn.MSELoss()
-    model.to(device).train()
-    mean_losses = []
-    with deterministic_algorithms(device):
-        for epoch in range(1, epochs + 1):
-            order = torch.randperm(len(images), generator=generator)
-            summed_loss = 0.0
-            batches = tqdm(
-                range(0, len(images), batch_size),
-                desc=f"{description} epoch {epoch}/{epochs}",
-                unit="batch",
-                disable=not progress,
-                leave=False,
-            )
-            for start in batches:
-                batch = images[order[start : start + batch_size]].to(device)
-                optimiser.zero_grad(set_to_none=True)
-                loss = loss_function(model(batch), batch)
-                loss.backward()
-                optimiser.step()
-                summed_loss += loss.item() * len(batch)
-                batches.set_postfix(loss=f"{loss.item():.5f}")
-            mean_losses.append(summed_loss / len(images))
-            if on_epoch is not None:
-                on_epoch(epoch, {"loss": mean_losses[-1]})
-    model.eval()
-    return mean_losses
-
-
 class TorchAutoEncoderLearner(FeatureLearner):
     """Common fit/describe/save/load of the auto-encoders; subclasses define the network.
 
-    Subclass defaults must include the keys of COMMON_DEFAULTS.
+    Subclass defaults must include the keys of COMMON_DEFAULTS. `channels_last` says whether the
+    network runs faster with NHWC activations (convolutions under oneDNN/cuDNN do).
     """
 
+    channels_last: bool = False
+
     COMMON_DEFAULTS = {
-        "epochs": 20,
+        "max_epochs": 200,
         "batch_size": 128,
         "learning_rate": 1e-3,
+        # stop when the validation loss has not improved by min_delta (relative) for `patience`
+        # epochs; halve the learning rate after lr_patience such epochs
+        "patience": 5,
+        "min_delta": 0.005,
+        "lr_patience": 2,
+        "lr_factor": 0.5,
+        "budget_seconds": 0,          # wall-clock cap on training (0: none); machine-dependent
+        "validation_fraction": 0.1,   # of the training places (whole blocks), never test places
+        "validation_block": 10,       # consecutive places per held-out block
+        "max_validation_images": 0,   # 0: every image of the validation places
+        "precision": "auto",          # auto | float32 | bfloat16 (autocast of the forward pass)
+        "threads": 0,                 # torch CPU threads; 0: torch's default (recorded either way)
         "descriptor": "output_patchnorm",
         "patch_size": 8,
         "device": "auto",
@@ -133,6 +108,7 @@ class TorchAutoEncoderLearner(FeatureLearner):
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
         super().__init__(params, seed)
         self.model: AutoEncoder | None = None
+        self._dtype = torch.float32
 
     @abstractmethod
     def _build_model(self, height: int, width: int) -> AutoEncoder:
@@ -142,18 +118,65 @@ class TorchAutoEncoderLearner(FeatureLearner):
         """Raise ValueError if the network cannot take height x width images (subclasses override)."""
 
     def _validate_params(self) -> None:
-        for key in ("epochs", "batch_size", "patch_size"):
+        for key in ("max_epochs", "batch_size", "patch_size", "patience", "validation_block"):
             self._check_int(key, 1)
-        self._check_int("max_train_images", 0)
-        self._check_positive_float("learning_rate")
+        for key in ("max_train_images", "max_validation_images", "lr_patience", "threads"):
+            self._check_int(key, 0)
+        for key in ("learning_rate", "lr_factor"):
+            self._check_positive_float(key)
+        self._check_fraction("min_delta", 0, 1)
+        self._check_fraction("validation_fraction", 0, 1)
+        if self.params["lr_factor"] >= 1:
+            raise ValueError(f"{self._key('lr_factor')} must be below 1, got {self.params['lr_factor']!r}")
+        budget = self.params["budget_seconds"]
+        if isinstance(budget, bool) or not isinstance(budget, (int, float)) or budget < 0:
+            raise ValueError(f"{self._key('budget_seconds')} must be a number >= 0, got {budget!r}")
         self._check_choice("descriptor", AE_DESCRIPTORS)
         self._check_choice("device", DEVICES)
+        self._check_choice("precision", PRECISIONS)
+
+    def _check_fraction(self, key: str, low: float, high: float) -> None:
+        value = self.params[key]
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value < high:
+            raise ValueError(f"{self._key(key)} must be in [{low}, {high}), got {value!r}")
 
     def _seeded_model(self) -> AutoEncoder:
         """Build the network with weights drawn from `seed`, leaving the global torch RNG untouched."""
         with torch.random.fork_rng(devices=[]):
             torch.manual_seed(self.seed)
             return self._build_model(*self.input_shape)
+
+    def _memory_format(self) -> torch.memory_format:
+        return torch.channels_last if self.channels_last else torch.contiguous_format
+
+    def _set_threads(self) -> None:
+        if self.params["threads"]:
+            torch.set_num_threads(self.params["threads"])
+
+    def _training_config(self) -> TrainingConfig:
+        return TrainingConfig(
+            max_epochs=self.params["max_epochs"], batch_size=self.params["batch_size"],
+            learning_rate=float(self.params["learning_rate"]), patience=self.params["patience"],
+            min_delta=float(self.params["min_delta"]), lr_patience=self.params["lr_patience"],
+            lr_factor=float(self.params["lr_factor"]), budget_seconds=float(self.params["budget_seconds"]),
+            seed=self.seed)
+
+    def _split_validation(self, images: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
+        """(training images, validation images, record): every image of the held-out places goes
+        to validation (augmented copies included), so no validation place is ever trained on."""
+        places = self.train_places
+        held_out = validation_places(places, self.params["validation_fraction"], self.params["validation_block"],
+                                     self.seed)
+        is_validation = np.isin(places, held_out)
+        train, train_info = select_training_subset(images[~is_validation], self.params["max_train_images"], self.seed)
+        validation, validation_info = select_training_subset(
+            images[is_validation], self.params["max_validation_images"], self.seed + 1)
+        return train, validation, {
+            **train_info,
+            "n_validation_places": len(held_out),
+            "n_validation_images_available": validation_info["n_train_images_available"],
+            "n_validation_images": validation_info["n_train_images"],
+        }
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         height, width = self.input_shape
@@ -164,37 +187,45 @@ class TorchAutoEncoderLearner(FeatureLearner):
                 f"{self._key('patch_size')} = {patch_size} does not divide the image size {height}x{width}"
             )
         device = resolve_device(self.params["device"], self._key("device"))
-        subset, subset_info = select_training_subset(images, self.params["max_train_images"], self.seed)
+        self._dtype = resolve_precision(self.params["precision"], device, self._key("precision"))
+        self._set_threads()
+        train, validation, split_info = self._split_validation(images)
         self.model = self._seeded_model()
-        losses = train_autoencoder(
-            self.model,
-            torch.from_numpy(to_float(subset)).unsqueeze(1),
-            epochs=self.params["epochs"],
-            batch_size=self.params["batch_size"],
-            learning_rate=self.params["learning_rate"],
-            seed=self.seed,
-            device=device,
-            progress=progress,
-            on_epoch=on_epoch,
-            description=self.name,
-        )
+        with deterministic_algorithms(device):
+            result = train_until_plateau(
+                self.model,
+                torch.from_numpy(to_float(train)).unsqueeze(1),
+                torch.from_numpy(to_float(validation)).unsqueeze(1),
+                self._training_config(),
+                device=device,
+                dtype=self._dtype,
+                memory_format=self._memory_format(),
+                progress=progress,
+                on_epoch=on_epoch,
+                description=self.name,
+            )
         return {
-            **subset_info,
+            **split_info,
+            **result.info(),
             "device": str(device),
+            "precision": str(self._dtype).removeprefix("torch."),
+            "cpu_native_bfloat16": cpu_has_native_bfloat16(),
+            "channels_last": self.channels_last,
+            "torch_threads": torch.get_num_threads(),
             "n_parameters": sum(parameter.numel() for parameter in self.model.parameters()),
-            "final_loss": losses[-1],
-            "loss_per_epoch": losses,
         }
 
     def _forward_batch(self, images: np.ndarray, decode: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
-        """Code (n, C) and, if `decode`, output (n, H*W) of one batch, as numpy arrays."""
+        """Code (n, C) and, if `decode`, output (n, H*W) of one batch, as float32 numpy arrays."""
         device = next(self.model.parameters()).device
         inputs = torch.from_numpy(to_float(images)).unsqueeze(1).to(device)
-        with torch.inference_mode():
+        inputs = inputs.contiguous(memory_format=self._memory_format())
+        with torch.inference_mode(), autocast(device, self._dtype):
             code = self.model.encoder(inputs)
-            output = self.model.decoder(code)[:, 0].reshape(len(images), -1).cpu().numpy() if decode else None
-            return code.flatten(1).cpu().numpy(), output
-
+            output = None
+            if decode:
+                output = self.model.decoder(code)[:, 0].float().reshape(len(images), -1).cpu().numpy()
+            return code.float().flatten(1).cpu().numpy(), output
     def _descriptor_batch(self, images: np.ndarray, descriptor: str) -> np.ndarray:
         code, output = self._forward_batch(images, decode=descriptor != "code")
         if descriptor == "code":
@@ -238,7 +269,11 @@ class TorchAutoEncoderLearner(FeatureLearner):
 
     def _load_state(self, directory: Path) -> None:
         # A model trained on CUDA still loads (on the CPU) where CUDA is absent.
+        # Precision is resolved again for the machine that loads it ('auto' may differ).
         use_cuda = self.params["device"] != "cpu" and torch.cuda.is_available()
+        device = torch.device("cuda" if use_cuda else "cpu")
+        self._dtype = resolve_precision(self.params["precision"], device, self._key("precision"))
+        self._set_threads()
         self.model = self._seeded_model()
         self.model.load_state_dict(torch.load(directory / MODEL_FILE, map_location="cpu", weights_only=True))
-        self.model.to(torch.device("cuda" if use_cuda else "cpu")).eval()
+        self.model.to(device=device, memory_format=self._memory_format()).eval()

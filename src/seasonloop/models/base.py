@@ -121,13 +121,22 @@ class FeatureLearner(ABC):
         images: np.ndarray,
         progress: bool = True,
         on_epoch: EpochCallback | None = None,
+        places: np.ndarray | None = None,
     ) -> dict[str, Any]:
-        """Learn from uint8 (N, H, W) training images; return JSON-serialisable fit info."""
+        """Learn from uint8 (N, H, W) training images; return JSON-serialisable fit info.
+
+        places: the place id of every image (augmented copies share their original's), for
+        learners that hold out validation places; None counts every image as its own place.
+        """
         images = np.asarray(images)
         if images.ndim != 3 or len(images) < 2:
             raise ValueError(
                 f"{self.name}: training images must have shape (N, H, W) with N >= 2, got {images.shape}"
             )
+        places = np.arange(len(images)) if places is None else np.asarray(places)
+        if places.shape != (len(images),):
+            raise ValueError(f"{self.name}: {len(images)} training images but places of shape {places.shape}")
+        self.train_places = places
         self.fit_info = None  # a failed re-fit must not leave the old fit looking valid
         self.input_shape = (int(images.shape[1]), int(images.shape[2]))
         info = to_json_value(self._fit(images, progress=progress, on_epoch=on_epoch))

@@ -1,0 +1,214 @@
+"""Training of the auto-encoders until they have learned: a validation set held out by place,
+a learning-rate schedule, early stopping on a validation plateau (or at a maximum number of
+epochs, or a wall-clock budget), the best weights kept, and mixed precision where it is fast.
+
+Only the forward pass runs under autocast; the loss, the gradients' accumulation in the float32
+weights and the optimiser state stay float32.
+"""
+
+from __future__ import annotations
+
+import copy
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import torch
+from torch import nn
+from tqdm.auto import tqdm
+
+from seasonloop.models.base import EpochCallback
+
+PRECISIONS = ("auto", "float32", "bfloat16")
+# Why training stopped; only a plateau means the model has learned what it can from this data.
+STOP_PLATEAU, STOP_MAX_EPOCHS, STOP_BUDGET = "plateau", "max_epochs", "budget"
+
+
+def cpu_has_native_bfloat16() -> bool:
+    """True where the CPU computes bfloat16 in hardware (AVX512-BF16 or AMX); elsewhere torch
+    emulates it, which is slower than float32."""
+    cpu = torch.cpu
+    return any(getattr(cpu, check, lambda: False)() for check in ("_is_avx512_bf16_supported", "_is_amx_tile_supported"))
+
+
+def resolve_precision(requested: str, device: torch.device, key: str) -> torch.dtype:
+    """The autocast dtype for `requested` ('auto' | 'float32' | 'bfloat16') on `device`.
+
+    auto: bfloat16 on CUDA devices that support it and on CPUs with native bfloat16, float32
+    otherwise. An explicit 'bfloat16' is honoured where torch can run it (emulated on CPUs
+    without the units, which is slow but not wrong) and raises naming `key` on a CUDA device
+    without bfloat16.
+    """
+    if requested not in PRECISIONS:
+        raise ValueError(f"{key} must be one of {', '.join(PRECISIONS)}, got {requested!r}")
+    cuda = device.type == "cuda"
+    native = torch.cuda.is_bf16_supported() if cuda else cpu_has_native_bfloat16()
+    if requested == "bfloat16" and cuda and not native:
+        raise ValueError(f"{key} = 'bfloat16' but this CUDA device has no bfloat16 support")
+    if requested == "bfloat16" or (requested == "auto" and native):
+        return torch.bfloat16
+    return torch.float32
+
+
+@contextmanager
+def autocast(device: torch.device, dtype: torch.dtype) -> Iterator[None]:
+    """Mixed-precision forward pass in `dtype` (no-op for float32)."""
+    with torch.autocast(device.type, dtype=dtype, enabled=dtype != torch.float32):
+        yield
+
+
+@dataclass(frozen=True)
+class TrainingConfig:
+    """How long and how fast to train; see the fae/cae sections of params.yaml."""
+
+    max_epochs: int
+    batch_size: int
+    learning_rate: float
+    patience: int          # epochs without a relative improvement of min_delta -> plateau
+    min_delta: float       # relative improvement of the validation loss that counts
+    lr_patience: int       # epochs without improvement before the learning rate is cut
+    lr_factor: float       # ... by this factor (ReduceLROnPlateau)
+    budget_seconds: float  # 0: no wall-clock budget
+    seed: int
+
+
+@dataclass
+class TrainingResult:
+    train_loss: list[float]
+    validation_loss: list[float]
+    learning_rate: list[float]
+    best_epoch: int
+    stop_reason: str
+    seconds: float
+    images_seen: int
+
+    def info(self) -> dict[str, Any]:
+        """JSON-ready record for the fit metrics."""
+        return {
+            "epochs_run": len(self.train_loss),
+            "best_epoch": self.best_epoch,
+            "best_validation_loss": self.validation_loss[self.best_epoch - 1],
+            "final_train_loss": self.train_loss[-1],
+            "stop_reason": self.stop_reason,
+            "converged": self.stop_reason == STOP_PLATEAU,
+            "training_seconds": self.seconds,
+            "images_seen": self.images_seen,
+            "loss_per_epoch": self.train_loss,
+            "validation_loss_per_epoch": self.validation_loss,
+            "learning_rate_per_epoch": self.learning_rate,
+        }
+
+
+def mean_loss(model: nn.Module, images: torch.Tensor, batch_size: int, device: torch.device,
+              dtype: torch.dtype, memory_format: torch.memory_format) -> float:
+    """Mean squared reconstruction error over `images` (computed in float32)."""
+    model.eval()
+    summed = 0.0
+    with torch.inference_mode():
+        for start in range(0, len(images), batch_size):
+            batch = images[start : start + batch_size].to(device).contiguous(memory_format=memory_format)
+            with autocast(device, dtype):
+                output = model(batch)
+            summed += nn.functional.mse_loss(output.float(), batch, reduction="sum").item()
+    return summed / images[0].numel() / len(images)
+
+
+def train_until_plateau(
+    model: nn.Module,
+    train_images: torch.Tensor,
+    validation_images: torch.Tensor,
+    config: TrainingConfig,
+    device: torch.device,
+    dtype: torch.dtype = torch.float32,
+    memory_format: torch.memory_format = torch.contiguous_format,
+    progress: bool = True,
+    on_epoch: EpochCallback | None = None,
+    description: str = "train",
+) -> TrainingResult:
+    """Minimise the MSE reconstruction loss with Adam until the validation loss plateaus.
+
+    images: (N, 1, H, W) float32 on the CPU, moved to `device` a batch at a time. After every
+    epoch the validation loss decides: a new lowest loss keeps a copy of the weights; a relative
+    improvement of at least min_delta (same threshold as ReduceLROnPlateau, which cuts the
+    learning rate after lr_patience epochs without one) restarts the patience count; training
+    stops after `patience` epochs without one (plateau), at max_epochs, or when the next epoch
+    would overrun budget_seconds. The model ends with the weights of its lowest validation loss. on_epoch(epoch, {"train_loss", "validation_loss",
+    "learning_rate"}) runs after each epoch. Shuffling has its own generator seeded from
+    config.seed, so the global torch RNG is left alone.
+    """
+    generator = torch.Generator().manual_seed(config.seed)
+    model.to(device=device, memory_format=memory_format)
+    optimiser = torch.optim.Adam(model.parameters(), lr=config.learning_rate)
+    scheduler = torch.optim.lr_scheduler.ReduceLROnPlateau(
+        optimiser, mode="min", factor=config.lr_factor, patience=config.lr_patience,
+        threshold=config.min_delta, threshold_mode="rel")
+    train_loss: list[float] = []
+    validation_loss: list[float] = []
+    learning_rate: list[float] = []
+    best_loss, best_epoch, best_state = float("inf"), 0, None
+    # the plateau counter restarts only on an improvement of min_delta over the loss of the last
+    # such improvement; the weights kept are those of the lowest validation loss, however small
+    # its lead
+    reference_loss, improved_epoch = float("inf"), 0
+    start_time = time.perf_counter()
+    stop_reason = STOP_MAX_EPOCHS
+    images_seen = 0
+    for epoch in range(1, config.max_epochs + 1):
+        model.train()
+        order = torch.randperm(len(train_images), generator=generator)
+        summed = 0.0
+        batches = tqdm(range(0, len(train_images), config.batch_size), unit="batch", leave=False,
+                       desc=f"{description} epoch {epoch}/{config.max_epochs}", disable=not progress)
+        for first in batches:
+            batch = train_images[order[first : first + config.batch_size]].to(device)
+            batch = batch.contiguous(memory_format=memory_format)
+            optimiser.zero_grad(set_to_none=True)
+            with autocast(device, dtype):
+                output = model(batch)
+            loss = nn.functional.mse_loss(output.float(), batch)
+            loss.backward()
+            optimiser.step()
+            summed += loss.item() * len(batch)
+            batches.set_postfix(loss=f"{loss.item():.5f}")
+        images_seen += len(train_images)
+        train_loss.append(summed / len(train_images))
+        learning_rate.append(optimiser.param_groups[0]["lr"])
+        validation_loss.append(mean_loss(model, validation_images, config.batch_size, device, dtype, memory_format))
+        scheduler.step(validation_loss[-1])
+        if validation_loss[-1] < best_loss:
+            best_loss, best_epoch = validation_loss[-1], epoch
+            best_state = copy.deepcopy(model.state_dict())
+        if validation_loss[-1] < reference_loss * (1 - config.min_delta):
+            reference_loss, improved_epoch = validation_loss[-1], epoch
+        if on_epoch is not None:
+            on_epoch(epoch, {"train_loss": train_loss[-1], "validation_loss": validation_loss[-1],
+                             "learning_rate": learning_rate[-1]})
+        elapsed = time.perf_counter() - start_time
+        if epoch - improved_epoch >= config.patience:
+            stop_reason = STOP_PLATEAU
+            break
+        if config.budget_seconds and epoch < config.max_epochs and elapsed * (epoch + 1) / epoch > config.budget_seconds:
+            stop_reason = STOP_BUDGET
+            break
+    if best_state is None:
+        raise RuntimeError(f"{description}: the validation loss was never finite ({validation_loss})")
+    model.load_state_dict(best_state)
+    model.eval()
+    return TrainingResult(train_loss, validation_loss, learning_rate, best_epoch, stop_reason,
+                          time.perf_counter() - start_time, images_seen)
+
+
+def validation_places(places: np.ndarray, fraction: float, block: int, seed: int) -> np.ndarray:
+    """The place ids held out for validation: a seeded random `fraction` of the blocks of `block`
+    consecutive distinct place ids (whole blocks, so a validation place's neighbours, which look
+    almost the same, are mostly not training places). Never empty, never all places."""
+    distinct = np.unique(places)
+    blocks = np.array_split(distinct, max(1, -(-len(distinct) // block)))
+    if len(blocks) < 2:
+        raise ValueError(f"validation needs at least 2 blocks of {block} places, got {len(distinct)} places")
+    n_held_out = min(len(blocks) - 1, max(1, round(fraction * len(blocks))))
+    chosen = np.random.default_rng(seed).choice(len(blocks), size=n_held_out, replace=False)
+    return np.sort(np.concatenate([blocks[index] for index in chosen]))

@@ -1,0 +1,133 @@
+"""The auto-encoders' training loop: held-out validation places, early stopping, best weights,
+learning-rate schedule, budget, and precision choice."""
+
+import numpy as np
+import pytest
+import torch
+from torch import nn
+
+from seasonloop.models import _training
+from seasonloop.models._training import (
+    TrainingConfig,
+    mean_loss,
+    resolve_precision,
+    train_until_plateau,
+    validation_places,
+)
+from seasonloop.models.registry import get_learner
+
+CPU = torch.device("cpu")
+
+
+def config(**overrides) -> TrainingConfig:
+    values = dict(max_epochs=50, batch_size=16, learning_rate=1e-2, patience=3, min_delta=0.01,
+                  lr_patience=1, lr_factor=0.5, budget_seconds=0, seed=0)
+    return TrainingConfig(**{**values, **overrides})
+
+
+def images(n: int, seed: int) -> torch.Tensor:
+    """Smooth random images (N, 1, 8, 8) in [0, 1]: learnable by a small auto-encoder."""
+    generator = torch.Generator().manual_seed(seed)
+    low = torch.rand(n, 1, 2, 2, generator=generator)
+    return nn.functional.interpolate(low, size=(8, 8), mode="bilinear", align_corners=False)
+
+
+def small_autoencoder() -> nn.Module:
+    torch.manual_seed(0)
+    return nn.Sequential(nn.Flatten(), nn.Linear(64, 8), nn.ReLU(), nn.Linear(8, 64), nn.Sigmoid(),
+                         nn.Unflatten(1, (1, 8, 8)))
+
+
+def test_validation_places_are_whole_blocks_seeded_and_never_all():
+    places = np.repeat(np.arange(100, 200), 2)  # two images (original + copy) per place
+    held_out = validation_places(places, fraction=0.2, block=10, seed=1)
+    assert len(held_out) == 20 and set(held_out) <= set(places)
+    # whole blocks of 10 consecutive places
+    blocks = {(place - 100) // 10 for place in held_out}
+    assert len(blocks) == 2 and set(held_out) == {100 + 10 * block + i for block in blocks for i in range(10)}
+    np.testing.assert_array_equal(held_out, validation_places(places, 0.2, 10, seed=1))
+    assert not np.array_equal(held_out, validation_places(places, 0.2, 10, seed=2))
+    assert len(validation_places(places, 0.0, 10, 0)) == 10      # never empty
+    assert len(validation_places(places, 0.99, 10, 0)) == 90     # never every place
+    with pytest.raises(ValueError, match="at least 2 blocks"):
+        validation_places(np.arange(5), 0.1, 10, 0)
+
+
+def test_stops_on_plateau_and_keeps_the_best_weights():
+    model = small_autoencoder()
+    train, validation = images(256, 0), images(64, 1)
+    result = train_until_plateau(model, train, validation, config(), CPU, progress=False)
+    info = result.info()
+    assert info["stop_reason"] == "plateau" and info["converged"] is True
+    assert info["epochs_run"] < 50
+    losses = info["validation_loss_per_epoch"]
+    assert info["best_validation_loss"] == min(losses) == losses[info["best_epoch"] - 1]
+    # stopped 3 epochs after the last improvement of 1%
+    last_improvement = max(epoch for epoch in range(1, len(losses) + 1)
+                           if losses[epoch - 1] < 0.99 * min(losses[: epoch - 1], default=np.inf))
+    assert info["epochs_run"] == last_improvement + 3
+    # it learned: the best validation loss is well below the first epoch's
+    assert info["best_validation_loss"] < 0.8 * losses[0]
+    # the model holds the best epoch's weights, not the last epoch's
+    assert mean_loss(model, validation, 16, CPU, torch.float32, torch.contiguous_format) == pytest.approx(
+        info["best_validation_loss"], rel=1e-6)
+    # the schedule cut the learning rate on the way to the plateau
+    assert info["learning_rate_per_epoch"][-1] < info["learning_rate_per_epoch"][0]
+    assert info["images_seen"] == 256 * info["epochs_run"]
+
+
+def test_max_epochs_and_budget_stop_without_converging():
+    train, validation = images(64, 0), images(16, 1)
+    by_epochs = train_until_plateau(small_autoencoder(), train, validation, config(max_epochs=2), CPU,
+                                    progress=False).info()
+    assert (by_epochs["stop_reason"], by_epochs["converged"], by_epochs["epochs_run"]) == ("max_epochs", False, 2)
+    by_budget = train_until_plateau(small_autoencoder(), train, validation, config(budget_seconds=1e-9), CPU,
+                                    progress=False).info()
+    assert (by_budget["stop_reason"], by_budget["converged"], by_budget["epochs_run"]) == ("budget", False, 1)
+
+
+def test_training_is_reproducible_and_leaves_the_global_rng_alone():
+    train, validation = images(64, 0), images(16, 1)
+    state = torch.random.get_rng_state()
+    first = train_until_plateau(small_autoencoder(), train, validation, config(max_epochs=3), CPU, progress=False)
+    assert torch.equal(state, torch.random.get_rng_state())
+    second = train_until_plateau(small_autoencoder(), train, validation, config(max_epochs=3), CPU, progress=False)
+    assert first.validation_loss == second.validation_loss
+
+
+def test_precision_choice(monkeypatch):
+    assert resolve_precision("float32", CPU, "fae.precision") == torch.float32
+    assert resolve_precision("bfloat16", CPU, "fae.precision") == torch.bfloat16
+    monkeypatch.setattr(_training, "cpu_has_native_bfloat16", lambda: True)
+    assert resolve_precision("auto", CPU, "fae.precision") == torch.bfloat16
+    monkeypatch.setattr(_training, "cpu_has_native_bfloat16", lambda: False)
+    assert resolve_precision("auto", CPU, "fae.precision") == torch.float32
+    with pytest.raises(ValueError, match=r"cae\.precision"):
+        resolve_precision("half", CPU, "cae.precision")
+
+
+@pytest.mark.parametrize("name", ["fae", "cae"])
+def test_bfloat16_training_keeps_float32_weights_loss_and_descriptors(name):
+    rng = np.random.default_rng(0)
+    frames = (rng.random((60, 8, 16)) * 255).astype(np.uint8)
+    params = {"max_epochs": 2, "batch_size": 16, "precision": "bfloat16", "patch_size": 4, "validation_block": 3}
+    if name == "cae":
+        params |= {"channels": [2, 4, 4], "kernels": [3, 3, 3], "max_validation_images": 0}
+    learner = get_learner(name)(params, seed=0)
+    info = learner.fit(frames, progress=False, places=np.tile(np.arange(30), 2))
+    assert info["precision"] == "bfloat16" and np.isfinite(info["best_validation_loss"])
+    assert all(parameter.dtype == torch.float32 for parameter in learner.model.parameters())
+    assert learner.describe(frames[:4]).dtype == np.float32
+
+
+def test_validation_holds_out_every_image_of_its_places():
+    rng = np.random.default_rng(0)
+    frames = (rng.random((120, 8, 16)) * 255).astype(np.uint8)
+    places = np.tile(np.arange(60), 2)  # originals then one augmented copy each
+    learner = get_learner("fae")({"max_epochs": 1, "hidden": 4, "patch_size": 4, "validation_fraction": 0.2,
+                                  "validation_block": 10}, seed=0)
+    info = learner.fit(frames, progress=False, places=places)
+    assert info["n_validation_places"] == 10 and info["n_validation_images"] == 20
+    assert info["n_train_images"] == 100 and info["torch_threads"] == torch.get_num_threads()
+    with pytest.raises(ValueError, match="places of shape"):
+        learner.fit(frames, progress=False, places=places[:10])

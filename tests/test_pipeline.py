@@ -25,8 +25,9 @@ TINY = {
     "pca": {"n_discard": 3, "n_keep": 20},
     "ica": {"n_components": 16, "max_iter": 200},
     "ica_bovw": {"n_train_patches": 3000, "n_components": 15, "n_words": 20},
-    "fae": {"hidden": 32, "epochs": 2},
-    "cae": {"channels": [4, 8, 8], "kernels": [5, 3, 3], "epochs": 1, "max_train_images": 64},
+    "fae": {"hidden": 32, "max_epochs": 2},
+    "cae": {"channels": [4, 8, 8], "kernels": [5, 3, 3], "max_epochs": 1, "max_train_images": 64,
+            "max_validation_images": 16},
     "ablation": {"training_seasons": [["summer"], ["summer", "winter"]], "pair": "summer-fall"},
 }
 
@@ -104,8 +105,16 @@ def test_learners_metrics_and_plots_exist(workspace):
     for figure in ("fig02_pca_projection", "fig12_patch_ica_filters", "fig13_visual_words",
                    "fig19_autoencoder_descriptors"):
         assert (workspace / f"plots/figures/{figure}.png").stat().st_size > 0
-    # fae and cae train in epochs: dvclive logs the loss of each
-    assert (workspace / "logs/cae/plots/metrics/train/loss.tsv").is_file()
+    # fae and cae train in epochs: dvclive logs the training and validation loss of each, and the
+    # fit metrics say how training ended
+    for method, epochs in (("fae", 2), ("cae", 1)):
+        for curve in ("train", "validation"):
+            assert len((workspace / f"logs/{method}/plots/metrics/loss/{curve}.tsv").read_text().splitlines()) == epochs + 1
+        info = json.loads((workspace / f"metrics/fit/{method}.json").read_text())["info"]
+        assert info["stop_reason"] == "max_epochs" and info["converged"] is False and info["epochs_run"] == epochs
+    training = json.loads((workspace / "metrics/autoencoder_training.json").read_text())
+    assert set(training) == {"fae", "cae"} and training["cae"]["epochs_run"] == 1
+    assert (workspace / "plots/figures/fig19b_autoencoder_reconstructions.png").is_file()
     shown = dvc(workspace, "plots", "show", "--json")
     assert shown.returncode == 0, shown.stderr
     assert "pr_summer-fall" in json.loads(shown.stdout)["data"]

@@ -8,6 +8,7 @@ from seasonloop.plots import (
     plot_distance_matrix,
     plot_fraction_correct,
     plot_image_grid,
+    plot_loss_curves,
     plot_pr_curves,
     plot_series,
 )
@@ -77,3 +78,12 @@ def test_plot_series(tmp_path):
     assert_png(path)
     with pytest.raises(ValueError, match="ICA"):
         plot_series({"ICA": (["a", "b"], [1.0])}, tmp_path / "bad.png", "t", "x", "y")
+
+
+def test_plot_loss_curves(tmp_path):
+    curves = {"fae": {"train": [0.04, 0.02, 0.015], "validation": [0.05, 0.03, 0.031]},
+              "cae": {"train": [0.06], "validation": [0.07]}}
+    plot_loss_curves(curves, tmp_path / "loss.png", title="loss")
+    assert_png(tmp_path / "loss.png")
+    with pytest.raises(ValueError, match="empty"):
+        plot_loss_curves({}, tmp_path / "none.png", title="loss")

@@ -12,6 +12,7 @@ from seasonloop.report import (
     Section,
     Table,
     Text,
+    autoencoder_training_section,
     build_report,
     dataset_section,
     example_grid_png,
@@ -124,3 +125,11 @@ def test_runtime_training_and_figures_sections(pngs):
     for value in ["1.5", "0.25", "120", "50.0", "62.5", "37.5", "87.5", "summer+winter", "output_patchnorm"]:
         assert f">{value}</" in page, value
     assert page.count("data:image/png;base64,") == 2
+
+
+def test_autoencoder_training_section_shows_how_training_ended():
+    training = {"fae": {"stop_reason": "plateau", "converged": True, "epochs_run": 57, "best_validation_loss": 0.00412},
+                "cae": {"stop_reason": "max_epochs", "converged": False, "epochs_run": 3, "best_validation_loss": 0.0213}}
+    page = build_report("r", [autoencoder_training_section(training)])
+    for value in ["plateau", "max_epochs", "True", "False", "57", "0.00412", "0.0213"]:
+        assert f">{value}</" in page, value

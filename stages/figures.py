@@ -4,6 +4,7 @@ Writes under plots/figures/: fig02_pca_projection.png (an image of one place in 
 its projection on the first, condition-dependent principal components vs the kept ones),
 fig12_patch_ica_filters.png, fig13_visual_words.png, fig19_autoencoder_descriptors.png (code vs
 output vs patch-normalised output, single-image fraction correct) and metrics/autoencoder_descriptors.json.
+A figure whose learner is not in `learners` is left out, with a line saying so.
 """
 
 from __future__ import annotations
@@ -53,28 +54,37 @@ def main() -> None:
     shown = ["summer" if "summer" in seasons else seasons[0], "winter" if "winter" in seasons else seasons[-1]]
     middle = len(places) // 2
 
+    learners = list(param(params, "learners"))
+    # each figure needs one learner's fitted model: draw those whose learner is in this run
     with staged_dir(Path("plots/figures")) as out:
-        pca = load_learner(Path("models/pca"))
-        first, kept = int(pca.params["n_discard"]), int(pca.params["n_keep"])
-        images = np.stack([test[season][middle] for season in shown])
-        rows = [[image, low, high] for image, low, high in zip(
-            images, pca.reconstruct(images, 0, first), pca.reconstruct(images, first, first + kept))]
-        plot_image_grid(rows, out / "fig02_pca_projection.png", row_labels=[f"{s}, place {places[middle]}" for s in shown],
-                        col_labels=["image", f"PCs 1-{first}", f"PCs {first + 1}-{first + kept}"],
-                        title="Projection on the first vs the kept principal components (study Fig. 2)")
+        if "pca" in learners:
+            pca = load_learner(Path("models/pca"))
+            first, kept = int(pca.params["n_discard"]), int(pca.params["n_keep"])
+            images = np.stack([test[season][middle] for season in shown])
+            rows = [[image, low, high] for image, low, high in zip(
+                images, pca.reconstruct(images, 0, first), pca.reconstruct(images, first, first + kept))]
+            plot_image_grid(rows, out / "fig02_pca_projection.png", row_labels=[f"{s}, place {places[middle]}" for s in shown],
+                            col_labels=["image", f"PCs 1-{first}", f"PCs {first + 1}-{first + kept}"],
+                            title="Projection on the first vs the kept principal components (study Fig. 2)")
+        else:
+            print("figures: pca is not in learners: no Figure 2")
 
-        bovw = load_learner(Path("models/ica_bovw"))
-        filters = bovw.filters()
-        plot_image_grid([list(filters[i:i + FILTERS_PER_ROW]) for i in range(0, len(filters), FILTERS_PER_ROW)],
-                        out / "fig12_patch_ica_filters.png", title="ICA filters learned on image patches (study Fig. 12)")
-        examples = bovw.word_examples(test[seasons[0]], N_WORDS_SHOWN, N_EXAMPLES_SHOWN)
-        plot_image_grid([[patch for patch in word if not np.isnan(patch).all()] for word in examples],
-                        out / "fig13_visual_words.png", row_labels=[f"word {i + 1}" for i in range(len(examples))],
-                        title=f"Patches of the {N_WORDS_SHOWN} most frequent visual words, {seasons[0]} (study Fig. 13)")
+        if "ica_bovw" in learners:
+            bovw = load_learner(Path("models/ica_bovw"))
+            filters = bovw.filters()
+            plot_image_grid([list(filters[i:i + FILTERS_PER_ROW]) for i in range(0, len(filters), FILTERS_PER_ROW)],
+                            out / "fig12_patch_ica_filters.png", title="ICA filters learned on image patches (study Fig. 12)")
+            examples = bovw.word_examples(test[seasons[0]], N_WORDS_SHOWN, N_EXAMPLES_SHOWN)
+            plot_image_grid([[patch for patch in word if not np.isnan(patch).all()] for word in examples],
+                            out / "fig13_visual_words.png", row_labels=[f"word {i + 1}" for i in range(len(examples))],
+                            title=f"Patches of the {N_WORDS_SHOWN} most frequent visual words, {seasons[0]} (study Fig. 13)")
+        else:
+            print("figures: ica_bovw is not in learners: no Figures 12 and 13")
 
         pairs = available_pairs(seasons, param(params, "evaluate.pairs"))
+        autoencoders = [method for method in AUTOENCODERS if method in learners]
         fraction_correct: dict[str, dict[str, dict[str, float]]] = {}
-        for method in AUTOENCODERS:
+        for method in autoencoders:
             learner = load_learner(Path("models") / method)
             fraction_correct[method] = {}
             described = autoencoder_descriptors(learner, test, int(param(params, "features.batch_size")))
@@ -83,13 +93,15 @@ def main() -> None:
                     pair_name(a, b): match_pair(described[descriptor][a], described[descriptor][b], places, places, "single",
                                                 param(params, "evaluate"), param(params, "sequence"))[0]["fraction_correct"]
                     for a, b in pairs}
-        plot_series({f"{method} {pair_name(a, b)}": (list(AE_DESCRIPTORS),
-                                                     [100 * fraction_correct[method][d][pair_name(a, b)] for d in AE_DESCRIPTORS])
-                     for method in AUTOENCODERS for a, b in pairs},
-                    out / "fig19_autoencoder_descriptors.png", title="Auto-encoder descriptors (study Fig. 19)",
-                    xlabel="descriptor", ylabel="fraction correct (%)")
+        if autoencoders:
+            plot_series({f"{method} {pair_name(a, b)}": (list(AE_DESCRIPTORS),
+                                                         [100 * fraction_correct[method][d][pair_name(a, b)] for d in AE_DESCRIPTORS])
+                         for method in autoencoders for a, b in pairs},
+                        out / "fig19_autoencoder_descriptors.png", title="Auto-encoder descriptors (study Fig. 19)",
+                        xlabel="descriptor", ylabel="fraction correct (%)")
+        else:
+            print("figures: neither fae nor cae is in learners: no Figure 19")
     write_json(Path("metrics/autoencoder_descriptors.json"), fraction_correct)
-
 
 if __name__ == "__main__":
     main()

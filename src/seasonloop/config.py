@@ -45,3 +45,16 @@ def available_pairs(seasons: Sequence[str], pairs: Sequence[str]) -> list[tuple[
     """The pairs (given as 'A-B' names) whose two seasons are both in `seasons`, in order."""
     chosen = [parse_pair(name, "evaluate.pairs") for name in pairs]
     return [(a, b) for a, b in chosen if a in seasons and b in seasons]
+
+
+def pair_present(name: str, seasons: Sequence[str], pairs: Sequence[str], key: str) -> tuple[tuple[str, str], str | None]:
+    """The pair `name` (checked, named by `key`) if both its seasons are in `seasons`, else the first
+    of `pairs` that is (else the first two seasons), with a one-line note saying so (None if kept)."""
+    database, query = parse_pair(name, key)
+    if database in seasons and query in seasons:
+        return (database, query), None
+    if len(seasons) < 2:
+        raise ValueError(f"{key}: a pair needs two seasons and data.seasons has only {list(seasons)}")
+    present = available_pairs(seasons, pairs)
+    chosen = present[0] if present else (seasons[0], seasons[1])
+    return chosen, f"{key} {name} needs a season not in data.seasons: using {pair_name(*chosen)}"

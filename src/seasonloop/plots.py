@@ -239,3 +239,10 @@ def plot_series(
     axes.legend(fontsize="small")
     axes.tick_params(axis="x", labelrotation=15)
     _save(figure, path)
+
+
+def plot_message(path, text: str) -> None:
+    """A figure that only says why there is nothing to plot (a declared output must still exist)."""
+    figure = Figure(figsize=(6.0, 1.5))
+    figure.text(0.5, 0.5, text, ha="center", va="center", wrap=True)
+    _save(figure, path)

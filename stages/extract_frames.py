@@ -1,4 +1,6 @@
-"""Stage extract_frames: extract.fps frames a second from every season, at the storage size.
+"""Stage extract_frames: extract.fps frames a second from every season (every data.frame_step-th
+kept: one kept frame is a place), at the storage size. Frame folders are read in natural order and
+paired by file name when the seasons share names.
 
 Writes data/frames/<season>.npy (N, h, w, 3) uint8 BGR, data/frames/frames.json and a preview of
 the same places in every season (plots/season_preview.png).
@@ -12,7 +14,7 @@ import numpy as np
 
 from _common import data_seasons, load_params, param, stage_main
 
-from seasonloop.data.sources import check_aligned, read_season
+from seasonloop.data.sources import align_frame_files, check_aligned, list_frame_files, place_description, read_season
 from seasonloop.io import load_array, read_json, save_array, staged_dir, write_json
 from seasonloop.plots import plot_image_grid
 
@@ -24,18 +26,25 @@ PREVIEW_PLACES = 6
 
 @stage_main
 def main() -> None:
-    params = load_params()
+    params = load_params("data.seasons", "data.frame_step", "extract")
     seasons = data_seasons(params)
     sources = read_json(SOURCES)["seasons"]
     missing = [season for season in seasons if season not in sources]
     if missing:
         raise ValueError(f"data.seasons: {', '.join(missing)} not in {SOURCES}; rerun the acquire stage")
     fps, height, width = float(param(params, "extract.fps")), int(param(params, "extract.height")), int(param(params, "extract.width"))
+    frame_step = int(param(params, "data.frame_step"))
+    kinds = {sources[season]["kind"] for season in seasons}
+    files, pairing = None, "video samples paired by time"
+    if kinds == {"frames"}:
+        files, pairing = align_frame_files({season: list_frame_files(Path(sources[season]["path"])) for season in seasons})
+    print(f"extract_frames: {pairing}")
     with staged_dir(OUT) as out:
         counts = {}
         # one season in memory at a time: the full-scale route is ~1 GB a season at 72x128
         for season in seasons:
-            frames = read_season(sources[season]["kind"], Path(sources[season]["path"]), fps, height, width)
+            frames = read_season(sources[season]["kind"], Path(sources[season]["path"]), fps, height, width,
+                                 frame_step=frame_step, files=files[season] if files else None)
             counts[season] = len(frames)
             save_array(out / f"{season}.npy", frames)
             del frames
@@ -44,7 +53,9 @@ def main() -> None:
         for season in seasons:
             if counts[season] > n_places:
                 save_array(out / f"{season}.npy", np.ascontiguousarray(load_array(out / f"{season}.npy", mmap=True)[:n_places]))
-        write_json(out / "frames.json", {"n_places": n_places, "seasons": seasons, "frames_per_season": counts})
+        write_json(out / "frames.json", {"n_places": n_places, "seasons": seasons, "frames_per_season": counts,
+                                         "frame_step": frame_step, "pairing": pairing,
+                                         "place": place_description(kinds.pop() if len(kinds) == 1 else "video", fps, frame_step)})
         places = np.linspace(0, n_places - 1, PREVIEW_PLACES + 2).round().astype(int)[1:-1]
         stored = {season: load_array(out / f"{season}.npy", mmap=True) for season in seasons}
         grid = [[stored[season][place][..., ::-1] for season in seasons] for place in places]

@@ -46,7 +46,7 @@ def autoencoder_descriptors(learner, test: dict[str, np.ndarray], batch_size: in
 
 @stage_main
 def main() -> None:
-    params = load_params()
+    params = load_params("learners", "data.seasons", "evaluate", "sequence", "features")
     seasons = data_seasons(params)
     test = test_images(seasons)
     places = test_places()

@@ -43,7 +43,7 @@ def ordered(mapping: dict, keys: list[str], source: str) -> dict:
 
 @stage_main
 def main() -> None:
-    params = load_params()
+    params = load_params("learners", "data.seasons", "evaluate", "ablation", "report")
     methods = list(param(params, "learners"))
     matchers = list(param(params, "evaluate.matchers"))
     evaluate = param(params, "evaluate")

@@ -28,7 +28,7 @@ from seasonloop.summary import fraction_correct_table, markdown_table, side_by_s
 
 @stage_main
 def main() -> None:
-    params = load_params()
+    params = load_params("learners", "data.seasons", "evaluate.pairs", "evaluate.matchers")
     methods = list(param(params, "learners"))
     matchers = list(param(params, "evaluate.matchers"))
     pairs = [pair_name(a, b) for a, b in available_pairs(data_seasons(params), param(params, "evaluate.pairs"))]

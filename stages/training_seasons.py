@@ -24,7 +24,7 @@ from seasonloop.plots import plot_message, plot_series
 
 @stage_main
 def main() -> None:
-    params = load_params()
+    params = load_params("seed", "data.seasons", "train.augmented", "ablation", "evaluate", "sequence")
     ablation = param(params, "ablation")
     plan = plan_ablation(data_seasons(params), ablation["pair"], ablation["training_seasons"],
                          param(params, "evaluate.pairs"))
@@ -40,8 +40,11 @@ def main() -> None:
     test = test_images([database, query])
     # fraction_correct[method][training seasons joined by "+"]
     fraction_correct: dict[str, dict[str, float]] = {}
-    for method in ablation["methods"]:
-        learner_class = get_learner(method)
+    # every learner checks its section before the first (possibly long) fit
+    learner_classes = {method: get_learner(method) for method in ablation["methods"]}
+    for method, learner_class in learner_classes.items():
+        learner_class(param(params, method), seed=int(param(params, "seed")))
+    for method, learner_class in learner_classes.items():
         fraction_correct[method] = {}
         for label, chosen in zip(plan.labels, plan.season_sets):
             learner = learner_class(param(params, method), seed=int(param(params, "seed")))

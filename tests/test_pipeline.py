@@ -148,7 +148,7 @@ def test_bad_params_fail_with_one_clear_line(workspace):
     (workspace / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
     result = subprocess.run([sys.executable, "stages/fit.py", "pca"], cwd=workspace, capture_output=True, text=True)
     assert result.returncode == 1
-    assert result.stderr.strip() == "error: train.seasons: unknown season 'autumn' (known: summer, fall, winter)"
+    assert result.stderr.strip() == "error: train.seasons: unknown season 'autumn' (known: summer, spring, fall, winter)"
     result = subprocess.run([sys.executable, "stages/fit.py", "sift"], cwd=workspace, capture_output=True, text=True)
     assert result.returncode == 1 and "unknown method 'sift'" in result.stderr and "Traceback" not in result.stderr
 

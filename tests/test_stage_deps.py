@@ -5,8 +5,9 @@ of params.yaml), the stage script's source is read (never run) to find:
 - the library modules it imports, transitively: seasonloop.* and stages/_common.py. A stage that
   imports seasonloop.models.registry can build any learner, so it depends on all of
   src/seasonloop/models (and what those modules import);
-- the params it reads: literal keys of param(params, "a.b"), check_params(params, "a", ...) and
-  params["a"], in the script and in the stages/_common.py helpers it calls.
+- the params it reads: literal keys of param(params, "a.b"), load_params("a", ...) and
+  params["a"], in the script and in the stages/_common.py helpers it calls; each must also be
+  among the keys its load_params call checks before work starts.
 Each must be covered by a declared dep (a file, or a folder above it) or a declared param (the
 key or a parent of it; `params.yaml:` alone covers every key).
 """
@@ -29,8 +30,9 @@ COMMON = ROOT / "stages" / "_common.py"
 REGISTRY = SRC / "seasonloop" / "models" / "registry.py"
 MODELS = SRC / "seasonloop" / "models"
 
-# _common functions whose string arguments after `params` are param keys
-PARAM_READERS = ("param", "check_params")
+# _common functions whose string arguments are param keys -> index of the first such argument:
+# param(params, "a.b") reads a key; load_params("a", "b.c") checks (and so reads) them
+PARAM_READERS = {"param": 1, "load_params": 0}
 
 # Param reads whose key is computed at run time: what each can read, from the stage's command-line
 # arguments and params.yaml. A dynamic read not listed here fails the test, so none goes unchecked.
@@ -112,6 +114,13 @@ def module_closure(script: Path) -> set[Path]:
     return {path for path in seen if path.name != "__init__.py"}
 
 
+def checked_keys(script: Path) -> set[str]:
+    """The keys a stage script checks up front: the literal arguments of its load_params call."""
+    return {arg.value for node in ast.walk(ast.parse(script.read_text()))
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "load_params"
+            for arg in node.args if isinstance(arg, ast.Constant) and isinstance(arg.value, str)}
+
+
 def _reads_in(tree: ast.AST, file: str) -> tuple[set[str], set[str], set[str]]:
     """(literal param keys, dynamic reads as source text, names of functions called) in `tree`."""
     keys: set[str] = set()
@@ -120,8 +129,8 @@ def _reads_in(tree: ast.AST, file: str) -> tuple[set[str], set[str], set[str]]:
     for node in ast.walk(tree):
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
             calls.add(node.func.id)
-            if node.func.id in PARAM_READERS and node.args:
-                for arg in node.args[1:]:
+            if node.func.id in PARAM_READERS:
+                for arg in node.args[PARAM_READERS[node.func.id]:]:
                     if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
                         keys.add(arg.value)
                     elif isinstance(arg, ast.Starred) or not isinstance(arg, ast.Constant):
@@ -229,6 +238,10 @@ def test_stage_declares_every_param_it_reads(name: str) -> None:
         keys |= set(resolver(stage["argv"], params_yaml()))
     missing = uncovered_params(keys, stage["params"])
     assert not missing, f"dvc.yaml stage {name}: reads param {', '.join(missing)} not listed in its params"
+    # what it reads it checks before starting work (learner sections: the learner classes check them)
+    literal, _ = script_reads(ROOT / stage["script"])
+    unchecked = uncovered_params(literal, sorted(checked_keys(ROOT / stage["script"])))
+    assert not unchecked, f"{stage['script']}: reads {', '.join(unchecked)} without checking it in load_params(...)"
 
 
 def test_every_stage_is_checked() -> None:

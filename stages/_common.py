@@ -70,13 +70,14 @@ def test_images(seasons: list[str]) -> dict[str, np.ndarray]:
 
 
 def stage_main(run: Callable[[], None]) -> Callable[[], None]:
-    """Run a stage; expected failures (bad params, missing or corrupt input) print one line, exit 1."""
+    """Run a stage; expected failures (bad params, missing or corrupt input, a full disk or other
+    OS error while writing) print one line, exit 1."""
 
     @functools.wraps(run)
     def wrapper() -> None:
         try:
             run()
-        except (ValueError, FileNotFoundError, RuntimeError) as error:
+        except (ValueError, OSError, RuntimeError) as error:
             print(f"error: {error}", file=sys.stderr)
             sys.exit(1)
 

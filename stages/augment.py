@@ -54,6 +54,9 @@ def main() -> None:
         "place": frames["place"],
         "frame_step": frames["frame_step"],
         "pairing": frames["pairing"],
+        # the measured offset of each season against the first (seasonloop.alignment)
+        "alignment": frames["alignment"],
+        "offsets": frames["offsets"],
         **({"detection": detection} if detection else {}),
     })
 

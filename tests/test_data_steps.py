@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import cv2
 import numpy as np
 import pytest
@@ -9,6 +11,7 @@ import pytest
 from seasonloop.augment import augment_images, augment_training_set
 from seasonloop.config import available_pairs, check_seasons
 from seasonloop.data.sources import (
+    _check_outside_copy,
     align_frame_files,
     check_aligned,
     list_frame_files,
@@ -220,3 +223,11 @@ def test_detection_finds_the_renderers_tunnels_and_stops():
     for start, end in layout.stops:
         near_stop[max(0, start - 8) : end + 8] = True
     assert not (stop & ~near_stop & ~tunnel).any()
+
+
+def test_a_queued_experiment_missing_relative_data_says_why(tmp_path):
+    queued = tmp_path / ".dvc/tmp/exps/tmp1"
+    with pytest.raises(FileNotFoundError, match="data.frames_dir as an absolute path"):
+        _check_outside_copy(Path("data/nordland/frames/summer"), "data.frames_dir", cwd=queued)
+    _check_outside_copy(Path("data/nordland/frames/summer"), "data.frames_dir", cwd=tmp_path)   # not queued: no error here
+    _check_outside_copy(tmp_path / "absent", "data.frames_dir", cwd=queued)                      # absolute: the normal error later

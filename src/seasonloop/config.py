@@ -159,6 +159,7 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "video_files": season_map(text),
         "frames_dir": text,
         "frame_step": integer(1),
+        "offsets": season_map(integer(0)),
     },
     "synthetic": {
         "seconds": integer(10),
@@ -172,6 +173,7 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "height": integer(8),
         "width": integer(8),
         "trim_to_shortest": boolean,
+        "max_offset": integer(0),
     },
     "preprocess": {
         "height": integer(4),

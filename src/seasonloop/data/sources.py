@@ -152,6 +152,19 @@ def check_aligned(counts: Mapping[str, int], trim_to_shortest: bool, sources: Ma
     return shortest
 
 
+def _in_queued_experiment(cwd: Path) -> bool:
+    # `dvc exp run --queue` runs in a copy under .dvc/tmp/exps holding only git-tracked files
+    return ".dvc/tmp/exps" in cwd.as_posix()
+
+
+def _check_outside_copy(path: Path, key: str, cwd: Path | None = None) -> None:
+    """A relative data path missing in a queued experiment's copy: say why, in one line."""
+    if not path.is_absolute() and not path.exists() and _in_queued_experiment(cwd or Path.cwd()):
+        raise FileNotFoundError(
+            f"{path}: not in this queued experiment's copy of the repository (it holds only git-tracked "
+            f"files); give {key} as an absolute path")
+
+
 def real_sources(source: str, seasons: Sequence[str], data_params: Mapping) -> dict[str, Path]:
     """Where each season's video (source "videos") or frame folder ("frames") is, checked to exist."""
     if source == "videos":
@@ -161,12 +174,14 @@ def real_sources(source: str, seasons: Sequence[str], data_params: Mapping) -> d
             if season not in files:
                 raise ValueError(f"data.video_files: no file given for season '{season}'")
             paths[season] = Path(data_params["videos_dir"]) / files[season]
+            _check_outside_copy(paths[season], "data.videos_dir")
             if not paths[season].is_file():
                 raise FileNotFoundError(f"{paths[season]}: video for season '{season}' not found")
         return paths
     if source == "frames":
         paths = {season: Path(data_params["frames_dir"]) / season for season in seasons}
         for season, folder in paths.items():
+            _check_outside_copy(folder, "data.frames_dir")
             list_frame_files(folder)  # raises, naming the folder, when missing or empty
         return paths
     raise ValueError(f"data.source: unknown source '{source}' (known: synthetic, videos, frames)")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import json
 import os
 import shutil
@@ -164,14 +165,28 @@ def test_a_learner_param_reruns_only_that_learner(workspace):
 
 @pytest.mark.e2e
 def test_bad_params_fail_with_one_clear_line(workspace):
-    params = yaml.safe_load((workspace / "params.yaml").read_text())
-    params["train"]["seasons"] = ["summer", "autumn"]
-    (workspace / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
-    result = subprocess.run([sys.executable, "stages/fit.py", "pca"], cwd=workspace, capture_output=True, text=True)
+    base = yaml.safe_load((workspace / "params.yaml").read_text())
+
+    def run_with(change, *command):
+        params = copy.deepcopy(base)
+        change(params)
+        (workspace / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
+        return subprocess.run([sys.executable, *command], cwd=workspace, capture_output=True, text=True)
+
+    result = run_with(lambda p: p["train"].update(seasons=["summer", "autumn"]), "stages/fit.py", "pca")
     assert result.returncode == 1
     assert result.stderr.strip() == "error: train.seasons: unknown season 'autumn' (known: summer, spring, fall, winter)"
-    result = subprocess.run([sys.executable, "stages/fit.py", "sift"], cwd=workspace, capture_output=True, text=True)
+    result = run_with(lambda p: None, "stages/fit.py", "sift")
     assert result.returncode == 1 and "unknown method 'sift'" in result.stderr and "Traceback" not in result.stderr
+    # typos and out-of-range values outside the learner sections, caught before any work
+    result = run_with(lambda p: p["split"].update(tets_fraction=0.2), "stages/split.py")
+    assert result.returncode == 1 and result.stderr.strip().startswith("error: split.tets_fraction: unknown key")
+    result = run_with(lambda p: p["split"].update(test_fraction=0.9), "stages/split.py")
+    assert result.returncode == 1 and result.stderr.strip().startswith("error: split.test_fraction: expected a number in")
+    # the ablation rejects a bad evaluate.metric before its first fit
+    result = run_with(lambda p: p["evaluate"].update(metric="manhattan"), "stages/training_seasons.py")
+    assert result.returncode == 1 and "FastICA" not in result.stderr
+    assert result.stderr.strip() == "error: evaluate.metric: unknown value 'manhattan' (known: cosine, euclidean)"
 
 
 @pytest.mark.e2e

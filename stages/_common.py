@@ -14,16 +14,21 @@ from typing import Any
 import numpy as np
 import yaml
 
-from seasonloop.config import check_seasons
+from seasonloop.config import check_params, check_seasons
 from seasonloop.io import load_array, read_json
 
 PARAMS_FILE = Path("params.yaml")
 
 
-def load_params(path: Path = PARAMS_FILE) -> dict[str, Any]:
+def load_params(*keys: str, path: Path = PARAMS_FILE) -> dict[str, Any]:
+    """params.yaml, with `keys` (the sections or dotted keys the stage reads) checked before any work."""
     if not path.is_file():
         raise FileNotFoundError(f"{path}: parameter file not found (run from the repository root)")
-    return yaml.safe_load(path.read_text()) or {}
+    params = yaml.safe_load(path.read_text()) or {}
+    if not isinstance(params, dict):
+        raise ValueError(f"{path}: expected a mapping of sections")
+    check_params(params, keys)
+    return params
 
 
 def param(params: dict[str, Any], dotted_key: str) -> Any:
@@ -73,13 +78,14 @@ def test_images(seasons: list[str]) -> dict[str, np.ndarray]:
 
 
 def stage_main(run: Callable[[], None]) -> Callable[[], None]:
-    """Run a stage; expected failures (bad params, missing or corrupt input) print one line, exit 1."""
+    """Run a stage; expected failures (bad params, missing or corrupt input, a full disk or other
+    OS error while writing) print one line, exit 1."""
 
     @functools.wraps(run)
     def wrapper() -> None:
         try:
             run()
-        except (ValueError, FileNotFoundError, RuntimeError) as error:
+        except (ValueError, OSError, RuntimeError) as error:
             print(f"error: {error}", file=sys.stderr)
             sys.exit(1)
 

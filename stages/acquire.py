@@ -19,7 +19,7 @@ OUT = Path("data/acquired")
 
 @stage_main
 def main() -> None:
-    params = load_params()
+    params = load_params("data", "synthetic")
     source = param(params, "data.source")
     seasons = data_seasons(params)
     with staged_dir(OUT) as out:

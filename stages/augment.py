@@ -16,11 +16,12 @@ SPLIT = Path("data/split")
 OUT = Path("data/augmented")
 DATASET = Path("metrics/dataset.json")
 DETECTION = Path("metrics/detection.json")
+FRAMES = Path("data/frames/frames.json")
 
 
 @stage_main
 def main() -> None:
-    params = load_params()
+    params = load_params("data.seasons", "augment")
     seasons = data_seasons(params)
     aug = param(params, "augment")
     split = read_json(SPLIT / "split.json")
@@ -40,6 +41,7 @@ def main() -> None:
                 "test": len(split["test"]),
             }
     detection = read_json(DETECTION)   # empty unless the renderer's truth was available
+    frames = read_json(FRAMES)
     write_json(DATASET, {
         "seasons": per_season,
         "total_images": split["n_places"] * len(seasons),
@@ -48,6 +50,13 @@ def main() -> None:
         "dropped_tunnel": len(split["dropped_tunnel"]),
         "dropped_stop": len(split["dropped_stop"]),
         "gap": len(split["gap"]),
+        # what a place (and so a tolerance of one place) is
+        "place": frames["place"],
+        "frame_step": frames["frame_step"],
+        "pairing": frames["pairing"],
+        # the measured offset of each season against the first (seasonloop.alignment)
+        "alignment": frames["alignment"],
+        "offsets": frames["offsets"],
         **({"detection": detection} if detection else {}),
     })
 

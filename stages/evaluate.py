@@ -26,7 +26,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("method")
     method = parser.parse_args().method
-    params = load_params()
+    params = load_params("data.seasons", "evaluate", "sequence")
     evaluate = param(params, "evaluate")
     matchers = list(evaluate["matchers"])
     for matcher in matchers:

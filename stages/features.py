@@ -22,7 +22,7 @@ def main() -> None:
     parser.add_argument("method")
     parser.add_argument("season")
     args = parser.parse_args()
-    params = load_params()
+    params = load_params("data.seasons", "features")
     if args.season not in data_seasons(params):
         raise ValueError(f"season '{args.season}' is not in data.seasons")
     learner = load_learner(Path("models") / args.method)

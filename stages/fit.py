@@ -28,12 +28,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("method")
     method = parser.parse_args().method
-    params = load_params()
+    params = load_params("seed", "data.seasons", "train", "augment.copies")
     learner_class = get_learner(method)
     seasons = train_seasons(params)
+    # the learner checks its own section before the training images are loaded
+    learner = learner_class(param(params, method), seed=int(param(params, "seed")))
     images = training_images(params, seasons)
     places = training_places(params, seasons)
-    learner = learner_class(param(params, method), seed=int(param(params, "seed")))
     with Live(dir=str(Path("logs") / method), save_dvc_exp=False, dvcyaml=None, report=None) as live:
 
         def on_epoch(epoch: int, values: dict[str, float]) -> None:

@@ -22,7 +22,7 @@ OUT = Path("data/preprocessed")
 
 @stage_main
 def main() -> None:
-    params = load_params()
+    params = load_params("data.seasons", "preprocess")
     pre = param(params, "preprocess")
     stats = {}
     with staged_dir(OUT) as out:

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main, test_images, test_places
 
-from seasonloop.config import available_pairs, pair_name, parse_pair
+from seasonloop.config import available_pairs, pair_name, pair_present
 from seasonloop.evaluation import MATCHERS
 from seasonloop.io import load_array, read_json, staged_file
 from seasonloop.matching import distance_matrix
@@ -44,16 +44,16 @@ def ordered(mapping: dict, keys: list[str], source: str) -> dict:
 
 @stage_main
 def main() -> None:
-    params = load_params()
+    params = load_params("learners", "data.seasons", "evaluate", "ablation", "report")
     methods = list(param(params, "learners"))
     matchers = list(param(params, "evaluate.matchers"))
     evaluate = param(params, "evaluate")
     seasons = data_seasons(params)
     pairs = [pair_name(a, b) for a, b in available_pairs(seasons, param(params, "evaluate.pairs"))]
-    database, query = parse_pair(param(params, "report.example_pair"), "report.example_pair")
-    for season in (database, query):
-        if season not in seasons:
-            raise ValueError(f"report.example_pair: season '{season}' is not in data.seasons")
+    (database, query), note = pair_present(param(params, "report.example_pair"), seasons,
+                                           param(params, "evaluate.pairs"), "report.example_pair")
+    if note:
+        print(f"report: {note}")
 
     results = {method + MATCHERS[matcher]: {pair: read_json(Path("metrics/eval") / method / f"{pair}{MATCHERS[matcher]}.json")
                                             for pair in pairs}
@@ -76,18 +76,20 @@ def main() -> None:
     dataset["seasons"] = ordered(dataset["seasons"], seasons, "metrics/dataset.json")
     runtime = ordered(read_json(Path("metrics/runtime.json")), methods, "metrics/runtime.json")
     training = read_json(Path("metrics/training_seasons.json"))
-    season_sets = ["+".join(chosen) for chosen in param(params, "ablation.training_seasons")]
-    training["fraction_correct"] = {
-        method: ordered(values, season_sets, "metrics/training_seasons.json")
-        for method, values in ordered(training["fraction_correct"], list(param(params, "ablation.methods")),
-                                      "metrics/training_seasons.json").items()}
+    if "skipped" not in training:
+        # the lists the ablation ran (adapted to the seasons present), in their order
+        training["fraction_correct"] = {
+            method: ordered(values, training["season_sets"], "metrics/training_seasons.json")
+            for method, values in ordered(training["fraction_correct"], list(param(params, "ablation.methods")),
+                                          "metrics/training_seasons.json").items()}
     autoencoders = read_json(Path("metrics/autoencoder_descriptors.json"))
     autoencoders = ordered(autoencoders, [method for method in methods if method in autoencoders],
                            "metrics/autoencoder_descriptors.json")
     autoencoder_training = read_json(Path("metrics/autoencoder_training.json"))
+    if not Path("plots/figures").is_dir():
+        raise FileNotFoundError("plots/figures: not found (run the figures stage first)")
+    # the figures stage draws only those whose learners are in learners
     figures = sorted(Path("plots/figures").glob("*.png"))
-    if not figures:
-        raise FileNotFoundError("plots/figures: no PNG figures found (run the figures stage first)")
 
     sections = [
         dataset_section(dataset, Path("plots/season_preview.png")),

@@ -36,7 +36,7 @@ def detection_scores(found: np.ndarray, truth: np.ndarray) -> dict[str, float | 
 
 @stage_main
 def main() -> None:
-    params = load_params()
+    params = load_params("data.source", "data.seasons", "data.frame_step", "extract.fps", "split")
     seasons = data_seasons(params)
     split_params = param(params, "split")
     stats = np.load(PREPROCESSED / "stats.npz")
@@ -49,7 +49,9 @@ def main() -> None:
     if param(params, "data.source") == "synthetic" and LAYOUT.is_file():
         # the renderer knows where its tunnels and stops are: score the image-based detection
         layout = RouteLayout.from_json(read_json(LAYOUT))
-        seconds_of_place = (np.arange(n_places) / float(param(params, "extract.fps"))).astype(int)
+        # place p is the (p * frame_step)-th sample at extract.fps
+        seconds_of_place = (np.arange(n_places) * int(param(params, "data.frame_step"))
+                            / float(param(params, "extract.fps"))).astype(int)
         detection = {
             "tunnel": detection_scores(tunnel, layout.in_tunnel()[seconds_of_place]),
             # a still, dark tunnel frame looks like a stop too; the split counts it as a tunnel

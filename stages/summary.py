@@ -4,7 +4,9 @@ Writes metrics/summary.json (fraction correct per learner and pair, and its mean
 metrics/runtime.json (fit seconds, the study's Table 6; feature milliseconds per image, Table 7),
 plots/summary/fraction_correct.{md,csv} (ours beside the study's numbers; the CSV feeds
 `dvc plots show`), plots/summary/runtime.md, and the PNG figures of fraction correct per pair
-(study Figures 10, 11, 16, 17) and overlaid PR curves per pair (Figures 9, 14, 15, 17).
+(study Figures 10, 11, 16, 17) and overlaid PR curves per pair (Figures 9, 14, 15, 17); for
+`dvc plots show`, plots/summary/pr/<pair>.csv (every learner's curve, a `learner` column) and
+plots/summary/training_loss.csv (the dvclive curves of the learners that train in epochs).
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import pandas as pd
 from _common import data_seasons, load_params, param, stage_main
 
 from seasonloop.config import available_pairs, pair_name
+from seasonloop.dvcplots import pr_long, training_curves
 from seasonloop.evaluation import MATCHERS
 from seasonloop.io import read_json, staged_dir, write_json
 from seasonloop.plots import plot_fraction_correct, plot_pr_curves
@@ -25,7 +28,7 @@ from seasonloop.summary import fraction_correct_table, markdown_table, side_by_s
 
 @stage_main
 def main() -> None:
-    params = load_params()
+    params = load_params("learners", "data.seasons", "evaluate.pairs", "evaluate.matchers")
     methods = list(param(params, "learners"))
     matchers = list(param(params, "evaluate.matchers"))
     pairs = [pair_name(a, b) for a, b in available_pairs(data_seasons(params), param(params, "evaluate.pairs"))]
@@ -75,6 +78,15 @@ def main() -> None:
                               reference=study / 100)
         for pair in pairs:
             plot_pr_curves(curves[pair], f"Precision-recall, {pair} (database-queries)", out / f"pr_{pair}.png")
+        # `dvc plots show` reads these: one file per pair with every learner, and every learner's
+        # training curves, so dvc.yaml names no file that a subset of learners or seasons lacks
+        (out / "pr").mkdir()
+        for pair in pairs:
+            pr_long(curves[pair]).to_csv(out / "pr" / f"{pair}.csv", index=False, float_format="%.6g")
+        curves = training_curves(Path("logs"), methods)
+        # the losses only (loss/train, loss/validation): the learning rate is on another scale
+        curves = curves[curves["metric"].str.startswith("loss/")]
+        curves.to_csv(out / "training_loss.csv", index=False, float_format="%.6g")
 
 
 if __name__ == "__main__":

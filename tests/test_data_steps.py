@@ -2,13 +2,25 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import cv2
 import numpy as np
 import pytest
 
 from seasonloop.augment import augment_images, augment_training_set
 from seasonloop.config import available_pairs, check_seasons
-from seasonloop.data.sources import check_aligned, read_frame_folder, real_sources, sample_video
+from seasonloop.data.sources import (
+    _check_outside_copy,
+    align_frame_files,
+    check_aligned,
+    list_frame_files,
+    natural_key,
+    read_frame_folder,
+    read_season,
+    real_sources,
+    sample_video,
+)
 from seasonloop.preprocess import enhance_contrast, frame_statistics, to_gray
 from seasonloop.split import detect_stops, detect_tunnels, make_split, section_blocks
 
@@ -54,6 +66,53 @@ def test_frame_folder_reads_sorted_and_rejects_bad(tmp_path):
         real_sources("frames", ["winter"], {"frames_dir": str(tmp_path)})
     with pytest.raises(ValueError, match="data.source"):
         real_sources("dropbox", ["summer"], {})
+
+
+def write_frames(folder, names, level=lambda i: 20 * i % 250):
+    folder.mkdir(parents=True, exist_ok=True)
+    for i, name in enumerate(names):
+        cv2.imwrite(str(folder / name), np.full((8, 12, 3), level(i), np.uint8))
+
+
+def test_frame_files_sort_naturally_and_skip_hidden_files(tmp_path):
+    # names as several Nordland releases give them: not zero-padded
+    write_frames(tmp_path / "summer", [f"{i}.png" for i in range(1, 13)], level=lambda i: 20 * (i + 1))
+    (tmp_path / "summer" / "._3.png").write_bytes(b"macOS resource fork, not an image")
+    (tmp_path / "summer" / ".DS_Store").write_bytes(b"x")
+    files = list_frame_files(tmp_path / "summer")
+    assert [f.name for f in files] == [f"{i}.png" for i in range(1, 13)]
+    frames = read_frame_folder(tmp_path / "summer", 4, 6, progress=False)
+    assert list(frames[:, 0, 0, 0]) == [20 * i for i in range(1, 13)]   # route order, 10.png after 9.png
+    assert sorted(["b10", "b2", "a1"], key=natural_key) == ["a1", "b2", "b10"]
+
+
+def test_frame_step_keeps_every_kth_place(tmp_path):
+    write_frames(tmp_path / "summer", [f"{i}.png" for i in range(10)], level=lambda i: 20 * i)
+    frames = read_season("frames", tmp_path / "summer", 1.0, 4, 6, progress=False, frame_step=3)
+    assert list(frames[:, 0, 0, 0]) == [0, 60, 120, 180]
+    write_video(tmp_path / "v.mp4", 16, fps=4)
+    all_samples = read_season("video", tmp_path / "v.mp4", 2.0, 8, 12, progress=False)
+    every_other = read_season("video", tmp_path / "v.mp4", 2.0, 8, 12, progress=False, frame_step=2)
+    np.testing.assert_array_equal(every_other, all_samples[::2])
+    with pytest.raises(ValueError, match="data.frame_step"):
+        read_season("frames", tmp_path / "summer", 1.0, 4, 6, frame_step=0)
+
+
+def test_seasons_sharing_names_are_paired_by_name(tmp_path):
+    names = [f"{i}.png" for i in range(1, 12)]
+    write_frames(tmp_path / "summer", names)
+    write_frames(tmp_path / "winter", names)
+    files, line = align_frame_files({s: list_frame_files(tmp_path / s) for s in ("summer", "winter")})
+    assert "by file name" in line
+    assert [f.name for f in files["summer"]] == [f.name for f in files["winter"]] == names
+    # different naming schemes, same count: paired by position
+    write_frames(tmp_path / "fall", [f"fall_{i}.png" for i in range(1, 12)])
+    files, line = align_frame_files({s: list_frame_files(tmp_path / s) for s in ("summer", "fall")})
+    assert "by position" in line and files["fall"][9].name == "fall_10.png"
+    # some names shared, one missing: every later place would shift
+    write_frames(tmp_path / "spring", names[:4] + names[5:] + ["12.png"])
+    with pytest.raises(ValueError, match=r"(summer/5\.png: no frame of that name in spring|spring/12\.png: no frame of that name in summer)"):
+        align_frame_files({s: list_frame_files(tmp_path / s) for s in ("summer", "spring")})
 
 
 def test_mismatched_season_lengths_are_an_error_unless_trimmed():
@@ -164,3 +223,11 @@ def test_detection_finds_the_renderers_tunnels_and_stops():
     for start, end in layout.stops:
         near_stop[max(0, start - 8) : end + 8] = True
     assert not (stop & ~near_stop & ~tunnel).any()
+
+
+def test_a_queued_experiment_missing_relative_data_says_why(tmp_path):
+    queued = tmp_path / ".dvc/tmp/exps/tmp1"
+    with pytest.raises(FileNotFoundError, match="data.frames_dir as an absolute path"):
+        _check_outside_copy(Path("data/nordland/frames/summer"), "data.frames_dir", cwd=queued)
+    _check_outside_copy(Path("data/nordland/frames/summer"), "data.frames_dir", cwd=tmp_path)   # not queued: no error here
+    _check_outside_copy(tmp_path / "absent", "data.frames_dir", cwd=queued)                      # absolute: the normal error later

@@ -133,3 +133,17 @@ def test_autoencoder_training_section_shows_how_training_ended():
     page = build_report("r", [autoencoder_training_section(training)])
     for value in ["plateau", "max_epochs", "True", "False", "57", "0.00412", "0.0213"]:
         assert f">{value}</" in page, value
+    assert "No auto-encoder" in build_report("r", [autoencoder_training_section({})])
+
+
+def test_sections_show_what_a_subset_run_has(pngs):
+    # a run on one season skips the ablation; a run without pca, ica_bovw or an auto-encoder has no figure
+    skipped = {"skipped": "skipped: it needs two seasons and data.seasons has only ['summer']"}
+    adapted = {"pair": "winter-summer", "notes": ["ablation.pair summer-fall needs a season not in data.seasons: using winter-summer"],
+               "fraction_correct": {"pca": {"summer": 0.5}}}
+    page = build_report("r", [training_seasons_section(skipped, pngs[0]), training_seasons_section(adapted, pngs[0]),
+                              figures_section({}, {})])
+    assert "ablation was skipped: it needs two seasons" in page
+    assert "using winter-summer" in page and ">50.0</" in page
+    assert "No figure: the learners they show" in page
+    assert page.count("data:image/png;base64,") == 1

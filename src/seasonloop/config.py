@@ -1,8 +1,9 @@
-"""Checks on the study's parameters that every stage shares: seasons and season pairs."""
+"""Checks on the study's parameters: seasons, season pairs, and the schema of every section of params.yaml."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
 
 SEASONS: tuple[str, ...] = ("summer", "spring", "fall", "winter")
 
@@ -45,3 +46,251 @@ def available_pairs(seasons: Sequence[str], pairs: Sequence[str]) -> list[tuple[
     """The pairs (given as 'A-B' names) whose two seasons are both in `seasons`, in order."""
     chosen = [parse_pair(name, "evaluate.pairs") for name in pairs]
     return [(a, b) for a, b in chosen if a in seasons and b in seasons]
+
+
+def pair_present(name: str, seasons: Sequence[str], pairs: Sequence[str], key: str) -> tuple[tuple[str, str], str | None]:
+    """The pair `name` (checked, named by `key`) if both its seasons are in `seasons`, else the first
+    of `pairs` that is (else the first two seasons), with a one-line note saying so (None if kept)."""
+    database, query = parse_pair(name, key)
+    if database in seasons and query in seasons:
+        return (database, query), None
+    if len(seasons) < 2:
+        raise ValueError(f"{key}: a pair needs two seasons and data.seasons has only {list(seasons)}")
+    present = available_pairs(seasons, pairs)
+    chosen = present[0] if present else (seasons[0], seasons[1])
+    return chosen, f"{key} {name} needs a season not in data.seasons: using {pair_name(*chosen)}"
+
+
+# ---- The schema of params.yaml ---------------------------------------------------------------
+# Every key of every section, with its check; adding a param is one line here. The learner
+# sections are checked by the learner classes themselves (unknown keys raise there), so they are
+# only named here. A stage checks the keys it reads before it starts work (stages/_common.py).
+
+Check = Callable[[str, Any], None]   # (dotted key, value) -> None, or a ValueError naming the key
+
+
+def _fail(key: str, expected: str, value: Any) -> None:
+    raise ValueError(f"{key}: expected {expected}, got {value!r}")
+
+
+def integer(minimum: int | None = None, maximum: int | None = None) -> Check:
+    def check(key: str, value: Any) -> None:
+        if isinstance(value, bool) or not isinstance(value, int) \
+                or (minimum is not None and value < minimum) or (maximum is not None and value > maximum):
+            _fail(key, "an integer" + (f" >= {minimum}" if minimum is not None else "")
+                  + (f" <= {maximum}" if maximum is not None else ""), value)
+    return check
+
+
+def number(low: float | None = None, high: float | None = None, low_open: bool = False, high_open: bool = False) -> Check:
+    def check(key: str, value: Any) -> None:
+        ok = not isinstance(value, bool) and isinstance(value, (int, float))
+        ok = ok and (low is None or (value > low if low_open else value >= low))
+        ok = ok and (high is None or (value < high if high_open else value <= high))
+        if not ok:
+            bounds = ("(" if low_open else "[") + f"{low if low is not None else '-inf'}, " \
+                     + f"{high if high is not None else 'inf'}" + (")" if high_open or high is None else "]")
+            _fail(key, f"a number in {bounds}", value)
+    return check
+
+
+def boolean(key: str, value: Any) -> None:
+    if not isinstance(value, bool):
+        _fail(key, "true or false", value)
+
+
+def text(key: str, value: Any) -> None:
+    if not isinstance(value, str) or not value:
+        _fail(key, "a non-empty string", value)
+
+
+def one_of(*choices: str) -> Check:
+    def check(key: str, value: Any) -> None:
+        if value not in choices:
+            raise ValueError(f"{key}: unknown value {value!r} (known: {', '.join(choices)})")
+    return check
+
+
+def list_of(item: Check, non_empty: bool = True, unique: bool = True) -> Check:
+    def check(key: str, value: Any) -> None:
+        if isinstance(value, str) or not isinstance(value, Sequence) or (non_empty and not value):
+            _fail(key, "a non-empty list" if non_empty else "a list", value)
+        for entry in value:
+            item(key, entry)
+        if unique and len({repr(entry) for entry in value}) != len(value):
+            raise ValueError(f"{key}: repeated entry in {list(value)}")
+    return check
+
+
+def seasons(key: str, value: Any) -> None:
+    check_seasons(value, key)
+
+
+def pair(key: str, value: Any) -> None:
+    if not isinstance(value, str):
+        _fail(key, "a pair name such as summer-fall", value)
+    parse_pair(value, key)
+
+
+def season_map(item: Check) -> Check:
+    def check(key: str, value: Any) -> None:
+        if not isinstance(value, Mapping):
+            _fail(key, "a mapping of season to value", value)
+        for season, entry in value.items():
+            if season not in SEASONS:
+                raise ValueError(f"{key}: unknown season '{season}' (known: {', '.join(SEASONS)})")
+            item(f"{key}.{season}", entry)
+    return check
+
+
+# What the library accepts; tests/test_config.py keeps these in step with the modules that use them.
+DISTANCE_METRICS = ("cosine", "euclidean")
+CONFIDENCES = ("distance", "ratio")
+MATCHER_NAMES = ("single", "sequence")
+CONTRAST_METHODS = ("clahe", "equalize", "none")
+SOURCES = ("synthetic", "videos", "frames")
+LEARNER_SECTIONS = ("raw_patchnorm", "pca", "ica", "ica_bovw", "fae", "cae")
+
+SCHEMA: dict[str, dict[str, Check]] = {
+    "data": {
+        "source": one_of(*SOURCES),
+        "seasons": seasons,
+        "videos_dir": text,
+        "video_files": season_map(text),
+        "frames_dir": text,
+        "frame_step": integer(1),
+        "offsets": season_map(integer(0)),
+    },
+    "synthetic": {
+        "seconds": integer(10),
+        "fps": integer(1),
+        "width": integer(16),
+        "height": integer(16),
+        "seed": integer(0),
+    },
+    "extract": {
+        "fps": number(0, None, low_open=True),
+        "height": integer(8),
+        "width": integer(8),
+        "trim_to_shortest": boolean,
+        "max_offset": integer(0),
+    },
+    "preprocess": {
+        "height": integer(4),
+        "width": integer(4),
+        "contrast": one_of(*CONTRAST_METHODS),
+        "clahe_clip": number(0, None, low_open=True),
+        "clahe_grid": integer(1),
+    },
+    "split": {
+        "section_length": integer(3),
+        # more test than training places per section is no longer a training split
+        "test_fraction": number(0, 0.5, low_open=True),
+        "gap": integer(0),
+        "dark_threshold": number(0, 255),
+        "stop_threshold": number(0),
+    },
+    "augment": {
+        "copies": integer(0),
+        "horizontal_flip": boolean,
+        "width_shift": number(0, 1, high_open=True),
+        "height_shift": number(0, 1, high_open=True),
+        "seed": integer(0),
+    },
+    "train": {
+        "seasons": seasons,
+        "augmented": boolean,
+    },
+    "features": {
+        "batch_size": integer(1),
+    },
+    "evaluate": {
+        "pairs": list_of(pair),
+        "metric": one_of(*DISTANCE_METRICS),
+        "confidence": one_of(*CONFIDENCES),
+        "tolerance_frames": integer(0),
+        "matchers": list_of(one_of(*MATCHER_NAMES)),
+    },
+    "sequence": {
+        "length": integer(1),
+        "v_min": number(0, None, low_open=True),
+        "v_max": number(0, None, low_open=True),
+        "v_steps": integer(1),
+        "window": integer(1),
+    },
+    "ablation": {
+        "methods": list_of(one_of(*LEARNER_SECTIONS)),
+        "pair": pair,
+        "training_seasons": list_of(seasons),
+    },
+    "report": {
+        "example_pair": pair,
+    },
+}
+
+# Top-level keys that are values, not sections.
+TOP_LEVEL: dict[str, Check] = {
+    "seed": integer(0),
+    "learners": list_of(one_of(*LEARNER_SECTIONS)),
+}
+
+
+def _check_split(section: Mapping[str, Any]) -> None:
+    length, fraction, gap = section["section_length"], section["test_fraction"], section["gap"]
+    test = max(1, round(length * fraction))
+    if length - test - 2 * gap < 1:
+        raise ValueError(f"split: a section of {length} places with a test block of {test} and gaps of {gap} "
+                         "on either side leaves no training place (split.section_length, test_fraction, gap)")
+
+
+def _check_sequence(section: Mapping[str, Any]) -> None:
+    if section["v_max"] < section["v_min"]:
+        raise ValueError(f"sequence.v_max: {section['v_max']} is below sequence.v_min {section['v_min']}")
+
+
+# Checks across the keys of one section, run when the whole section is checked.
+SECTION_CHECKS: dict[str, Callable[[Mapping[str, Any]], None]] = {
+    "split": _check_split,
+    "sequence": _check_sequence,
+}
+
+
+def check_params(params: Mapping[str, Any], keys: Sequence[str]) -> None:
+    """Check the top-level keys of `params`, then each of `keys` ("split", or one key as "data.seasons").
+
+    Raises a ValueError naming the first unknown, missing or out-of-range key. Learner sections
+    are left to the learner classes, which reject unknown keys and bad values.
+    """
+    for name in params:
+        if name not in SCHEMA and name not in TOP_LEVEL and name not in LEARNER_SECTIONS:
+            raise ValueError(f"params.yaml: unknown key '{name}'")
+    for key in keys:
+        section_name, _, sub = key.partition(".")
+        if section_name in LEARNER_SECTIONS:
+            continue
+        if section_name in TOP_LEVEL:
+            if section_name not in params:
+                raise ValueError(f"params.yaml: missing key '{section_name}'")
+            TOP_LEVEL[section_name](section_name, params[section_name])
+            continue
+        if section_name not in SCHEMA:
+            raise ValueError(f"params.yaml: unknown key '{key}'")
+        schema = SCHEMA[section_name]
+        section = params.get(section_name)
+        if not isinstance(section, Mapping):
+            raise ValueError(f"params.yaml: missing section '{section_name}'")
+        if sub:
+            if sub not in schema:
+                raise ValueError(f"params.yaml: unknown key '{key}'")
+            names = [sub]
+        else:
+            unknown = [name for name in section if name not in schema]
+            if unknown:
+                raise ValueError(f"{section_name}.{unknown[0]}: unknown key (known: {', '.join(schema)})")
+            names = list(schema)
+        for name in names:
+            if name not in section:
+                raise ValueError(f"params.yaml: missing key '{section_name}.{name}'")
+            schema[name](f"{section_name}.{name}", section[name])
+        if not sub and section_name in SECTION_CHECKS:
+            SECTION_CHECKS[section_name](section)

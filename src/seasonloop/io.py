@@ -27,12 +27,27 @@ def _default_mode(directory: bool) -> int:
     return (0o777 if directory else 0o666) & ~umask
 
 
+def _staging_prefix(final: Path) -> str:
+    # distinct per final name: ".pca.staging-" never matches the staging of "pca.json"
+    return f".{final.name}.staging-"
+
+
+def remove_stale_staging(final: Path) -> list[Path]:
+    """Remove what a killed run left while staging `final` (a SIGKILL skips the cleanup below);
+    one writer per final path, so anything found is stale. Returns what was removed."""
+    stale = sorted(Path(final).parent.glob(_staging_prefix(Path(final)) + "*"))
+    for path in stale:
+        shutil.rmtree(path, ignore_errors=True) if path.is_dir() and not path.is_symlink() else path.unlink(missing_ok=True)
+    return stale
+
+
 @contextlib.contextmanager
 def staged_dir(final: Path) -> Iterator[Path]:
     """Yield an empty temporary directory beside `final`; it replaces `final` only on success."""
     final = Path(final)
     final.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{final.name}.", dir=final.parent))
+    remove_stale_staging(final)
+    tmp = Path(tempfile.mkdtemp(prefix=_staging_prefix(final), dir=final.parent))
     os.chmod(tmp, _default_mode(directory=True))
     try:
         yield tmp
@@ -49,7 +64,8 @@ def staged_file(final: Path) -> Iterator[Path]:
     """Yield a temporary path beside `final`; it is renamed to `final` only on success."""
     final = Path(final)
     final.parent.mkdir(parents=True, exist_ok=True)
-    fd, name = tempfile.mkstemp(prefix=f".{final.name}.", suffix=final.suffix, dir=final.parent)
+    remove_stale_staging(final)
+    fd, name = tempfile.mkstemp(prefix=_staging_prefix(final), suffix=final.suffix, dir=final.parent)
     os.close(fd)
     tmp = Path(name)
     os.chmod(tmp, _default_mode(directory=False))

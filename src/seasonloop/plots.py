@@ -264,3 +264,10 @@ def plot_loss_curves(curves: Mapping[str, Mapping[str, Sequence[float]]], path, 
         axes.legend(fontsize="small")
     figure.suptitle(title)
     _save(figure, path)
+
+
+def plot_message(path, text: str) -> None:
+    """A figure that only says why there is nothing to plot (a declared output must still exist)."""
+    figure = Figure(figsize=(6.0, 1.5))
+    figure.text(0.5, 0.5, text, ha="center", va="center", wrap=True)
+    _save(figure, path)

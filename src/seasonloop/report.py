@@ -316,10 +316,14 @@ def runtime_section(runtime: Mapping[str, Mapping[str, float]]) -> Section:
 
 
 def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -> Section:
-    """The training-season effect (study Figure 18): {"pair", "fraction_correct": {method: {seasons: value}}}."""
+    """The training-season effect (study Figure 18): {"pair", "fraction_correct": {method: {seasons: value}},
+    "notes": [...]}, or {"skipped": why} when the run's seasons do not allow it."""
+    if "skipped" in training_seasons:
+        return Section("Training-season effect", [Text(f"The training-season ablation was {training_seasons['skipped']}.")])
     pair = training_seasons["pair"]
     table = 100 * pd.DataFrame.from_dict(training_seasons["fraction_correct"], orient="index")
     return Section("Training-season effect", [
+        *(Text(note) for note in training_seasons.get("notes", [])),
         Table(f"Fraction correct (%) on {pair}, single-image matching, by the seasons trained on", table),
         Image(f"Training-season effect on {pair} (study Fig. 18)", figure)])
 
@@ -327,19 +331,25 @@ def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -
 def figures_section(figures: Mapping[str, Png], autoencoder_descriptors: Mapping[str, Mapping[str, Mapping[str, float]]]) -> Section:
     """The study's other figures (caption -> PNG) and the auto-encoder descriptor comparison table.
 
-    autoencoder_descriptors[method][descriptor][pair] is a fraction correct.
+    autoencoder_descriptors[method][descriptor][pair] is a fraction correct. Either may be empty
+    when the learners they need are not in the run.
     """
-    table = 100 * pd.DataFrame.from_dict(
-        {(method, descriptor): values for method, by_descriptor in autoencoder_descriptors.items()
-         for descriptor, values in by_descriptor.items()}, orient="index")
-    table.index.names = ["method", "descriptor"]
-    return Section("The study's other figures", [
-        *(Image(caption, png) for caption, png in figures.items()),
-        Table("Auto-encoder descriptors (study Fig. 19): fraction correct (%), single-image matching", table)])
+    blocks: list[Block] = [Image(caption, png) for caption, png in figures.items()]
+    if not figures:
+        blocks.append(Text("No figure: the learners they show (pca, ica_bovw, fae, cae) are not in learners."))
+    if autoencoder_descriptors:
+        table = 100 * pd.DataFrame.from_dict(
+            {(method, descriptor): values for method, by_descriptor in autoencoder_descriptors.items()
+             for descriptor, values in by_descriptor.items()}, orient="index")
+        table.index.names = ["method", "descriptor"]
+        blocks.append(Table("Auto-encoder descriptors (study Fig. 19): fraction correct (%), single-image matching", table))
+    return Section("The study's other figures", blocks)
 
 
 def autoencoder_training_section(training: Mapping[str, Mapping[str, Any]]) -> Section:
     """How each auto-encoder's training ended, training[method][key] (metrics/autoencoder_training.json)."""
+    if not training:
+        return Section("Auto-encoder training", [Text("No auto-encoder (fae, cae) is in learners.")])
     table = pd.DataFrame.from_dict(training, orient="index")
     return Section("Auto-encoder training", [
         Text("Each auto-encoder trains until its loss on held-out training places stops improving "

@@ -1284,6 +1284,10 @@ def render_route(out_dir: Path, seasons: Sequence[str], seconds: int, fps: int, 
         for writer in writers:
             writer.release()
         writers.clear()
+        # OpenCV's writer does not raise when the disk fills: check what it left
+        for path in video_paths:
+            if not path.is_file() or path.stat().st_size == 0:
+                raise OSError(f"{path}: the video was not written (is the disk full?)")
         layout_path.write_text(json.dumps(route.layout.to_json(), indent=1))
     except BaseException:
         for writer in writers:

@@ -1,0 +1,112 @@
+"""The params schema: every key of every section checked, errors naming the key."""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+import pytest
+import yaml
+
+from seasonloop import config, matching, preprocess
+from seasonloop.config import SCHEMA, TOP_LEVEL, check_params
+from seasonloop.evaluation import MATCHERS
+from seasonloop.models.registry import LEARNERS
+
+REPO = Path(__file__).resolve().parents[1]
+ALL_KEYS = [*SCHEMA, *TOP_LEVEL]
+
+
+@pytest.fixture
+def params():
+    return yaml.safe_load((REPO / "params.yaml").read_text())
+
+
+@pytest.mark.parametrize("name", ["params.yaml", "presets/full.yaml"])
+def test_the_shipped_params_pass(name):
+    check_params(yaml.safe_load((REPO / name).read_text()), ALL_KEYS)
+
+
+def test_every_section_of_params_yaml_has_a_schema(params):
+    # a section nobody checks would accept typos silently
+    for name in params:
+        assert name in SCHEMA or name in TOP_LEVEL or name in config.LEARNER_SECTIONS, name
+    for name, section in SCHEMA.items():
+        assert set(params[name]) == set(section), name
+
+
+@pytest.mark.parametrize("section, key, value, message", [
+    ("split", "tets_fraction", 0.1, "split.tets_fraction: unknown key"),
+    ("evaluate", "metirc", "cosine", "evaluate.metirc: unknown key"),
+])
+def test_a_typo_is_an_error_naming_the_key(params, section, key, value, message):
+    params[section][key] = value
+    with pytest.raises(ValueError, match=message.replace(".", r"\.")):
+        check_params(params, [section])
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("split.test_fraction", 0.9, r"split\.test_fraction: expected a number in \(0, 0.5\]"),
+    ("split.gap", -1, r"split\.gap: expected an integer >= 0"),
+    ("evaluate.metric", "manhattan", r"evaluate\.metric: unknown value 'manhattan'"),
+    ("evaluate.tolerance_frames", 1.5, r"evaluate\.tolerance_frames: expected an integer"),
+    ("evaluate.matchers", ["single", "seq"], r"evaluate\.matchers: unknown value 'seq'"),
+    ("evaluate.pairs", ["summer-autumn"], r"evaluate\.pairs: unknown season 'autumn'"),
+    ("data.frame_step", 0, r"data\.frame_step: expected an integer >= 1"),
+    ("data.source", "vidoes", r"data\.source: unknown value 'vidoes'"),
+    ("extract.trim_to_shortest", "yes", r"extract\.trim_to_shortest: expected true or false"),
+    ("augment.width_shift", 1.0, r"augment\.width_shift"),
+    ("ablation.methods", ["pca", "sift"], r"ablation\.methods: unknown value 'sift'"),
+    ("ablation.training_seasons", [["summer"], ["autumn"]], r"ablation\.training_seasons: unknown season 'autumn'"),
+    ("report.example_pair", "summer_fall", r"report\.example_pair"),
+    ("data.video_files", {"autumn": "a.mp4"}, r"data\.video_files: unknown season 'autumn'"),
+])
+def test_a_bad_value_is_an_error_naming_the_key(params, key, value, message):
+    section, name = key.split(".")
+    params[section][name] = value
+    with pytest.raises(ValueError, match=message):
+        check_params(params, [section])
+    # the dotted key alone is checked too
+    with pytest.raises(ValueError, match=message):
+        check_params(params, [key])
+
+
+def test_checks_across_a_section(params):
+    bad = copy.deepcopy(params)
+    bad["split"].update(section_length=10, test_fraction=0.5, gap=3)
+    with pytest.raises(ValueError, match="leaves no training place"):
+        check_params(bad, ["split"])
+    bad = copy.deepcopy(params)
+    bad["sequence"].update(v_min=1.2, v_max=0.8)
+    with pytest.raises(ValueError, match=r"sequence\.v_max"):
+        check_params(bad, ["sequence"])
+
+
+def test_missing_and_unknown_top_level_keys(params):
+    del params["evaluate"]["metric"]
+    with pytest.raises(ValueError, match=r"missing key 'evaluate\.metric'"):
+        check_params(params, ["evaluate"])
+    params["evaluat"] = {}
+    with pytest.raises(ValueError, match="params.yaml: unknown key 'evaluat'"):
+        check_params(params, [])
+    del params["evaluat"]
+    with pytest.raises(ValueError, match=r"unknown key 'split\.tets_fraction'"):
+        check_params(params, ["split.tets_fraction"])
+
+
+def test_only_the_keys_asked_for_are_checked(params):
+    # a stage checks what it reads: another section's bad value is that stage's business
+    params["split"]["test_fraction"] = 0.9
+    check_params(params, ["data.seasons", "evaluate"])
+    # learner sections are the learner classes' to check
+    params["pca"]["n_kep"] = 3
+    check_params(params, ["pca"])
+
+
+def test_choices_match_the_library():
+    # the schema repeats the library's choices so that config.py imports no heavy module
+    assert config.DISTANCE_METRICS == matching.METRICS
+    assert config.CONFIDENCES == matching.CONFIDENCES
+    assert config.CONTRAST_METHODS == preprocess.CONTRAST_METHODS
+    assert config.MATCHER_NAMES == tuple(MATCHERS)
+    assert set(config.LEARNER_SECTIONS) == set(LEARNERS)

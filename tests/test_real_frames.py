@@ -1,0 +1,55 @@
+"""End to end on a folder of real-like frames: the README's two-season recipe through the report."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import cv2
+import pytest
+
+from seasonloop.data.sources import sample_video
+from seasonloop.data.synthetic import render_route
+
+from test_pipeline import TINY, dvc, make_workspace
+
+SECONDS = 240   # places per season
+
+
+def write_frame_folders(folder: Path) -> None:
+    """Two seasons of PNGs named 1.png ... 240.png (not zero-padded), as Nordland releases name them."""
+    videos = folder / "videos"
+    render_route(videos, ["summer", "winter"], SECONDS, 1, 128, 72, seed=3, progress=False)
+    for season in ("summer", "winter"):
+        (folder / season).mkdir(parents=True)
+        for i, frame in enumerate(sample_video(videos / f"{season}.mp4", 1, 72, 128, progress=False)):
+            cv2.imwrite(str(folder / season / f"{i + 1}.png"), frame)
+        # a macOS resource fork, not an image: skipped
+        (folder / season / "._1.png").write_bytes(b"\x00\x05\x16\x07")
+
+
+@pytest.mark.e2e
+def test_the_readme_frames_recipe_runs_through_the_report(tmp_path):
+    frames = tmp_path / "nordland_png"          # outside the repository: an external dependency
+    write_frame_folders(frames)
+    root = make_workspace(tmp_path / "repo", {k: v for k, v in TINY.items() if k not in ("ablation",)})
+    # the README's recipe, and nothing else changed
+    result = dvc(root, "exp", "run", "-S", "data.source=frames", "-S", f"data.frames_dir={frames}",
+                 "-S", "data.seasons=[summer,winter]", "-S", "train.seasons=[summer,winter]")
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    assert "frames paired by file name" in result.stdout
+    assert (root / "plots/report.html").stat().st_size > 0
+    dataset = json.loads((root / "metrics/dataset.json").read_text())
+    assert dataset["seasons"]["winter"]["frames"] == SECONDS and dataset["place"] == "one image of each season's folder"
+    ablation = json.loads((root / "metrics/training_seasons.json").read_text())
+    assert ablation["pair"] == "winter-summer" and ablation["season_sets"] == ["summer", "summer+winter"]
+    assert set(json.loads((root / "metrics/summary.json").read_text())["fraction_correct"]["pca"]) == {"winter-summer"}
+    shown = json.loads(dvc(root, "plots", "show", "--json").stdout)
+    assert not shown.get("errors"), shown.get("errors")
+    status = dvc(root, "status")
+    assert status.returncode == 0 and "up to date" in status.stdout, status.stdout
+    # DVC hashes the frames: replacing one in place reruns extraction
+    frame = cv2.imread(str(frames / "summer" / "5.png"))
+    cv2.imwrite(str(frames / "summer" / "5.png"), 255 - frame)
+    changed = json.loads(dvc(root, "status", "--json").stdout)
+    assert "extract_frames" in changed, changed

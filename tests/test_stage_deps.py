@@ -1,0 +1,272 @@
+"""dvc.yaml declares everything each stage's result depends on, so a cached result cannot go stale.
+
+For every stage DVC resolves from dvc.yaml (matrix stages expanded for every learner and season
+of params.yaml), the stage script's source is read (never run) to find:
+- the library modules it imports, transitively: seasonloop.* and stages/_common.py. A stage that
+  imports seasonloop.models.registry can build any learner, so it depends on all of
+  src/seasonloop/models (and what those modules import);
+- the params it reads: literal keys of param(params, "a.b"), load_params("a", ...) and
+  params["a"], in the script and in the stages/_common.py helpers it calls; each must also be
+  among the keys its load_params call checks before work starts.
+Each must be covered by a declared dep (a file, or a folder above it) or a declared param (the
+key or a parent of it; `params.yaml:` alone covers every key).
+"""
+
+from __future__ import annotations
+
+import ast
+import shlex
+from collections.abc import Callable, Iterable
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+SRC = ROOT / "src"
+COMMON = ROOT / "stages" / "_common.py"
+REGISTRY = SRC / "seasonloop" / "models" / "registry.py"
+MODELS = SRC / "seasonloop" / "models"
+
+# _common functions whose string arguments are param keys -> index of the first such argument:
+# param(params, "a.b") reads a key; load_params("a", "b.c") checks (and so reads) them
+PARAM_READERS = {"param": 1, "load_params": 0}
+
+# Param reads whose key is computed at run time: what each can read, from the stage's command-line
+# arguments and params.yaml. A dynamic read not listed here fails the test, so none goes unchecked.
+DYNAMIC_READS: dict[tuple[str, str], Callable[[list[str], dict[str, Any]], list[str]]] = {
+    # fit@<learner> reads its learner's section
+    ("stages/fit.py", "param(params, method)"): lambda argv, params: [argv[0]],
+    # the ablation fits every learner of ablation.methods
+    ("stages/training_seasons.py", "param(params, method)"): lambda argv, params: list(params["ablation"]["methods"]),
+}
+
+
+def rel(path: Path) -> str:
+    return path.resolve().relative_to(ROOT).as_posix()
+
+
+def module_path(dotted: str) -> Path | None:
+    """The source file of a seasonloop module or package, or None when it is not one."""
+    base = SRC.joinpath(*dotted.split("."))
+    if base.with_suffix(".py").is_file():
+        return base.with_suffix(".py")
+    if (base / "__init__.py").is_file():
+        return base / "__init__.py"
+    return None
+
+
+def package_of(path: Path) -> str:
+    """Dotted package of a file under src/ ('seasonloop.models' for models/pca.py)."""
+    parts = path.resolve().relative_to(SRC).with_suffix("").parts
+    return ".".join(parts[:-1])
+
+
+@cache
+def direct_imports(path: Path) -> frozenset[Path]:
+    """The seasonloop modules and stages/_common.py that `path` imports (anywhere in the file)."""
+    tree = ast.parse(path.read_text(), filename=str(path))
+    found: set[Path] = set()
+
+    def add(dotted: str) -> None:
+        if dotted == "_common":
+            found.add(COMMON)
+        elif dotted.split(".")[0] == "seasonloop":
+            target = module_path(dotted)
+            assert target is not None, f"{rel(path)}: cannot resolve import of {dotted}"
+            found.add(target)
+
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                add(alias.name)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                package = package_of(path).split(".")
+                base = ".".join(package[:len(package) - node.level + 1] + ([node.module] if node.module else []))
+            else:
+                base = node.module or ""
+            if base == "_common" or base.split(".")[0] == "seasonloop":
+                add(base)
+                # `from seasonloop.models import pca` imports a module, not a name
+                for alias in node.names:
+                    if base != "_common" and module_path(f"{base}.{alias.name}") is not None:
+                        add(f"{base}.{alias.name}")
+    return frozenset(found)
+
+
+def module_closure(script: Path) -> set[Path]:
+    """Every module `script` imports, transitively, plus the script itself."""
+    seen: set[Path] = set()
+    todo = [script]
+    while todo:
+        path = todo.pop()
+        if path in seen:
+            continue
+        seen.add(path)
+        todo.extend(direct_imports(path))
+        if path == REGISTRY:
+            # the registry builds learners by name: any learner module may run
+            todo.extend(MODELS.glob("*.py"))
+    # package __init__ files hold only a docstring (test_package_inits_hold_no_code checks it)
+    return {path for path in seen if path.name != "__init__.py"}
+
+
+def checked_keys(script: Path) -> set[str]:
+    """The keys a stage script checks up front: the literal arguments of its load_params call."""
+    return {arg.value for node in ast.walk(ast.parse(script.read_text()))
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "load_params"
+            for arg in node.args if isinstance(arg, ast.Constant) and isinstance(arg.value, str)}
+
+
+def _reads_in(tree: ast.AST, file: str) -> tuple[set[str], set[str], set[str]]:
+    """(literal param keys, dynamic reads as source text, names of functions called) in `tree`."""
+    keys: set[str] = set()
+    dynamic: set[str] = set()
+    calls: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+            calls.add(node.func.id)
+            if node.func.id in PARAM_READERS:
+                for arg in node.args[PARAM_READERS[node.func.id]:]:
+                    if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
+                        keys.add(arg.value)
+                    elif isinstance(arg, ast.Starred) or not isinstance(arg, ast.Constant):
+                        dynamic.add(ast.unparse(node))
+        elif isinstance(node, ast.Subscript) and isinstance(node.value, ast.Name) and node.value.id == "params":
+            if isinstance(node.slice, ast.Constant) and isinstance(node.slice.value, str):
+                keys.add(node.slice.value)
+            else:
+                dynamic.add(ast.unparse(node))
+    return keys, dynamic, calls
+
+
+@cache
+def common_reads() -> dict[str, tuple[frozenset[str], frozenset[str]]]:
+    """function name in stages/_common.py -> (param keys, dynamic reads) it reads, transitively."""
+    tree = ast.parse(COMMON.read_text())
+    functions = {node.name: node for node in tree.body if isinstance(node, ast.FunctionDef)}
+    direct = {name: _reads_in(node, rel(COMMON)) for name, node in functions.items()}
+    result = {}
+    for name in functions:
+        keys: set[str] = set()
+        dynamic: set[str] = set()
+        seen, todo = set(), [name]
+        while todo:
+            current = todo.pop()
+            if current in seen:
+                continue
+            seen.add(current)
+            k, d, calls = direct[current]
+            keys |= k
+            # param() itself reads its argument: the caller's literal is what counts
+            dynamic |= set() if current in PARAM_READERS else d
+            todo.extend(call for call in calls if call in functions)
+        result[name] = (frozenset(keys), frozenset(dynamic))
+    return result
+
+
+def script_reads(script: Path) -> tuple[set[str], set[str]]:
+    """(literal param keys, dynamic reads) of a stage script, through the _common helpers it calls."""
+    keys, dynamic, calls = _reads_in(ast.parse(script.read_text()), rel(script))
+    helpers = common_reads()
+    for call in calls & set(helpers):
+        if call not in PARAM_READERS:
+            keys |= helpers[call][0]
+            dynamic |= helpers[call][1]
+    return keys, dynamic
+
+
+@cache
+def resolved_stages() -> list[dict[str, Any]]:
+    """Each stage as DVC resolves it: name, script, arguments, dep paths, declared params (None: all)."""
+    from dvc.repo import Repo
+
+    stages = []
+    with Repo(str(ROOT)) as repo:
+        for stage in repo.index.stages:
+            argv = shlex.split(stage.cmd)
+            assert argv[0] == "python" and argv[1].startswith("stages/"), f"{stage.addressing}: unexpected cmd {stage.cmd}"
+            deps, params = [], []
+            for dep in stage.deps:
+                if hasattr(dep, "params"):
+                    # `params.yaml:` with no keys tracks the whole file
+                    params = None if not dep.params else params + list(dep.params)
+                else:
+                    deps.append(Path(dep.def_path).as_posix())
+            stages.append({"name": stage.addressing, "script": argv[1], "argv": argv[2:], "deps": deps, "params": params})
+    return stages
+
+
+def uncovered_modules(required: Iterable[str], deps: list[str]) -> list[str]:
+    return sorted(path for path in required
+                  if not any(path == dep or path.startswith(dep.rstrip("/") + "/") for dep in deps))
+
+
+def uncovered_params(required: Iterable[str], declared: list[str] | None) -> list[str]:
+    if declared is None:
+        return []
+    return sorted(key for key in required if not any(key == d or key.startswith(d + ".") for d in declared))
+
+
+def params_yaml() -> dict[str, Any]:
+    return yaml.safe_load((ROOT / "params.yaml").read_text())
+
+
+def stage_ids() -> list[str]:
+    return [stage["name"] for stage in resolved_stages()]
+
+
+@pytest.mark.parametrize("name", stage_ids())
+def test_stage_declares_every_module_it_imports(name: str) -> None:
+    stage = next(s for s in resolved_stages() if s["name"] == name)
+    required = {rel(path) for path in module_closure(ROOT / stage["script"])}
+    missing = uncovered_modules(required, stage["deps"])
+    assert not missing, f"dvc.yaml stage {name}: imports {', '.join(missing)} not listed in its deps"
+
+
+@pytest.mark.parametrize("name", stage_ids())
+def test_stage_declares_every_param_it_reads(name: str) -> None:
+    stage = next(s for s in resolved_stages() if s["name"] == name)
+    keys, dynamic = script_reads(ROOT / stage["script"])
+    for read in sorted(dynamic):
+        resolver = DYNAMIC_READS.get((stage["script"], read))
+        assert resolver is not None, (f"{stage['script']}: param read `{read}` has a computed key; "
+                                      "add what it can read to DYNAMIC_READS in tests/test_stage_deps.py")
+        keys |= set(resolver(stage["argv"], params_yaml()))
+    missing = uncovered_params(keys, stage["params"])
+    assert not missing, f"dvc.yaml stage {name}: reads param {', '.join(missing)} not listed in its params"
+    # what it reads it checks before starting work (learner sections: the learner classes check them)
+    literal, _ = script_reads(ROOT / stage["script"])
+    unchecked = uncovered_params(literal, sorted(checked_keys(ROOT / stage["script"])))
+    assert not unchecked, f"{stage['script']}: reads {', '.join(unchecked)} without checking it in load_params(...)"
+
+
+def test_every_stage_is_checked() -> None:
+    # the stage list comes from DVC's own resolution of dvc.yaml: one fit per learner of params.yaml
+    names = stage_ids()
+    for learner in params_yaml()["learners"]:
+        assert f"fit@{learner}" in names
+
+
+def test_package_inits_hold_no_code() -> None:
+    # module_closure leaves out package __init__ files; that is only sound while they run nothing
+    for init in SRC.rglob("__init__.py"):
+        for node in ast.parse(init.read_text()).body:
+            is_docstring = isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant)
+            assert is_docstring or isinstance(node, ast.Assign), f"{rel(init)}: holds code; list it as a dep or move it"
+
+
+def test_the_checks_see_what_they_should() -> None:
+    # the derivation itself: known imports and reads are found
+    fit = {rel(p) for p in module_closure(ROOT / "stages/fit.py")}
+    assert {"stages/_common.py", "src/seasonloop/models/pca.py", "src/seasonloop/fastica.py",
+            "src/seasonloop/models/registry.py", "src/seasonloop/io.py"} <= fit
+    keys, _ = script_reads(ROOT / "stages/fit.py")
+    assert {"seed", "train.seasons", "data.seasons", "train.augmented"} <= keys
+    assert uncovered_modules(["src/seasonloop/models/pca.py"], ["src/seasonloop/models"]) == []
+    assert uncovered_modules(["src/seasonloop/models_x.py"], ["src/seasonloop/models"]) == ["src/seasonloop/models_x.py"]
+    assert uncovered_params(["evaluate.metric"], ["evaluate"]) == []
+    assert uncovered_params(["evaluate_x"], ["evaluate"]) == ["evaluate_x"]

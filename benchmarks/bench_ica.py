@@ -33,7 +33,7 @@ def parse_args() -> argparse.Namespace:
     parser.add_argument("--whiten-solver", default="eigh", choices=("eigh", "svd"))
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--pair", default="summer-fall", help="test pair database-query for the fraction correct")
-    parser.add_argument("--metric", default="cosine", choices=("cosine", "euclidean"))
+    parser.add_argument("--metric", default="cosine", choices=("cosine", "euclidean", "cityblock"))
     parser.add_argument("--amari-sources", type=int, default=64, help="known sources in the synthetic mixture")
     return parser.parse_args()
 
@@ -110,6 +110,15 @@ def main() -> None:
               f"Amari distance {amari[name]:.4f}, {fit['seconds']:.2f} s, {fit['n_iter']} iterations")
 
     speedup = sklearn_seconds / fits["torch_cpu"]["seconds"]
+    # A speed ratio means something only when both stopped for the same reason: tol reached.
+    equal_convergence = fits["sklearn"]["converged"] and fits["torch_cpu"]["converged"]
+    convergence = (
+        f"both converged to tol {args.tol} (sklearn {fits['sklearn']['n_iter']}, torch "
+        f"{fits['torch_cpu']['n_iter']} iterations)" if equal_convergence else
+        f"NOT at equal convergence: sklearn converged {fits['sklearn']['converged']} in {fits['sklearn']['n_iter']}, "
+        f"torch converged {fits['torch_cpu']['converged']} in {fits['torch_cpu']['n_iter']} iterations"
+    )
+    print(f"  convergence: {convergence}")
     note = load_note(measured_on)
     record = {
         "args": vars(args),
@@ -117,6 +126,7 @@ def main() -> None:
         "pair_data": pair_source,
         "fit": {name: {key: value for key, value in fit.items() if key != "model"} for name, fit in fits.items()},
         "speedup_cpu": speedup,
+        "equal_convergence": equal_convergence,
         "quality": quality,
         "amari_torch_vs_sklearn": cross_amari,
         "amari_known_sources": amari,
@@ -132,7 +142,7 @@ def main() -> None:
     print(
         f"HEADLINE: torch FastICA fit {speedup:.1f}x faster than scikit-learn on the CPU "
         f"({fits['torch_cpu']['seconds']:.1f} s vs {sklearn_seconds:.1f} s, {data.shape[0]} x {data.shape[1]}, "
-        f"{args.n_components} components, {torch.get_num_threads()} threads); fraction correct {args.pair} "
+        f"{args.n_components} components, {torch.get_num_threads()} threads; {convergence}); fraction correct {args.pair} "
         f"{quality['torch_cpu']['fraction_correct']:.4f} vs {quality['sklearn']['fraction_correct']:.4f}; "
         f"Amari on known sources {amari['torch_cpu']:.4f} vs {amari['sklearn']:.4f}"
     )

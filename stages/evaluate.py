@@ -1,10 +1,12 @@
 """Stage evaluate@<method>: match every season pair with one learner's descriptors.
 
-For each pair of evaluate.pairs whose two seasons are in data.seasons, and each matcher of
-evaluate.matchers (single-image best match; SeqSLAM-style sequence matching), writes
-metrics/eval/<method>/<pair><suffix>.json, plots/pr/<method>/<pair><suffix>.csv (the study's PR
-convention) and plots/similarity/<method>/<pair><suffix>.png, where suffix is "" for single-image
-matching and "+seq" for sequence matching.
+For each pair of evaluate.pairs whose two seasons are in data.seasons, each metric (evaluate.metric,
+then evaluate.extra_metrics) and each matcher of evaluate.matchers (single-image best match;
+SeqSLAM-style sequence matching), writes metrics/eval/<method>/<pair><suffix>.json,
+plots/pr/<method>/<pair><suffix>.csv (the study's PR convention) and
+plots/similarity/<method>/<pair><suffix>.png, where suffix is "@<metric>" for an extra metric
+(nothing for evaluate.metric) followed by "" for single-image matching and "+seq" for sequence
+matching (seasonloop.evaluation.result_suffix).
 """
 
 from __future__ import annotations
@@ -16,8 +18,9 @@ from pathlib import Path
 from _common import data_seasons, load_params, param, stage_main, test_places
 
 from seasonloop.config import available_pairs, pair_name
-from seasonloop.evaluation import MATCHERS, match_pair
+from seasonloop.evaluation import evaluations, match_distances
 from seasonloop.io import load_array, staged_dir, write_json
+from seasonloop.matching import distance_matrix
 from seasonloop.plots import plot_distance_matrix
 
 
@@ -28,10 +31,7 @@ def main() -> None:
     method = parser.parse_args().method
     params = load_params("data.seasons", "evaluate", "sequence")
     evaluate = param(params, "evaluate")
-    matchers = list(evaluate["matchers"])
-    for matcher in matchers:
-        if matcher not in MATCHERS:
-            raise ValueError(f"evaluate.matchers: unknown matcher '{matcher}' (known: {', '.join(MATCHERS)})")
+    variants = evaluations(evaluate)
     pairs = available_pairs(data_seasons(params), evaluate["pairs"])
     if not pairs:
         raise ValueError("evaluate.pairs: no pair has both of its seasons in data.seasons")
@@ -41,14 +41,17 @@ def main() -> None:
             staged_dir(Path("plots/pr") / method) as pr_dir, \
             staged_dir(Path("plots/similarity") / method) as similarity_dir:
         for database, query in pairs:
-            for matcher in matchers:
-                name = pair_name(database, query) + MATCHERS[matcher]
-                metrics, pr, distances = match_pair(
-                    load_array(features / f"{database}.npy"), load_array(features / f"{query}.npy"),
-                    places, places, matcher, evaluate, param(params, "sequence"))
+            descriptors = [load_array(features / f"{season}.npy") for season in (database, query)]
+            # One distance matrix per metric, shared by its matchers.
+            distances = {metric: distance_matrix(*descriptors, metric=metric)
+                         for metric in dict.fromkeys(metric for metric, _, _ in variants)}
+            for metric, matcher, suffix in variants:
+                name = pair_name(database, query) + suffix
+                metrics, pr, matched = match_distances(distances[metric], places, places, matcher, evaluate,
+                                                       param(params, "sequence"))
                 write_json(metrics_dir / f"{name}.json", metrics)
                 pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
-                plot_distance_matrix(distances, f"{method}{MATCHERS[matcher]}: {database} (database) vs {query} (queries)",
+                plot_distance_matrix(matched, f"{method}{suffix}: {database} (database) vs {query} (queries)",
                                      similarity_dir / f"{name}.png")
 
 

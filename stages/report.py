@@ -12,7 +12,7 @@ from pathlib import Path
 from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main, test_images, test_places
 
 from seasonloop.config import available_pairs, pair_name, pair_present
-from seasonloop.evaluation import MATCHERS
+from seasonloop.evaluation import evaluations
 from seasonloop.io import load_array, read_json, staged_file
 from seasonloop.matching import distance_matrix
 from seasonloop.report import (
@@ -30,6 +30,7 @@ from seasonloop.report import (
     similarity_section,
     training_seasons_section,
 )
+from seasonloop.summary import pr_landmarks, pr_landmarks_table
 
 N_EXAMPLES = 3  # correct matches, and as many failures, shown per learner
 
@@ -55,9 +56,10 @@ def main() -> None:
     if note:
         print(f"report: {note}")
 
-    results = {method + MATCHERS[matcher]: {pair: read_json(Path("metrics/eval") / method / f"{pair}{MATCHERS[matcher]}.json")
-                                            for pair in pairs}
-               for matcher in matchers for method in methods}
+    results = {method + suffix: {pair: read_json(Path("metrics/eval") / method / f"{pair}{suffix}.json")
+                                 for pair in pairs}
+               for _, _, suffix in evaluations(evaluate) for method in methods}
+    extra_metrics = list(evaluate["extra_metrics"])
 
     places = test_places()
     images = test_images([database, query])
@@ -68,7 +70,7 @@ def main() -> None:
         distances = distance_matrix(load_array(features / f"{database}.npy"), load_array(features / f"{query}.npy"),
                                     metric=evaluate["metric"])
         examples = select_examples(distances, places, places, evaluate["confidence"],
-                                   int(evaluate["tolerance_frames"]), N_EXAMPLES)
+                                   int(evaluate["tolerance_frames"]), N_EXAMPLES, int(evaluate["ratio_exclusion"]))
         grids[method] = example_grid_png(images[database], images[query], examples, places, places,
                                          title=f"{method}: {query} queries vs {database} database")
 
@@ -93,8 +95,11 @@ def main() -> None:
 
     sections = [
         dataset_section(dataset, Path("plots/season_preview.png")),
-        fraction_correct_section(results, methods, matchers, pairs, Path("plots/summary/fraction_correct.png")),
-        pr_section({pair: Path("plots/summary") / f"pr_{pair}.png" for pair in pairs}),
+        fraction_correct_section(results, methods, matchers, pairs, Path("plots/summary/fraction_correct.png"),
+                                 extra_metrics, {metric: Path(f"plots/summary/fraction_correct@{metric}.png")
+                                                 for metric in extra_metrics}),
+        pr_section({pair: Path("plots/summary") / f"pr_{pair}.png" for pair in pairs},
+                   pr_landmarks_table(pr_landmarks(results))),
         similarity_section({method: {pair: Path("plots/similarity") / method / f"{pair}.png" for pair in pairs}
                             for method in methods}, pairs),
         examples_section(example_pair, grids),

@@ -13,7 +13,7 @@ def descriptors():
     return rng.normal(size=(7, 5)), rng.normal(size=(4, 5))
 
 
-@pytest.mark.parametrize("metric", ["cosine", "euclidean"])
+@pytest.mark.parametrize("metric", ["cosine", "euclidean", "cityblock"])
 def test_distance_matrix_matches_scipy(descriptors, metric):
     database, queries = descriptors
     distances = distance_matrix(database, queries, metric=metric)
@@ -22,12 +22,24 @@ def test_distance_matrix_matches_scipy(descriptors, metric):
     np.testing.assert_allclose(distances, cdist(queries, database, metric=metric), rtol=1e-5, atol=1e-6)
 
 
-@pytest.mark.parametrize("metric", ["cosine", "euclidean"])
+@pytest.mark.parametrize("metric", ["cosine", "euclidean", "cityblock"])
 def test_batching_does_not_change_result(descriptors, metric):
     database, queries = descriptors
     whole = distance_matrix(database, queries, metric=metric)
     batched = distance_matrix(database, queries, metric=metric, batch_size=3)
     np.testing.assert_array_equal(whole, batched)
+
+
+def test_only_cityblock_changes_under_a_rotation(descriptors):
+    database, queries = descriptors
+    rotation, _ = np.linalg.qr(np.random.default_rng(1).normal(size=(5, 5)))
+    for metric in ("cosine", "euclidean", "cityblock"):
+        before = distance_matrix(database, queries, metric=metric)
+        after = distance_matrix(database @ rotation, queries @ rotation, metric=metric)
+        if metric == "cityblock":
+            assert np.abs(after - before).max() > 0.1
+        else:
+            np.testing.assert_allclose(after, before, atol=1e-6)
 
 
 def test_zero_vector_cosine_is_finite():
@@ -74,8 +86,27 @@ def test_best_matches_known_matrix():
 
     columns, ratio = best_matches(distances, confidence="ratio")
     np.testing.assert_array_equal(columns, [1, 2, 0, 0])
-    # 0.5/0.1, 0.3/0.2, second 0.4 over best 0 -> inf, both 0 -> 1 (not distinctive)
-    np.testing.assert_allclose(ratio, [5.0, 1.5, np.inf, 1.0])
+    # 1 - best/runner-up: 1 - 0.1/0.5, 1 - 0.2/0.3; best 0 with runner-up 0.4 -> 1 (not +inf);
+    # both 0 -> 0 (not distinctive)
+    np.testing.assert_allclose(ratio, [0.8, 1 / 3, 1.0, 0.0])
+    assert np.isfinite(ratio).all()
+
+
+def test_ratio_runner_up_lies_outside_the_exclusion_window_in_place_ids():
+    # Places 10..14 then a jump to 40, 41 (a break): the window is in place ids, not columns.
+    places = np.array([10, 11, 12, 13, 14, 40, 41])
+    distances = np.array([[0.9, 0.2, 0.1, 0.15, 0.5, 0.4, 0.8]])
+    _, no_window = best_matches(distances, "ratio", places, exclusion=0)
+    np.testing.assert_allclose(no_window, [1 - 0.1 / 0.15])  # the neighbour at place 13
+    _, window = best_matches(distances, "ratio", places, exclusion=2)
+    np.testing.assert_allclose(window, [1 - 0.1 / 0.4])  # places 10..14 excluded; place 40 is next
+    with pytest.raises(ValueError, match="more than 40 places"):
+        best_matches(distances, "ratio", places, exclusion=40)
+    with pytest.raises(ValueError, match="exclusion"):
+        best_matches(distances, "ratio", places, exclusion=-1)
+    # An infinite runner-up (sequence scores with no trajectory) is perfectly distinctive, not NaN.
+    _, infinite = best_matches(np.array([[0.3, np.inf]]), "ratio")
+    np.testing.assert_array_equal(infinite, [1.0])
 
 
 def test_best_matches_bad_inputs_raise():
@@ -83,7 +114,7 @@ def test_best_matches_bad_inputs_raise():
         best_matches(np.ones((2, 2)), confidence="sharpness")
     with pytest.raises(ValueError, match="non-negative"):
         best_matches(np.array([[-1.0, 0.5]]), confidence="ratio")
-    with pytest.raises(ValueError, match="two database columns"):
+    with pytest.raises(ValueError, match="database place more than 0 places"):
         best_matches(np.ones((3, 1)), confidence="ratio")
     with pytest.raises(ValueError, match="NaN"):
         best_matches(np.array([[np.nan, 1.0]]))

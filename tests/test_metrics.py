@@ -3,7 +3,14 @@
 import numpy as np
 import pytest
 
-from seasonloop.metrics import METRIC_KEYS, correct_matches, evaluate_pair, pr_curve, recall_at_n
+from seasonloop.metrics import (
+    METRIC_KEYS,
+    auc_pr_vpr_tutorial,
+    correct_matches,
+    evaluate_pair,
+    pr_curve,
+    recall_at_n,
+)
 
 # Five queries q0..q4 in input order; sorted by confidence: q1, q3, q0, q4, q2 -> T, T, F, T, F.
 CONFIDENCE = np.array([0.7, 0.9, 0.5, 0.8, 0.6])
@@ -30,12 +37,27 @@ def test_pr_curve_hand_example():
     assert precision[-1] == pytest.approx(CORRECT.mean())
 
 
-def test_pr_curve_ties_keep_input_order():
-    # All confidences tied: the stable sort accepts queries in input order F, T, T.
+def test_pr_curve_accepts_tied_confidences_together():
+    # All tied: one threshold accepts all three at once (precision 2/3), whatever their order.
     recall, precision = pr_curve(np.zeros(3), np.array([False, True, True]))
-    np.testing.assert_allclose(precision, [0.0, 0.5, 2 / 3])
-    # k=1: TP 0 -> recall 0; k=2: 1/(1+1); k=3: 2/(2+0)
-    np.testing.assert_allclose(recall, [0.0, 0.5, 1.0])
+    np.testing.assert_allclose(precision, [2 / 3])
+    np.testing.assert_allclose(recall, [1.0])
+    # Thresholds 1, 0.5 (two tied queries, one right), 0.2: accepted 1, 3, 4.
+    confidence, correct = np.array([1.0, 0.5, 0.5, 0.2]), np.array([True, False, True, False])
+    recall, precision = pr_curve(confidence, correct)
+    np.testing.assert_allclose(precision, [1.0, 2 / 3, 0.5])
+    np.testing.assert_allclose(recall, [1 / 4, 2 / 3, 1.0])  # TP / (TP + not accepted)
+    swapped = pr_curve(confidence[[0, 2, 1, 3]], correct[[0, 2, 1, 3]])
+    np.testing.assert_array_equal(swapped[0], recall)
+    np.testing.assert_array_equal(swapped[1], precision)
+
+
+def test_auc_pr_vpr_tutorial_hand_example():
+    # Thresholds evenly spaced 0.9..0.5; points (0, 1) (0.2, 1) (0.4, 1) (0.4, 2/3) (0.6, 3/4)
+    # (0.6, 3/5), recall = TP / 5: area 0.2 + 0.2 + 0.2 * (2/3 + 3/4) / 2.
+    assert auc_pr_vpr_tutorial(CONFIDENCE, CORRECT) == pytest.approx(0.4 + 0.1 * (2 / 3 + 0.75))
+    # Recall ends at the fraction correct, so the area is at most that; the study's reaches 1.
+    assert auc_pr_vpr_tutorial(CONFIDENCE, CORRECT) <= CORRECT.mean()
 
 
 def test_pr_curve_all_wrong_is_zero():
@@ -91,6 +113,7 @@ def test_evaluate_pair_hand_example():
     assert metrics["precision_at_full_recall"] == pytest.approx(0.6)
     assert metrics["recall_at_100_precision"] == pytest.approx(0.4)
     assert metrics["auc_pr"] == pytest.approx(EXPECTED_AUC)
+    assert metrics["auc_pr_vpr_tutorial"] == pytest.approx(0.4 + 0.1 * (2 / 3 + 0.75))
     # @1: q1 q3 q4; @5: + q0 (rank 2); @10: + q2 (rank 8)
     assert metrics["recall_at_1"] == pytest.approx(0.6)
     assert metrics["recall_at_5"] == pytest.approx(0.8)
@@ -119,7 +142,8 @@ def test_evaluate_pair_most_confident_wrong():
 
 def test_evaluate_pair_ratio_confidence():
     metrics, pr = evaluate_pair(hand_distances(), DATABASE_PLACES, QUERY_PLACES, 0, confidence="ratio")
-    # Ratios: q0 0.35/0.3, q1 10, q2 0.6/0.5, q3 5, q4 2.5 -> order q1, q3, q4, q2, q0 = T, T, T, F, F
+    # Runner-up / best: q0 0.35/0.3, q1 10, q2 0.6/0.5, q3 5, q4 2.5 -> order q1, q3, q4, q2, q0
+    # = T, T, T, F, F (the confidence is 1 - best / runner-up, which ranks the same)
     np.testing.assert_allclose(pr["precision"], [1.0, 1.0, 1.0, 0.75, 0.6])
     assert metrics["recall_at_100_precision"] == pytest.approx(3 / 5)
 

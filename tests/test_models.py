@@ -17,6 +17,7 @@ HEIGHT, WIDTH = 16, 32
 TEST_PARAMS = {
     "raw_patchnorm": ({}, HEIGHT * WIDTH),
     "pca": ({"n_discard": 2, "n_keep": 16}, 16),
+    "pca_whiten": ({"n_discard": 2, "n_keep": 16}, 16),
     # 200 images < 512 pixels: svd whitening copes with the rank deficiency without a warning.
     "ica": ({"n_components": 16, "whiten_solver": "svd"}, 16),
     "ica_bovw": ({"patch_size": 4, "stride": 4, "n_train_patches": 5000, "n_components": 15, "n_words": 16}, 16),
@@ -69,7 +70,7 @@ def nearest_neighbour_same_family(descriptors: np.ndarray, labels: np.ndarray) -
 
 
 def test_registry_lists_every_learner():
-    assert list(LEARNERS) == ["raw_patchnorm", "pca", "ica", "ica_bovw", "fae", "cae"]
+    assert list(LEARNERS) == ["raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw", "fae", "cae"]
     for name, learner_class in LEARNERS.items():
         assert learner_class.name == name and get_learner(name) is learner_class
         learner_class(seed=0)  # defaults pass their own validation
@@ -137,6 +138,51 @@ def test_pca_fit_info_and_too_many_components(families):
     assert 0 < info["explained_variance_ratio_kept"] < info["explained_variance_ratio_discarded"] < 1
     with pytest.raises(ValueError, match=r"pca\.n_discard \+ pca\.n_keep"):
         get_learner("pca")({"n_discard": 150, "n_keep": 100}).fit(families[0], progress=False)
+
+
+def independent_pattern_images(n: int, seed: int) -> np.ndarray:
+    """uint8 (n, 8, 16) images: 6 fixed patterns weighted by independent Laplace sources, plus a
+    little noise, so the top 6 principal components stand far above the rest."""
+    patterns = np.random.default_rng(100).normal(size=(6, 8 * 16))
+    rng = np.random.default_rng(seed)
+    pixels = 128 + 6 * rng.laplace(size=(n, 6)) @ patterns + rng.normal(0, 1, (n, 8 * 16))
+    return np.clip(pixels, 0, 255).astype(np.uint8).reshape(n, 8, 16)
+
+
+def test_whitened_pca_matches_ica_distances_under_cosine_and_euclidean_only():
+    from seasonloop.matching import distance_matrix
+
+    train, database, queries = (independent_pattern_images(n, seed) for n, seed in ((3000, 0), (60, 1), (50, 2)))
+    k = 6
+    ica = get_learner("ica")({"n_components": k, "max_iter": 400}, seed=0)
+    assert ica.fit(train, progress=False)["converged"]
+    whitened = get_learner("pca_whiten")({"n_discard": 0, "n_keep": k}, seed=0)
+    whitened.fit(train, progress=False)
+    # Unit variance on the training images, as FastICA's sources.
+    np.testing.assert_allclose(whitened.describe(train).std(axis=0), 1.0, atol=1e-4)
+    described = {name: (learner.describe(database), learner.describe(queries))
+                 for name, learner in (("ica", ica), ("pca_whiten", whitened))}
+    deviation = {}
+    for metric in ("cosine", "euclidean", "cityblock"):
+        ica_distances, pca_distances = (distance_matrix(*described[name], metric) for name in ("ica", "pca_whiten"))
+        deviation[metric] = np.abs(ica_distances - pca_distances).max() / np.abs(ica_distances).max()
+    # Same subspace and orthogonal W: only float32 rounding of two separate eigen-decompositions and
+    # of FastICA's orthogonalisation differs (~1e-6 relative, 2 orders below the bound).
+    assert deviation["cosine"] < 1e-4 and deviation["euclidean"] < 1e-4
+    # The bound is meaningful: under L1 the rotation changes distances by far more.
+    assert deviation["cityblock"] > 1e-2
+
+
+def test_pca_whiten_refuses_components_float32_cannot_resolve():
+    # 60 images of 6 patterns plus faint noise span 59 directions once centred; a 60th would be
+    # rounding noise, and covariance_eigh (uncentred X^T X in float32) cannot resolve the faint ones.
+    few = independent_pattern_images(60, 0)
+    get_learner("pca_whiten")({"n_keep": 59, "svd_solver": "full"}).fit(few, progress=False)
+    with pytest.raises(ValueError, match=r"pca_whiten\.n_discard \+ pca_whiten\.n_keep = 60 exceeds the 59"):
+        get_learner("pca_whiten")({"n_keep": 60, "svd_solver": "full"}).fit(few, progress=False)
+    get_learner("pca_whiten")({"n_keep": 6}).fit(few, progress=False)
+    with pytest.raises(ValueError, match=r"n_keep = 40 exceeds the \d+ components .* 'covariance_eigh'"):
+        get_learner("pca_whiten")({"n_keep": 40}).fit(few, progress=False)
 
 
 def test_ica_records_non_convergence_without_warning(families):

@@ -24,6 +24,7 @@ TINY = {
     "extract": {"height": 36, "width": 64},
     "split": {"section_length": 100, "test_fraction": 0.3, "gap": 3},
     "pca": {"n_discard": 3, "n_keep": 20},
+    "pca_whiten": {"n_keep": 16},
     "ica": {"n_components": 16, "max_iter": 200},
     "ica_bovw": {"n_train_patches": 3000, "n_components": 15, "n_words": 20},
     "fae": {"hidden": 32, "max_epochs": 2},
@@ -107,12 +108,13 @@ def test_repro_writes_every_result(workspace):
 
 @pytest.mark.e2e
 def test_learners_metrics_and_plots_exist(workspace):
-    learners = ["raw_patchnorm", "pca", "ica", "ica_bovw", "fae", "cae"]
+    learners = ["raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw", "fae", "cae"]
     pairs = ["summer-fall", "winter-summer", "winter-fall"]   # the study's pairs among 3 seasons
+    suffixes = ("", "+seq", "@cityblock", "@cityblock+seq")  # evaluate.extra_metrics: [cityblock]
     for learner in learners:
         assert (workspace / f"models/{learner}/learner.json").is_file()
         for pair in pairs:
-            for suffix in ("", "+seq"):
+            for suffix in suffixes:
                 metrics = json.loads((workspace / f"metrics/eval/{learner}/{pair}{suffix}.json").read_text())
                 assert 0 <= metrics["fraction_correct"] <= 1
                 assert metrics["precision_at_full_recall"] == pytest.approx(metrics["fraction_correct"])
@@ -121,7 +123,8 @@ def test_learners_metrics_and_plots_exist(workspace):
     runtime = json.loads((workspace / "metrics/runtime.json").read_text())
     assert set(runtime) == set(learners) and all(r["fit_seconds"] >= 0 for r in runtime.values())
     summary = json.loads((workspace / "metrics/summary.json").read_text())
-    assert set(summary["fraction_correct"]) == set(learners) | {f"{m}+seq" for m in learners}
+    assert set(summary["fraction_correct"]) == {learner + suffix for learner in learners for suffix in suffixes}
+    assert summary["pr_landmarks"]["summer-fall"]["ica"]["recall_at_100_precision"]["study"] == 0.67
     ablation = json.loads((workspace / "metrics/training_seasons.json").read_text())
     assert set(ablation["fraction_correct"]["pca"]) == {"summer", "summer+winter"}
     for figure in ("fig02_pca_projection", "fig12_patch_ica_filters", "fig13_visual_words",
@@ -150,6 +153,7 @@ def test_learners_metrics_and_plots_exist(workspace):
     assert shown.returncode == 0 and "fraction_correct" in header and len(header) <= 12, header
     report = (workspace / "plots/report.html").read_text()
     assert "data:image/png;base64," in report and "summer-fall" in report
+    assert "pca_whiten@cityblock" in report and "precision-recall landmarks" in report
 
 
 @pytest.mark.e2e

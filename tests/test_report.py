@@ -20,11 +20,13 @@ from seasonloop.report import (
     figures_section,
     fraction_correct_section,
     parameters_section,
+    pr_section,
     runtime_section,
     select_examples,
     similarity_section,
     training_seasons_section,
 )
+from seasonloop.summary import pr_landmarks, pr_landmarks_table
 
 PAIRS = ["summer-fall", "winter-fall"]
 
@@ -40,7 +42,8 @@ def pngs(tmp_path):
 
 
 def metrics(fraction_correct):
-    return {"fraction_correct": fraction_correct, "recall_at_1": fraction_correct, "recall_at_5": 0.95,
+    return {"fraction_correct": fraction_correct, "precision_at_full_recall": fraction_correct,
+            "recall_at_1": fraction_correct, "recall_at_5": 0.95,
             "recall_at_10": 0.975, "recall_at_100_precision": 0.25, "auc_pr": 0.5}
 
 
@@ -147,3 +150,19 @@ def test_sections_show_what_a_subset_run_has(pngs):
     assert "using winter-summer" in page and ">50.0</" in page
     assert "No figure: the learners they show" in page
     assert page.count("data:image/png;base64,") == 1
+
+
+def test_extra_metric_rows_and_pr_landmarks_are_reported(pngs):
+    results = {label: {"summer-fall": metrics(value), "winter-fall": metrics(value / 2)}
+               for label, value in (("pca", 0.8), ("pca+seq", 0.9), ("pca@cityblock", 0.6), ("pca@cityblock+seq", 0.7))}
+    landmarks = pr_landmarks_table(pr_landmarks(results))
+    page = build_report("r", [
+        fraction_correct_section(results, ["pca"], ["single", "sequence"], PAIRS, pngs[1], ["cityblock"],
+                                 {"cityblock": pngs[0]}),
+        pr_section({"summer-fall": pngs[0]}, landmarks)])
+    assert "Fraction correct (%), single-image matching, cityblock distance" in page
+    assert "Fraction correct (%), sequence matching (SeqSLAM), cityblock distance" in page
+    assert "<th>pca@cityblock</th>" in page and ">60.0</td>" in page
+    # the study's numbers sit beside the plain rows only: one (S) column per main-metric single table
+    assert page.count("<th>study (S)</th>") == 1 + 1  # fraction correct summer-fall, PR landmarks
+    assert "The study&#x27;s precision-recall landmarks beside ours" in page and ">91.0</td>" in page

@@ -18,16 +18,26 @@ def reference_enhance(distances: np.ndarray, window: int) -> np.ndarray:
     return out - out.min()
 
 
-def reference_sequence(distances, length, velocities, window):
-    """Loop version of the trailing-trajectory score."""
+def segments(places):
+    """Segment number per row: a new segment wherever a place id is not the previous one + 1."""
+    return np.cumsum(np.concatenate(([1], np.diff(places) != 1)))
+
+
+def reference_sequence(distances, length, velocities, window, query_places=None, database_places=None):
+    """Loop version of the trailing-trajectory score; a trajectory stays inside one query segment
+    (shorter near its start) and one database segment (else disqualified)."""
     enhanced = reference_enhance(distances, window)
     n_queries, n_database = enhanced.shape
+    query_segment = segments(np.arange(n_queries) if query_places is None else query_places)
+    database_segment = segments(np.arange(n_database) if database_places is None else database_places)
     best = np.full(enhanced.shape, np.inf)
     for i in range(n_queries):
         for j in range(n_database):
             for velocity in velocities:
-                points = [(i - k, j - int(np.floor(velocity * k + 0.5))) for k in range(length) if i - k >= 0]
-                if all(0 <= column < n_database for _, column in points):
+                points = [(i - k, j - int(np.floor(velocity * k + 0.5))) for k in range(length)
+                          if i - k >= 0 and query_segment[i - k] == query_segment[i]]
+                if all(0 <= column < n_database and database_segment[column] == database_segment[j]
+                       for _, column in points):
                     best[i, j] = min(best[i, j], np.mean([enhanced[row, column] for row, column in points]))
     return best
 
@@ -64,6 +74,46 @@ def test_sequence_distances_matches_loop_reference():
     np.testing.assert_array_equal(np.isinf(result), np.isinf(expected))
     finite = np.isfinite(expected)
     np.testing.assert_allclose(result[finite], expected[finite], atol=1e-5)
+
+
+# Hand-made place ids: test blocks and dropped tunnel/stop places leave gaps.
+QUERY_PLACES = np.array([0, 1, 2, 3, 10, 11, 12, 13, 14, 30, 31, 32])
+DATABASE_PLACES = np.array([5, 6, 7, 8, 9, 20, 21, 22, 23, 24, 25, 40, 41, 42, 43])
+
+
+@pytest.mark.parametrize("v_min, v_max", [(0.5, 1.5), (-1.0, 1.0)])
+def test_sequence_never_crosses_a_break_in_place_ids(v_min, v_max):
+    rng = np.random.default_rng(5)
+    distances = rng.random((12, 15))
+    velocities = np.linspace(v_min, v_max, 3)
+    expected = reference_sequence(distances, 4, velocities, 4, QUERY_PLACES, DATABASE_PLACES)
+    result = sequence_distances(distances, length=4, v_min=v_min, v_max=v_max, v_steps=3, window=4,
+                                query_places=QUERY_PLACES, database_places=DATABASE_PLACES)
+    np.testing.assert_array_equal(np.isinf(result), np.isinf(expected))
+    finite = np.isfinite(expected)
+    np.testing.assert_allclose(result[finite], expected[finite], atol=1e-5)
+    # Ignoring the breaks gives other scores: the rule changes the result.
+    assert not np.allclose(result[finite], sequence_distances(distances, 4, v_min, v_max, 3, 4)[finite])
+
+
+def test_sequence_restarts_at_a_break():
+    rng = np.random.default_rng(6)
+    distances = rng.random((12, 15))
+    enhanced = enhance_contrast(distances, window=4)
+    result = sequence_distances(distances, length=4, v_min=1.0, v_max=1.0, v_steps=1, window=4,
+                                query_places=QUERY_PLACES, database_places=DATABASE_PLACES)
+    # Query row 4 (place 10) starts a segment: its sequence is that one point, so at database
+    # column 5 (place 20, a segment start too) the score is the enhanced difference itself ...
+    assert result[4, 5] == pytest.approx(enhanced[4, 5], abs=1e-6)
+    # ... and row 5 (place 11) averages two points, staying in both segments.
+    assert result[5, 6] == pytest.approx((enhanced[5, 6] + enhanced[4, 5]) / 2, abs=1e-6)
+    # Contiguous place ids are the same as giving none.
+    contiguous = np.arange(12)
+    np.testing.assert_array_equal(
+        sequence_distances(distances, 4, query_places=contiguous, database_places=np.arange(15)),
+        sequence_distances(distances, 4))
+    with pytest.raises(ValueError, match="query_places"):
+        sequence_distances(distances, 4, query_places=contiguous[:5])
 
 
 def test_sequence_recovers_weak_diagonal():

@@ -144,12 +144,12 @@ def season_map(item: Check) -> Check:
 
 
 # What the library accepts; tests/test_config.py keeps these in step with the modules that use them.
-DISTANCE_METRICS = ("cosine", "euclidean")
+DISTANCE_METRICS = ("cosine", "euclidean", "cityblock")
 CONFIDENCES = ("distance", "ratio")
 MATCHER_NAMES = ("single", "sequence")
 CONTRAST_METHODS = ("clahe", "equalize", "none")
 SOURCES = ("synthetic", "videos", "frames")
-LEARNER_SECTIONS = ("raw_patchnorm", "pca", "ica", "ica_bovw", "fae", "cae")
+LEARNER_SECTIONS = ("raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw", "fae", "cae")
 
 SCHEMA: dict[str, dict[str, Check]] = {
     "data": {
@@ -207,7 +207,9 @@ SCHEMA: dict[str, dict[str, Check]] = {
     "evaluate": {
         "pairs": list_of(pair),
         "metric": one_of(*DISTANCE_METRICS),
+        "extra_metrics": list_of(one_of(*DISTANCE_METRICS), non_empty=False),
         "confidence": one_of(*CONFIDENCES),
+        "ratio_exclusion": integer(0),
         "tolerance_frames": integer(0),
         "matchers": list_of(one_of(*MATCHER_NAMES)),
     },

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import numpy as np
+import torch
 
-METRICS = ("cosine", "euclidean")
+METRICS = ("cosine", "euclidean", "cityblock")
 CONFIDENCES = ("distance", "ratio")
+# Query rows per block when finding the ratio's runner-up: bounds the (rows, M) temporaries.
+_RATIO_ROWS_PER_BLOCK = 1024
 
 
 def _as_descriptors(array: np.ndarray, name: str) -> np.ndarray:
@@ -36,9 +39,12 @@ def distance_matrix(
     database is (M, D), queries is (N, D); returns (N, M) float32 with query rows and database
     columns. "cosine" is 1 - cosine similarity, in [0, 2]; a zero vector is treated as orthogonal to
     everything (distance 1, itself included) instead of producing NaN. "euclidean" uses the expanded
-    form |q|^2 + |d|^2 - 2 q.d (one BLAS matmul), clipped at 0 before the square root. Arithmetic
-    is float64 (the expanded form loses precision in float32); queries are processed in batches of
-    batch_size rows so the float64 temporaries stay bounded.
+    form |q|^2 + |d|^2 - 2 q.d (one BLAS matmul), clipped at 0 before the square root. "cityblock"
+    is the L1 distance sum |q - d| (SeqSLAM's sum of absolute differences), by torch.cdist (p=1,
+    a direct summation: equal to scipy's cdist and ~2x faster on 2 cores at 3569 x 3569 x 200).
+    Cosine and Euclidean distances are unchanged by any rotation of the descriptor space; L1 is not.
+    Arithmetic is float64 (the expanded form loses precision in float32); queries are processed in
+    batches of batch_size rows so the float64 temporaries stay bounded.
     """
     database = _as_descriptors(database, "database")
     queries = _as_descriptors(queries, "queries")
@@ -56,6 +62,8 @@ def distance_matrix(
     database = database.astype(np.float64)
     if metric == "cosine":
         database = _unit_rows(database)
+    elif metric == "cityblock":
+        database_tensor = torch.from_numpy(database)
     else:
         database_sq_norms = np.einsum("ij,ij->i", database, database)
 
@@ -66,6 +74,9 @@ def distance_matrix(
             similarity = _unit_rows(batch) @ database.T
             # Rounding can push similarity slightly outside [-1, 1].
             distances[start : start + batch.shape[0]] = np.clip(1.0 - similarity, 0.0, 2.0)
+        elif metric == "cityblock":
+            distances[start : start + batch.shape[0]] = torch.cdist(
+                torch.from_numpy(batch), database_tensor, p=1.0).numpy()
         else:
             squared = (
                 np.einsum("ij,ij->i", batch, batch)[:, None]
@@ -77,14 +88,24 @@ def distance_matrix(
     return distances
 
 
-def best_matches(distances: np.ndarray, confidence: str = "distance") -> tuple[np.ndarray, np.ndarray]:
+def best_matches(
+    distances: np.ndarray,
+    confidence: str = "distance",
+    database_places: np.ndarray | None = None,
+    exclusion: int = 0,
+) -> tuple[np.ndarray, np.ndarray]:
     """Best database column per query row and a confidence for it (higher = more confident).
 
     confidence="distance": -(best distance).
-    confidence="ratio": second-best distance / best distance (Lowry-style distinctiveness: a best
-    match much closer than the runner-up is trusted more). Needs non-negative distances and at least
-    two database columns. A best distance of 0 gives +inf when the second best is > 0 (perfectly
-    distinctive) and 1.0 when both are 0 (not distinctive at all).
+    confidence="ratio": how much closer the best match is than the best database place outside an
+    exclusion window around it (Lowry-style distinctiveness; OpenSeqSLAM excludes 10 places),
+    as 1 - best / runner-up, in [0, 1]. It ranks queries exactly as runner-up / best does but stays
+    finite when the best distance is 0: 1 when the runner-up is > 0 (or +inf, as sequence scores
+    can be), 0 when it is 0 too (not distinctive at all). The runner-up is the smallest distance
+    over database columns whose place id differs from the best column's by more than `exclusion`
+    (database_places: the columns' place ids; default the column indices, so exclusion 0 takes
+    the second-smallest distance at any other column). Needs non-negative distances and a database
+    place outside the window.
     Ties for the best distance resolve to the lowest column index (np.argmin).
     """
     distances = np.asarray(distances)
@@ -100,14 +121,26 @@ def best_matches(distances: np.ndarray, confidence: str = "distance") -> tuple[n
     if confidence == "distance":
         return best_columns, -best_distances
 
-    if distances.shape[1] < 2:
-        raise ValueError("confidence 'ratio' needs at least two database columns")
+    if isinstance(exclusion, bool) or not isinstance(exclusion, (int, np.integer)) or exclusion < 0:
+        raise ValueError(f"exclusion must be a non-negative integer number of places, got {exclusion!r}")
+    places = np.arange(distances.shape[1]) if database_places is None else np.asarray(database_places)
+    if places.shape != (distances.shape[1],) or not np.issubdtype(places.dtype, np.integer):
+        raise ValueError(f"database_places must be {distances.shape[1]} integer place ids, got {places.shape} {places.dtype}")
     if (distances < 0).any():
         raise ValueError("confidence 'ratio' needs non-negative distances")
-    # After partitioning at index 1, column 1 holds the second-smallest distance of each row.
-    second_distances = np.partition(distances, 1, axis=1)[:, 1].astype(np.float64)
-    ratio = np.full(best_distances.shape, np.inf)
-    positive = best_distances > 0
-    ratio[positive] = second_distances[positive] / best_distances[positive]
-    ratio[~positive & (second_distances == 0)] = 1.0
+    places = places.astype(np.int64)
+    runner_up = np.empty(len(distances))
+    has_outside = np.empty(len(distances), dtype=bool)
+    for start in range(0, len(distances), _RATIO_ROWS_PER_BLOCK):
+        rows = slice(start, start + _RATIO_ROWS_PER_BLOCK)
+        near_best = np.abs(places[None, :] - places[best_columns[rows], None]) <= exclusion
+        runner_up[rows] = np.where(near_best, np.inf, distances[rows]).min(axis=1)
+        has_outside[rows] = ~near_best.all(axis=1)
+    if not has_outside.all():
+        raise ValueError(
+            f"confidence 'ratio' needs a database place more than {exclusion} places from every best match"
+        )
+    ratio = np.zeros(len(distances))
+    positive = (runner_up > 0) & np.isfinite(best_distances)
+    ratio[positive] = 1.0 - best_distances[positive] / runner_up[positive]
     return best_columns, ratio

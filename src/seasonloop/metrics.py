@@ -19,6 +19,7 @@ METRIC_KEYS = (
     "precision_at_full_recall",
     "recall_at_100_precision",
     "auc_pr",
+    "auc_pr_vpr_tutorial",
     "recall_at_1",
     "recall_at_5",
     "recall_at_10",
@@ -70,12 +71,14 @@ def correct_matches(matched_places, query_places, tolerance: int) -> np.ndarray:
 def pr_curve(confidence: np.ndarray, correct: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Precision-recall curve in the study's (Lowry & Milford) convention.
 
-    Queries are sorted by confidence, descending, with a stable sort, so tied queries keep their
-    input order. For k = 1..N the k most confident matches are accepted: TP = accepted and correct,
-    FP = accepted and wrong, FN = queries not accepted (N - k; every query has a true match, so
-    there are no true negatives). Returns (recall, precision), each of length N, entry k-1 for k.
-    Recall = TP / (TP + FN) is 0 where TP = 0 (including 0/0 at k = N when every match is wrong);
-    otherwise recall is 1 at k = N, where precision equals the fraction of correct matches.
+    One threshold per distinct confidence, from the highest down: the queries whose best match is at
+    least that confident are accepted, tied queries together (so the curve does not depend on the
+    order of the queries). TP = accepted and correct, FP = accepted and wrong, FN = queries not
+    accepted (every query has a true match, so there are no true negatives). Returns (recall,
+    precision), one entry per distinct confidence (N entries when no two queries tie).
+    Recall = TP / (TP + FN) is 0 where TP = 0 (including 0/0 at the last threshold when every match
+    is wrong); otherwise recall is 1 at the last threshold, where every query is accepted and
+    precision equals the fraction of correct matches.
     """
     confidence = np.asarray(confidence, dtype=np.float64)
     correct = np.asarray(correct)
@@ -89,15 +92,40 @@ def pr_curve(confidence: np.ndarray, correct: np.ndarray) -> tuple[np.ndarray, n
         raise ValueError("confidence contains NaN values")
 
     order = np.argsort(-confidence, kind="stable")
-    true_positives = np.cumsum(correct[order], dtype=np.int64)
-    accepted = np.arange(1, confidence.size + 1)
+    sorted_confidence = confidence[order]
+    # The last query of each run of equal confidences: accepting up to it accepts the whole tie.
+    threshold_ends = np.flatnonzero(np.append(sorted_confidence[1:] != sorted_confidence[:-1], True))
+    true_positives = np.cumsum(correct[order], dtype=np.int64)[threshold_ends]
+    accepted = threshold_ends + 1
     false_negatives = confidence.size - accepted
     precision = true_positives / accepted
     found = true_positives + false_negatives
     recall = np.divide(
-        true_positives, found, out=np.zeros(confidence.size), where=true_positives > 0
+        true_positives, found, out=np.zeros(accepted.size), where=true_positives > 0
     )
     return recall, precision
+
+
+def auc_pr_vpr_tutorial(confidence: np.ndarray, correct: np.ndarray, n_thresholds: int = 100) -> float:
+    """Area under the PR curve as VPR_Tutorial (Schubert et al. 2023, evaluation/metrics.py
+    createPR with single-best-match, then np.trapz(P, R)) computes it.
+
+    Its convention differs from the study's: recall = TP / N (a wrong accepted match is a missed
+    true match, so recall ends at the fraction correct, not at 1), the curve starts at (recall 0,
+    precision 1), and precision/recall are taken at n_thresholds confidence thresholds evenly
+    spaced from the highest confidence to the lowest; the area is the trapezoidal rule.
+    """
+    confidence = np.asarray(confidence, dtype=np.float64)
+    correct = np.asarray(correct, dtype=bool)
+    # -inf/+inf confidences would make the evenly spaced thresholds NaN.
+    if not np.isfinite(confidence).all():
+        raise ValueError("auc_pr_vpr_tutorial needs finite confidences")
+    thresholds = np.linspace(confidence.max(), confidence.min(), n_thresholds)
+    accepted = confidence[None, :] >= thresholds[:, None]
+    true_positives = (accepted & correct[None, :]).sum(axis=1)
+    precision = np.concatenate(([1.0], true_positives / accepted.sum(axis=1)))
+    recall = np.concatenate(([0.0], true_positives / confidence.size))
+    return float(np.trapezoid(precision, recall))
 
 
 def recall_at_n(
@@ -142,22 +170,27 @@ def evaluate_pair(
     query_places,
     tolerance: int,
     confidence: str = "distance",
+    ratio_exclusion: int = 0,
 ) -> tuple[dict[str, float | int], pd.DataFrame]:
     """Summary metrics and the PR curve of one test pair from its (N queries, M database) distances.
 
     Metrics (keys in METRIC_KEYS): fraction_correct of best matches, in [0, 1];
-    precision_at_full_recall (precision at k = N); recall_at_100_precision (largest recall at which
-    precision is still 1.0, 0 if the most confident match is wrong); auc_pr, the trapezoidal area
-    (sklearn.metrics.auc) under the study-convention curve with a leading point at recall 0 that
-    carries the precision of the most confident match; recall_at_1/5/10; n_queries; n_database.
-    The PR DataFrame has columns recall, precision (one row per k = 1..N).
+    precision_at_full_recall (precision with every query accepted); recall_at_100_precision
+    (largest recall at which precision is still 1.0, 0 if the most confident matches are wrong);
+    auc_pr, the trapezoidal area (sklearn.metrics.auc) under the study-convention curve (pr_curve:
+    recall reaches 1) with a leading point at recall 0 that carries the precision of the first
+    threshold; auc_pr_vpr_tutorial, the same area in VPR_Tutorial's convention (recall = TP / N,
+    ending at the fraction correct; see auc_pr_vpr_tutorial), so at most fraction_correct;
+    recall_at_1/5/10; n_queries; n_database. confidence and ratio_exclusion (in place ids) are
+    passed to seasonloop.matching.best_matches. The PR DataFrame has columns recall, precision (one
+    row per distinct confidence).
     """
     database_places = _as_places(database_places, "database_places")
     query_places = _as_places(query_places, "query_places")
     tolerance = _check_tolerance(tolerance)
     distances = _check_distances(distances, database_places, query_places)
 
-    best_columns, match_confidence = best_matches(distances, confidence)
+    best_columns, match_confidence = best_matches(distances, confidence, database_places, ratio_exclusion)
     correct = correct_matches(database_places[best_columns], query_places, tolerance)
     recall, precision = pr_curve(match_confidence, correct)
 
@@ -172,6 +205,7 @@ def evaluate_pair(
         "precision_at_full_recall": float(precision[-1]),
         "recall_at_100_precision": recall_at_100_precision,
         "auc_pr": auc_pr,
+        "auc_pr_vpr_tutorial": auc_pr_vpr_tutorial(match_confidence, correct),
         "recall_at_1": recalls[1],
         "recall_at_5": recalls[5],
         "recall_at_10": recalls[10],

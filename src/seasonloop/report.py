@@ -32,6 +32,7 @@ RECALL_COLUMNS = {
     "recall_at_10": "recall@10",
     "recall_at_100_precision": "recall at 100% precision",
     "auc_pr": "AUC-PR",
+    "auc_pr_vpr_tutorial": "AUC-PR (VPR_Tutorial)",
 }
 DATASET_COLUMNS = {"frames": "places (frames)", "train": "train", "train_augmented": "train, augmented", "test": "test"}
 RUNTIME_COLUMNS = {
@@ -196,42 +197,67 @@ def fraction_correct_section(
     matchers: Sequence[str],
     pairs: Sequence[str],
     figure: Png,
+    extra_metrics: Sequence[str] = (),
+    extra_figures: Mapping[str, Png] | None = None,
 ) -> Section:
-    """Fraction correct beside the study's numbers per matcher, the gain of sequence matching, recall metrics.
+    """Fraction correct beside the study's numbers per metric and matcher, the gain of sequence
+    matching, recall metrics.
 
-    results[method + MATCHERS[matcher]][pair] is the pair's metrics dict (metrics/eval JSON).
+    results[label][pair] is the pair's metrics dict (metrics/eval JSON), label = method + "@<metric>"
+    for an extra metric (none for the main one) + MATCHERS[matcher]; extra_figures[metric] is the
+    fraction-correct figure of an extra metric.
     """
     for matcher in matchers:
         if matcher not in MATCHERS:
             raise ValueError(f"unknown matcher '{matcher}' (known: {', '.join(MATCHERS)})")
     blocks: list[Block] = [Text(
         "Fraction of correct matches: correct best matches / queries, in %. Pairs are database-queries; "
-        "(S) marks the study's numbers, given for single-image matching on three pairs only.")]
-    ours = {}
-    for matcher in matchers:
-        labels = [method + MATCHERS[matcher] for method in methods]
-        ours[matcher] = fraction_correct_table({label: results[label] for label in labels}, pairs)
-        blocks.append(Table(f"Fraction correct (%), {MATCHER_NAMES[matcher]}",
-                            _beside_study(ours[matcher], study_table(labels, pairs))))
-    if "single" in ours and "sequence" in ours:
-        gain = pd.DataFrame(ours["sequence"].to_numpy() - ours["single"].to_numpy(), index=list(methods), columns=list(pairs))
-        blocks.append(Table("What sequence matching adds: fraction correct of method+seq minus method "
-                            "(percentage points)", gain, float_format="{:+.1f}"))
+        "(S) marks the study's numbers, given for single-image matching on three pairs only. "
+        "Rows named learner@metric use that distance (evaluate.extra_metrics) instead of the main one "
+        "(evaluate.metric). FastICA's unmixing is orthogonal in the whitened space, so under cosine and "
+        "Euclidean distances ICA matches exactly like whitened PCA with as many components (pca_whiten): "
+        "a gain of ICA over PCA there comes from whitening and keeping the first components, not from "
+        "independence. Under L1 (cityblock) the rotation matters, so ica@cityblock against "
+        "pca_whiten@cityblock measures what independence adds.")]
+    suffixes = {"": "", **{metric: f"@{metric}" for metric in extra_metrics}}
+    for metric, metric_suffix in suffixes.items():
+        ours = {}
+        for matcher in matchers:
+            labels = [method + metric_suffix + MATCHERS[matcher] for method in methods]
+            ours[matcher] = fraction_correct_table({label: results[label] for label in labels}, pairs)
+            distance = f", {metric} distance" if metric else ""
+            blocks.append(Table(f"Fraction correct (%), {MATCHER_NAMES[matcher]}{distance}",
+                                _beside_study(ours[matcher], study_table(labels, pairs))))
+        if "single" in ours and "sequence" in ours:
+            gain = pd.DataFrame(ours["sequence"].to_numpy() - ours["single"].to_numpy(),
+                                index=[method + metric_suffix for method in methods], columns=list(pairs))
+            blocks.append(Table("What sequence matching adds: fraction correct of method+seq minus method "
+                                "(percentage points)", gain, float_format="{:+.1f}"))
     recall = pd.DataFrame.from_dict(
-        {(pair, label): {key: 100 * results[label][pair][key] for key in RECALL_COLUMNS}
+        {(pair, label): {key: 100 * results[label][pair][key] for key in RECALL_COLUMNS if key in results[label][pair]}
          for pair in pairs for label in results}, orient="index").rename(columns=RECALL_COLUMNS)
     recall.index.names = ["pair", "method"]
-    blocks.append(Table("Recall@N, recall at 100% precision and area under the PR curve (all in %)", recall))
+    blocks.append(Table("Recall@N, recall at 100% precision and area under the PR curve, all in % (AUC-PR in the "
+                        "study's convention, where recall reaches 100%; AUC-PR (VPR_Tutorial) with recall = TP / "
+                        "queries, which ends at the fraction correct)", recall))
     blocks.append(Image("Fraction of correct matches per pair; diamonds: the study's numbers", figure))
+    for metric, png in (extra_figures or {}).items():
+        blocks.append(Image(f"Fraction of correct matches per pair, {metric} distance", png))
     return Section("Fraction correct", blocks)
 
 
-def pr_section(curves: Mapping[str, Png]) -> Section:
-    """One PR figure per pair (pair -> PNG)."""
-    return Section("Precision-recall curves", [
-        Text("Queries sorted by the confidence of their best match, the k most confident accepted: at full "
-             "recall, precision equals the fraction correct."),
-        *(Image(f"Precision-recall, {pair} (database-queries)", png) for pair, png in curves.items())])
+def pr_section(curves: Mapping[str, Png], landmarks: pd.DataFrame | None = None) -> Section:
+    """One PR figure per pair (pair -> PNG), and the study's PR landmarks beside ours
+    (seasonloop.summary.pr_landmarks_table) when given."""
+    blocks: list[Block] = [
+        Text("Queries sorted by the confidence of their best match; at each distinct confidence the queries "
+             "at least that confident are accepted (tied queries together): at full recall, precision equals "
+             "the fraction correct.")]
+    if landmarks is not None:
+        blocks.append(Table("The study's precision-recall landmarks beside ours (%), single-image matching",
+                            landmarks))
+    blocks += [Image(f"Precision-recall, {pair} (database-queries)", png) for pair, png in curves.items()]
+    return Section("Precision-recall curves", blocks)
 
 
 def similarity_section(matrices: Mapping[str, Mapping[str, Png]], pairs: Sequence[str]) -> Section:
@@ -259,6 +285,7 @@ def select_examples(
     confidence: str,
     tolerance: int,
     n: int,
+    ratio_exclusion: int = 0,
 ) -> list[Example]:
     """The n most confident correct matches, then the n most confident failures (fewer if there are not n).
 
@@ -271,7 +298,7 @@ def select_examples(
                          f"(queries, database) = ({len(query_places)}, {len(database_places)})")
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
-    matches, scores = best_matches(distances, confidence)
+    matches, scores = best_matches(distances, confidence, database_places, ratio_exclusion)
     correct = correct_matches(database_places[matches], query_places, tolerance)
     order = np.argsort(-scores, kind="stable")
     chosen = [*order[correct[order]][:n], *order[~correct[order]][:n]]

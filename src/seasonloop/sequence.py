@@ -61,6 +61,28 @@ def enhance_contrast(distances: np.ndarray, window: int = 10) -> np.ndarray:
     return enhanced
 
 
+def segment_offsets(places: np.ndarray | None, n: int, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """(rows since the segment start, rows to the segment end) per row, where a segment is a run of
+    consecutive place ids (each one more than the last); None: the n rows are one segment.
+
+    A break (a new test block, or places dropped as tunnel or station stop) ends a segment: a
+    sequence must not pretend the route runs straight across it.
+    """
+    if places is None:
+        rows = np.arange(n)
+        return rows, n - 1 - rows
+    places = np.asarray(places)
+    if places.shape != (n,) or not np.issubdtype(places.dtype, np.integer):
+        raise ValueError(f"{name} must be {n} integer place ids, got shape {places.shape}, dtype {places.dtype}")
+    starts_segment = np.ones(n, dtype=bool)
+    starts_segment[1:] = np.diff(places.astype(np.int64)) != 1
+    segment = np.cumsum(starts_segment) - 1
+    first_row = np.flatnonzero(starts_segment)
+    last_row = np.append(first_row[1:] - 1, n - 1)
+    rows = np.arange(n)
+    return rows - first_row[segment], last_row[segment] - rows
+
+
 def sequence_distances(
     distances: np.ndarray,
     length: int = 10,
@@ -68,19 +90,24 @@ def sequence_distances(
     v_max: float = 1.2,
     v_steps: int = 5,
     window: int = 10,
+    query_places: np.ndarray | None = None,
+    database_places: np.ndarray | None = None,
 ) -> np.ndarray:
     """SeqSLAM sequence scores as an (N, M) distance (lower = better), float32.
 
     For query i and database j: the minimum over velocities v in linspace(v_min, v_max, v_steps)
     of the mean contrast-enhanced difference along the trailing, online-causal trajectory
-    (i - k, j - round(v * k)), k = 0..length-1 (round half up). Points before the first query are
-    left out of the mean, so the first queries use shorter sequences. A trajectory whose database
-    index leaves the matrix is disqualified (infinite score for that velocity), as in OpenSeqSLAM:
-    averaging over only the points left would let the shorter, noisier sequences at the first
+    (i - k, j - round(v * k)), k = 0..length-1 (round half up). A trajectory never crosses a
+    break in place ids (query_places, database_places: the rows' and columns' place ids; None
+    means no break): points before the start of the query's segment (a run of consecutive place
+    ids) are left out of the mean, so the first queries of the test set and of every segment use
+    shorter sequences. A trajectory whose database index leaves its database segment (or the
+    matrix) is disqualified (infinite score for that velocity), as OpenSeqSLAM does at the matrix
+    edge: averaging over only the points left would let the shorter, noisier sequences at the first
     database columns win by chance. Each (v, k) adds one shifted copy of the enhanced matrix (no
-    loop over cells); memory is three N x M float32 arrays besides the input.
+    loop over cells).
     Cells with no complete trajectory at any velocity are +inf (e.g. the first database columns
-    for later queries); ValueError when a whole query row has none.
+    of a segment for queries deep into theirs); ValueError when a whole query row has none.
     """
     distances = _as_distance_matrix(distances)
     if isinstance(length, bool) or not isinstance(length, (int, np.integer)) or length < 1:
@@ -92,28 +119,35 @@ def sequence_distances(
 
     enhanced = enhance_contrast(distances, window)
     n_queries, n_database = enhanced.shape
+    query_since_start, _ = segment_offsets(query_places, n_queries, "query_places")
+    database_since_start, database_to_end = segment_offsets(database_places, n_database, "database_places")
     best = np.full((n_queries, n_database), np.inf, dtype=np.float32)
     total = np.empty_like(best)
     steps = np.arange(min(int(length), n_queries))
-    # Points before the first query are left out: query i averages min(i + 1, length) points.
-    points = np.minimum(np.arange(1, n_queries + 1), steps.size).astype(np.float32)[:, None]
+    # Points before the query's segment start are left out: query i averages min(offset + 1, length).
+    points = np.minimum(query_since_start + 1, steps.size).astype(np.float32)[:, None]
     for velocity in np.linspace(v_min, v_max, int(v_steps)):
         shifts = np.floor(velocity * steps + 0.5).astype(np.int64)
         total.fill(0.0)
         for step, shift in zip(steps, shifts):
-            # Target (i, j) reads source (i - step, j - shift); targets whose source column lies
-            # outside the database ran out of data and are disqualified for this velocity.
-            if abs(shift) >= n_database:
-                total[step:] = np.inf
+            # Target (i, j) reads source (i - step, j - shift), for the queries whose segment
+            # reaches back `step` rows; targets whose source column lies outside their database
+            # segment ran out of data and are disqualified for this velocity.
+            rows = np.flatnonzero(query_since_start >= step)
+            if rows.size == 0:
                 continue
+            if abs(shift) >= n_database:
+                total[rows] = np.inf
+                continue
+            block = total[rows]
             if shift >= 0:
-                target_columns, source_columns = slice(shift, n_database), slice(0, n_database - shift)
-                outside_columns = slice(0, shift)
+                block[:, shift:] += enhanced[rows - step, : n_database - shift]
+                outside = database_since_start < shift
             else:
-                target_columns, source_columns = slice(0, n_database + shift), slice(-shift, n_database)
-                outside_columns = slice(n_database + shift, n_database)
-            total[step:, target_columns] += enhanced[: n_queries - step, source_columns]
-            total[step:, outside_columns] = np.inf
+                block[:, : n_database + shift] += enhanced[rows - step, -shift:]
+                outside = database_to_end < -shift
+            block[:, outside] = np.inf
+            total[rows] = block
         total /= points
         np.minimum(best, total, out=best)
     if not np.isfinite(best).any(axis=1).all():

@@ -7,7 +7,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import pandas as pd
 
-from seasonloop.study import STUDY_FRACTION_CORRECT
+from seasonloop.study import STUDY_FRACTION_CORRECT, STUDY_PR_LANDMARKS
 
 
 def fraction_correct_table(results: Mapping[str, Mapping[str, Mapping[str, float]]], pairs: Sequence[str]) -> pd.DataFrame:
@@ -45,3 +45,30 @@ def side_by_side_markdown(ours: pd.DataFrame, study: pd.DataFrame) -> str:
             if not np.isnan(study.loc[label, pair]):
                 cells.loc[label, pair] += f" ({study.loc[label, pair]:.0f})"
     return markdown_table(cells, "method")
+
+
+LANDMARK_NAMES = {"recall_at_100_precision": "recall at 100% precision",
+                  "precision_at_full_recall": "precision at 100% recall"}
+
+
+def pr_landmarks(results: Mapping[str, Mapping[str, Mapping[str, float]]]) -> dict[str, dict[str, dict[str, dict]]]:
+    """The study's PR landmarks (STUDY_PR_LANDMARKS) beside ours: pair -> learner -> metric key ->
+    {"ours": fraction or None where we did not evaluate that pair or learner, "study": fraction}.
+    results[label][pair] = metrics dict; the study's numbers are single-image matching, under its
+    learners' plain labels ('pca', 'ica')."""
+    return {pair: {method: {key: {"ours": results[method][pair][key] if pair in results.get(method, {}) else None,
+                                  "study": study_value}
+                            for key, study_value in landmarks.items()}
+                   for method, landmarks in by_method.items()}
+            for pair, by_method in STUDY_PR_LANDMARKS.items()}
+
+
+def pr_landmarks_table(landmarks: Mapping[str, Mapping[str, Mapping[str, Mapping[str, float | None]]]]) -> pd.DataFrame:
+    """pr_landmarks' record as a table in %: rows (pair, learner, landmark), columns ours, study (S)."""
+    rows = {(pair, method, LANDMARK_NAMES[key]): {"ours": np.nan if values["ours"] is None else 100 * values["ours"],
+                                                  "study (S)": 100 * values["study"]}
+            for pair, by_method in landmarks.items() for method, by_key in by_method.items()
+            for key, values in by_key.items()}
+    table = pd.DataFrame.from_dict(rows, orient="index")
+    table.index.names = ["pair", "method", "landmark"]
+    return table

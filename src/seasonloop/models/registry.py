@@ -10,11 +10,13 @@ from seasonloop.models.fae import FullyConnectedAutoEncoder
 from seasonloop.models.ica import ICALearner
 from seasonloop.models.ica_bovw import ICABoVW
 from seasonloop.models.pca import PCALearner
+from seasonloop.models.pca_whiten import WhitenedPCALearner
 from seasonloop.models.raw_patchnorm import RawPatchNorm
 
 LEARNERS: dict[str, type[FeatureLearner]] = {
     RawPatchNorm.name: RawPatchNorm,
     PCALearner.name: PCALearner,
+    WhitenedPCALearner.name: WhitenedPCALearner,
     ICALearner.name: ICALearner,
     ICABoVW.name: ICABoVW,
     FullyConnectedAutoEncoder.name: FullyConnectedAutoEncoder,

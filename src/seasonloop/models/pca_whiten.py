@@ -1,0 +1,70 @@
+"""Whitened PCA: the top principal components scaled to unit variance, global ICA without its rotation.
+
+FastICA centres and whitens the data (the top-k principal axes, each scaled to unit variance), then
+learns an unmixing matrix that is orthogonal in that whitened space. An orthogonal map changes no
+cosine or Euclidean distance, so under those metrics ICA with k components and this learner with
+n_discard 0 and n_keep k match images identically (tests/test_models.py checks it); under L1
+(`evaluate.metric: cityblock`) the rotation, i.e. independence, can matter.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from seasonloop.models.base import EpochCallback, select_training_subset
+from seasonloop.models.pca import PCALearner
+
+# A kept component below this many float32 roundings of the scale its solver works at cannot be
+# told from zero: scaling it to unit variance would blow up rounding noise.
+RESOLVED_ROUNDINGS = 10
+
+
+class WhitenedPCALearner(PCALearner):
+    """Descriptor = projections on principal components [n_discard, n_discard + n_keep), each divided
+    by its standard deviation on the training images (population, as FastICA's whitening)."""
+
+    name = "pca_whiten"
+    defaults = {"n_discard": 0, "n_keep": 128, "svd_solver": "covariance_eigh", "max_train_images": 0}
+
+    def _validate_params(self) -> None:
+        super()._validate_params()
+        self._check_int("max_train_images", 0)
+
+    def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
+        # The same seeded subset as ICA's max_train_images, so both can see the same images.
+        subset, subset_info = select_training_subset(images, self.params["max_train_images"], self.seed)
+        info = super()._fit(subset, progress, on_epoch)
+        resolved = self._resolved_components()
+        if self.n_components > resolved:
+            raise ValueError(
+                f"{self._key('n_discard')} + {self._key('n_keep')} = {self.n_components} exceeds the {resolved} "
+                f"components the training images resolve in float32 with svd_solver "
+                f"{self.params['svd_solver']!r} (keep fewer, or use svd_solver 'full')"
+            )
+        return {**subset_info, **info}
+
+    def _resolved_components(self) -> int:
+        """How many leading components lie above float32 rounding noise for the fitted solver."""
+        tolerance = RESOLVED_ROUNDINGS * np.finfo(np.float32).eps
+        variances = np.asarray(self.estimator.explained_variance_, dtype=np.float64)
+        if self.params["svd_solver"] == "covariance_eigh":
+            # sklearn forms the uncentred X^T X and subtracts n mean mean^T: eigenvalues carry
+            # rounding of the uncentred second moment, whose largest eigenvalue is <= var_0 + |mean|^2.
+            scale = variances[0] + float(np.sum(np.asarray(self.estimator.mean_, dtype=np.float64) ** 2))
+            return int((variances > tolerance * scale).sum())
+        # The SVD solvers centre first and resolve singular values to ~eps of the largest.
+        singular = np.asarray(self.estimator.singular_values_, dtype=np.float64)
+        return int((singular > tolerance * singular[0]).sum())
+
+    @property
+    def kept_std(self) -> np.ndarray:
+        """Population standard deviation of each kept component on the training images (sklearn's
+        explained_variance_ divides by n - 1)."""
+        n_samples = self.estimator.n_samples_
+        variances = np.asarray(self.estimator.explained_variance_[self.params["n_discard"] :], dtype=np.float64)
+        return np.sqrt(variances * (n_samples - 1) / n_samples).astype(np.float32)
+
+    def _describe_batch(self, images: np.ndarray) -> np.ndarray:
+        return super()._describe_batch(images) / self.kept_std

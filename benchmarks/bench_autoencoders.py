@@ -43,6 +43,8 @@ def parse_args() -> argparse.Namespace:
                         help="CAE images timed in bfloat16 on a CPU that only emulates it")
     parser.add_argument("--quality-images", type=int, default=256, help="training images of the quality check")
     parser.add_argument("--quality-epochs", type=int, default=3, help="epochs of the quality check (no early stop)")
+    parser.add_argument("--pair-places", type=int, default=0,
+                        help="test places of summer-fall in the quality check (0: all)")
     parser.add_argument("--cuda-scale", type=int, default=16, help="CUDA runs use this many times more images")
     parser.add_argument("--seed", type=int, default=0)
     return parser.parse_args()
@@ -106,7 +108,7 @@ def main() -> None:
     print(f"{HEIGHT}x{WIDTH} images; torch threads {torch.get_num_threads()}; "
           f"native bfloat16 on this CPU: {cpu_has_native_bfloat16()}"
           + ("" if "cuda" in devices else "; CUDA not available (CUDA figures skipped)"))
-    pair = pair_images("summer", "fall", args.seed)[:3]
+    pair = tuple(array[: args.pair_places or None] for array in pair_images("summer", "fall", args.seed)[:3])
     quality_images, _ = training_images(args.quality_images, args.seed + 1)
     results: dict = {}
     for name, sizes in (("fae", args.fae_images), ("cae", args.cae_images)):

@@ -199,7 +199,7 @@ def test_bad_params_fail_with_one_clear_line(workspace):
     # the ablation rejects a bad evaluate.metric before its first fit
     result = run_with(lambda p: p["evaluate"].update(metric="manhattan"), "stages/training_seasons.py")
     assert result.returncode == 1 and "FastICA" not in result.stderr
-    assert result.stderr.strip() == "error: evaluate.metric: unknown value 'manhattan' (known: cosine, euclidean)"
+    assert result.stderr.strip() == "error: evaluate.metric: unknown value 'manhattan' (known: cosine, euclidean, cityblock)"
 
 
 @pytest.mark.e2e

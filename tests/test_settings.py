@@ -1,0 +1,56 @@
+"""Typed sections: field names in step with the schema, built from the shipped params, bad keys named."""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import FrozenInstanceError
+from pathlib import Path
+
+import pytest
+import yaml
+
+from seasonloop.config import SCHEMA
+from seasonloop.settings import SECTIONS, _frozen, AblationConfig, EvaluateConfig, SplitConfig
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture
+def params():
+    return yaml.safe_load((REPO / "params.yaml").read_text())
+
+
+def test_every_schema_section_has_a_typed_config_with_its_keys():
+    typed = {section.NAME: section for section in SECTIONS}
+    assert set(typed) == set(SCHEMA)
+    for name, section in typed.items():
+        assert section.keys() == tuple(SCHEMA[name]), name
+
+
+@pytest.mark.parametrize("name", ["params.yaml", "presets/full.yaml"])
+def test_shipped_params_build_every_section(name):
+    params = yaml.safe_load((REPO / name).read_text())
+    for section in SECTIONS:
+        config = section.from_params(params)
+        for key in section.keys():
+            value = params[section.NAME][key]
+            assert getattr(config, key) == _frozen(value), (section.NAME, key)
+
+
+def test_lists_become_tuples_and_configs_are_immutable(params):
+    ablation = AblationConfig.from_params(params)
+    assert isinstance(ablation.training_seasons, tuple) and isinstance(ablation.training_seasons[0], tuple)
+    evaluate = EvaluateConfig.from_params(params)
+    with pytest.raises(FrozenInstanceError):
+        evaluate.metric = "euclidean"
+
+
+def test_a_bad_key_is_named(params):
+    bad = copy.deepcopy(params)
+    bad["split"]["tets_fraction"] = bad["split"].pop("test_fraction")
+    with pytest.raises(ValueError, match=r"split.tets_fraction: unknown key"):
+        SplitConfig.from_params(bad)
+    bad = copy.deepcopy(params)
+    bad["split"]["gap"] = -1
+    with pytest.raises(ValueError, match=r"split.gap"):
+        SplitConfig.from_params(bad)

@@ -116,6 +116,49 @@ def mean_loss(model: nn.Module, images: torch.Tensor, batch_size: int, device: t
     return summed / images[0].numel() / len(images)
 
 
+def _train_epoch(model: nn.Module, train_images: torch.Tensor, order: torch.Tensor, optimiser: torch.optim.Optimizer,
+                 batch_size: int, device: torch.device, dtype: torch.dtype, memory_format: torch.memory_format,
+                 batches_description: str, progress: bool) -> float:
+    """One pass over train_images in `order`; returns the mean training loss."""
+    model.train()
+    summed = 0.0
+    batches = tqdm(range(0, len(train_images), batch_size), unit="batch", leave=False,
+                   desc=batches_description, disable=not progress)
+    for first in batches:
+        batch = train_images[order[first : first + batch_size]].to(device)
+        batch = batch.contiguous(memory_format=memory_format)
+        optimiser.zero_grad(set_to_none=True)
+        with autocast(device, dtype):
+            output = model(batch)
+        loss = nn.functional.mse_loss(output.float(), batch)
+        loss.backward()
+        optimiser.step()
+        summed += loss.item() * len(batch)
+        batches.set_postfix(loss=f"{loss.item():.5f}")
+    return summed / len(train_images)
+
+
+class _Plateau:
+    """The early-stopping bookkeeping: the lowest validation loss (and its weights), and the epoch of
+    the last improvement of min_delta.
+
+    The plateau counter restarts only on an improvement of min_delta over the loss of the last such
+    improvement; the weights kept are those of the lowest validation loss, however small its lead.
+    """
+
+    def __init__(self, min_delta: float):
+        self.min_delta = min_delta
+        self.best_loss, self.best_epoch, self.best_state = float("inf"), 0, None
+        self.reference_loss, self.improved_epoch = float("inf"), 0
+
+    def update(self, epoch: int, loss: float, model: nn.Module) -> None:
+        if loss < self.best_loss:
+            self.best_loss, self.best_epoch = loss, epoch
+            self.best_state = copy.deepcopy(model.state_dict())
+        if loss < self.reference_loss * (1 - self.min_delta):
+            self.reference_loss, self.improved_epoch = loss, epoch
+
+
 def train_until_plateau(
     model: nn.Module,
     train_images: torch.Tensor,
@@ -135,9 +178,9 @@ def train_until_plateau(
     improvement of at least min_delta (same threshold as ReduceLROnPlateau, which cuts the
     learning rate after lr_patience epochs without one) restarts the patience count; training
     stops after `patience` epochs without one (plateau), at max_epochs, or when the next epoch
-    would overrun budget_seconds. The model ends with the weights of its lowest validation loss. on_epoch(epoch, {"train_loss", "validation_loss",
-    "learning_rate"}) runs after each epoch. Shuffling has its own generator seeded from
-    config.seed, so the global torch RNG is left alone.
+    would overrun budget_seconds. The model ends with the weights of its lowest validation loss.
+    on_epoch(epoch, {"train_loss", "validation_loss", "learning_rate"}) runs after each epoch.
+    Shuffling has its own generator seeded from config.seed, so the global torch RNG is left alone.
     """
     generator = torch.Generator().manual_seed(config.seed)
     model.to(device=device, memory_format=memory_format)
@@ -148,57 +191,33 @@ def train_until_plateau(
     train_loss: list[float] = []
     validation_loss: list[float] = []
     learning_rate: list[float] = []
-    best_loss, best_epoch, best_state = float("inf"), 0, None
-    # the plateau counter restarts only on an improvement of min_delta over the loss of the last
-    # such improvement; the weights kept are those of the lowest validation loss, however small
-    # its lead
-    reference_loss, improved_epoch = float("inf"), 0
+    plateau = _Plateau(config.min_delta)
     start_time = time.perf_counter()
     stop_reason = STOP_MAX_EPOCHS
-    images_seen = 0
     for epoch in range(1, config.max_epochs + 1):
-        model.train()
         order = torch.randperm(len(train_images), generator=generator)
-        summed = 0.0
-        batches = tqdm(range(0, len(train_images), config.batch_size), unit="batch", leave=False,
-                       desc=f"{description} epoch {epoch}/{config.max_epochs}", disable=not progress)
-        for first in batches:
-            batch = train_images[order[first : first + config.batch_size]].to(device)
-            batch = batch.contiguous(memory_format=memory_format)
-            optimiser.zero_grad(set_to_none=True)
-            with autocast(device, dtype):
-                output = model(batch)
-            loss = nn.functional.mse_loss(output.float(), batch)
-            loss.backward()
-            optimiser.step()
-            summed += loss.item() * len(batch)
-            batches.set_postfix(loss=f"{loss.item():.5f}")
-        images_seen += len(train_images)
-        train_loss.append(summed / len(train_images))
+        train_loss.append(_train_epoch(model, train_images, order, optimiser, config.batch_size, device, dtype,
+                                       memory_format, f"{description} epoch {epoch}/{config.max_epochs}", progress))
         learning_rate.append(optimiser.param_groups[0]["lr"])
         validation_loss.append(mean_loss(model, validation_images, config.batch_size, device, dtype, memory_format))
         scheduler.step(validation_loss[-1])
-        if validation_loss[-1] < best_loss:
-            best_loss, best_epoch = validation_loss[-1], epoch
-            best_state = copy.deepcopy(model.state_dict())
-        if validation_loss[-1] < reference_loss * (1 - config.min_delta):
-            reference_loss, improved_epoch = validation_loss[-1], epoch
+        plateau.update(epoch, validation_loss[-1], model)
         if on_epoch is not None:
             on_epoch(epoch, {"train_loss": train_loss[-1], "validation_loss": validation_loss[-1],
                              "learning_rate": learning_rate[-1]})
         elapsed = time.perf_counter() - start_time
-        if epoch - improved_epoch >= config.patience:
+        if epoch - plateau.improved_epoch >= config.patience:
             stop_reason = STOP_PLATEAU
             break
         if config.budget_seconds and epoch < config.max_epochs and elapsed * (epoch + 1) / epoch > config.budget_seconds:
             stop_reason = STOP_BUDGET
             break
-    if best_state is None:
+    if plateau.best_state is None:
         raise RuntimeError(f"{description}: the validation loss was never finite ({validation_loss})")
-    model.load_state_dict(best_state)
+    model.load_state_dict(plateau.best_state)
     model.eval()
-    return TrainingResult(train_loss, validation_loss, learning_rate, best_epoch, stop_reason,
-                          time.perf_counter() - start_time, images_seen)
+    return TrainingResult(train_loss, validation_loss, learning_rate, plateau.best_epoch, stop_reason,
+                          time.perf_counter() - start_time, len(train_images) * len(train_loss))
 
 
 def validation_places(places: np.ndarray, fraction: float, block: int, seed: int) -> np.ndarray:

@@ -135,11 +135,6 @@ class TorchAutoEncoderLearner(FeatureLearner):
         self._check_choice("device", DEVICES)
         self._check_choice("precision", PRECISIONS)
 
-    def _check_fraction(self, key: str, low: float, high: float) -> None:
-        value = self.params[key]
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value < high:
-            raise ValueError(f"{self._key(key)} must be in [{low}, {high}), got {value!r}")
-
     def _seeded_model(self) -> AutoEncoder:
         """Build the network with weights drawn from `seed`, leaving the global torch RNG untouched."""
         with torch.random.fork_rng(devices=[]):

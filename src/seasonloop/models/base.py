@@ -112,6 +112,11 @@ class FeatureLearner(ABC):
         if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) or value <= 0:
             raise ValueError(f"{self._key(key)} must be a positive number, got {value!r}")
 
+    def _check_fraction(self, key: str, low: float, high: float) -> None:
+        value = self.params[key]
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value < high:
+            raise ValueError(f"{self._key(key)} must be in [{low}, {high}), got {value!r}")
+
     def _validate_params(self) -> None:
         """Raise ValueError for a bad param value (subclasses override)."""
 

@@ -30,9 +30,9 @@ class RouteDifficulty:
         for field in fields(self):
             value = getattr(self, field.name)
             # ints stay ints: the layout's seconds are integers
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or \
-                    (field.type == "int" and not isinstance(value, int)):
-                raise ValueError(f"{field.name}: expected a {field.type}, got {value!r}")
+            wanted = int if field.type == "int" else (int, float)
+            if isinstance(value, bool) or not isinstance(value, wanted):
+                raise ValueError(f"{field.name}: expected {'an integer' if wanted is int else 'a number'}, got {value!r}")
             if field.type == "float":
                 object.__setattr__(self, field.name, float(value))
         positive = ("cruise_speed", "brake_time", "tunnel_every_s", "stop_every_s", "tunnel_min_s", "stop_min_s",

@@ -17,7 +17,8 @@ Where things are (one concern per module):
     difficulty   RouteDifficulty: the knobs (speed, tunnels, stops, winter's light)
     layout       make_layout: when the tunnels and stops happen (RouteLayout: seasonloop.data.layout)
     motion       speed profile and position along the route
-    noise        hashes and value noise; textures: the seeded texture tables
+    noise        hashes and value noise
+    textures     the seeded texture tables and their lookup
     zones        scenery zones per side, stations, tunnels, bridges (Landscape)
     objects      houses and single trees
     camera       View, projection, near clipping, cv2 drawing of codes

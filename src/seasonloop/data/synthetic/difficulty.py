@@ -32,7 +32,8 @@ class RouteDifficulty:
             # ints stay ints: the layout's seconds are integers
             wanted = int if field.type == "int" else (int, float)
             if isinstance(value, bool) or not isinstance(value, wanted):
-                raise ValueError(f"{field.name}: expected {'an integer' if wanted is int else 'a number'}, got {value!r}")
+                kind = "an integer" if wanted is int else "a number"
+                raise ValueError(f"{field.name}: expected {kind}, got {value!r}")
             if field.type == "float":
                 object.__setattr__(self, field.name, float(value))
         positive = ("cruise_speed", "brake_time", "tunnel_every_s", "stop_every_s", "tunnel_min_s", "stop_min_s",

@@ -21,10 +21,10 @@ from seasonloop.data.synthetic import SyntheticRoute
 from seasonloop.io import read_json, write_json
 from seasonloop.models.base import to_json_value
 from seasonloop.preprocess import enhance_contrast, to_gray
+from seasonloop.seasons import SEASONS
 
 SPLIT_DIR = Path("data/split")
 RESULTS_DIR = Path("benchmarks/results")
-SEASONS = ("summer", "spring", "fall", "winter")
 # Fallback synthetic route: frames at the pipeline's storage size, then its preprocessing defaults.
 FRAME_HEIGHT, FRAME_WIDTH, HEIGHT, WIDTH = 72, 128, 32, 64
 SYNTHETIC_PLACES = 1000

@@ -11,8 +11,9 @@ from pathlib import Path
 from _common import data_seasons, load_params, param, stage_main
 
 from seasonloop.data.sources import real_sources
-from seasonloop.data.synthetic import render_route
+from seasonloop.data.synthetic import RouteDifficulty, render_route
 from seasonloop.io import staged_dir, write_json
+from seasonloop.settings import SyntheticConfig
 
 OUT = Path("data/acquired")
 
@@ -24,9 +25,10 @@ def main() -> None:
     seasons = data_seasons(params)
     with staged_dir(OUT) as out:
         if source == "synthetic":
-            syn = param(params, "synthetic")
-            render_route(out, seasons, int(syn["seconds"]), int(syn["fps"]), int(syn["width"]),
-                         int(syn["height"]), int(syn["seed"]))
+            syn = SyntheticConfig.from_params(params)
+            # the difficulty knobs are keys of the synthetic section with RouteDifficulty's field names
+            difficulty = RouteDifficulty(**{knob: getattr(syn, knob) for knob in RouteDifficulty.knobs()})
+            render_route(out, seasons, syn.seconds, syn.fps, syn.width, syn.height, syn.seed, difficulty=difficulty)
             # paths relative to the repository root: the staged folder is renamed to OUT
             sources = {season: {"kind": "video", "path": str(OUT / f"{season}.mp4")} for season in seasons}
         else:

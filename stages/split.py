@@ -14,7 +14,7 @@ import numpy as np
 
 from _common import data_seasons, load_params, param, stage_main
 
-from seasonloop.data.synthetic import RouteLayout
+from seasonloop.data.layout import RouteLayout
 from seasonloop.io import load_array, read_json, save_array, staged_dir, write_json
 from seasonloop.split import detect_stops, detect_tunnels, make_split
 

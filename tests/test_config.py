@@ -60,12 +60,18 @@ def test_a_typo_is_an_error_naming_the_key(params, section, key, value, message)
     ("ablation.training_seasons", [["summer"], ["autumn"]], r"ablation\.training_seasons: unknown season 'autumn'"),
     ("report.example_pair", "summer_fall", r"report\.example_pair"),
     ("data.video_files", {"autumn": "a.mp4"}, r"data\.video_files: unknown season 'autumn'"),
+    ("synthetic.cruise_speed", 5.0, r"synthetic\.cruise_speed: expected a number in \[10, 70\]"),
+    ("synthetic.tunnel_every_s", 0, r"synthetic\.tunnel_every_s: expected a number in \(0, inf\)"),
+    ("synthetic.stop_min_s", 0, r"synthetic\.stop_min_s: expected an integer >= 1"),
+    ("synthetic.event_gap_s", 2.5, r"synthetic\.event_gap_s: expected an integer"),
+    ("synthetic.winter_contrast", 0.0, r"synthetic\.winter_contrast: expected a number in \(0, 2\]"),
 ])
 def test_a_bad_value_is_an_error_naming_the_key(params, key, value, message):
     section, name = key.split(".")
     params[section][name] = value
-    with pytest.raises(ValueError, match=message):
+    with pytest.raises(ValueError, match=message) as error:
         check_params(params, [section])
+    assert "\n" not in str(error.value)  # one line
     # the dotted key alone is checked too
     with pytest.raises(ValueError, match=message):
         check_params(params, [key])
@@ -76,6 +82,10 @@ def test_checks_across_a_section(params):
     bad["split"].update(section_length=10, test_fraction=0.5, gap=3)
     with pytest.raises(ValueError, match="leaves no training place"):
         check_params(bad, ["split"])
+    bad = copy.deepcopy(params)
+    bad["synthetic"].update(tunnel_min_s=30, tunnel_max_s=20)
+    with pytest.raises(ValueError, match=r"synthetic\.tunnel_max_s: 20 is below synthetic\.tunnel_min_s 30"):
+        check_params(bad, ["synthetic"])
     bad = copy.deepcopy(params)
     bad["sequence"].update(v_min=1.2, v_max=0.8)
     with pytest.raises(ValueError, match=r"sequence\.v_max"):

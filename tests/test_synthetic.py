@@ -1,14 +1,17 @@
 """Tests for the synthetic Nordland-style route renderer (short routes, small frames)."""
 
 import json
+from pathlib import Path
 
 import cv2
 import numpy as np
 import pytest
+import yaml
 
 from seasonloop.data import synthetic
 from seasonloop.data.synthetic import (
     SEASONS,
+    RouteDifficulty,
     RouteLayout,
     SyntheticRoute,
     make_layout,
@@ -16,6 +19,8 @@ from seasonloop.data.synthetic import (
     render_preview,
     render_route,
 )
+
+from seasonloop.settings import SyntheticConfig
 
 W, H = 128, 72
 
@@ -202,3 +207,63 @@ def test_render_preview_writes_png(tmp_path) -> None:
     # Three rows of places and four season columns, plus labels.
     assert image.shape[0] > 3 * H and image.shape[1] > 4 * W
     assert image.std() > 20.0
+
+
+# --- difficulty knobs (params.yaml synthetic.*) ------------------------------------------------
+
+
+def test_default_knobs_are_the_shipped_params() -> None:
+    # the pipeline's route is the pinned one only while params.yaml holds the defaults
+    params = yaml.safe_load((Path(__file__).resolve().parents[1] / "params.yaml").read_text())
+    config = SyntheticConfig.from_params(params)
+    assert RouteDifficulty(**{knob: getattr(config, knob) for knob in RouteDifficulty.knobs()}) == RouteDifficulty()
+    assert set(RouteDifficulty.knobs()) <= set(SyntheticConfig.keys())
+
+
+def test_a_higher_tunnel_rate_gives_more_tunnels_and_lengths_follow_the_knobs() -> None:
+    busy = RouteDifficulty(tunnel_every_s=200.0, tunnel_min_s=12, tunnel_max_s=15, stop_every_s=3000.0)
+    default = [make_layout(7200, seed) for seed in range(4)]
+    changed = [make_layout(7200, seed, busy) for seed in range(4)]
+    assert sum(len(lay.tunnels) for lay in changed) > 2 * sum(len(lay.tunnels) for lay in default)
+    assert sum(len(lay.stops) for lay in changed) < sum(len(lay.stops) for lay in default)
+    assert all(12 <= end - start <= 15 for lay in changed for start, end in lay.tunnels)
+
+
+def test_gap_and_margin_knobs_are_kept() -> None:
+    knobs = RouteDifficulty(event_gap_s=90, edge_margin_s=200, stop_min_s=5, stop_max_s=8)
+    for seed in range(4):
+        layout = make_layout(3600, seed, knobs)
+        spans = sorted(layout.tunnels + layout.stops)
+        assert spans and all(200 <= start and end <= 3600 - 200 for start, end in spans)
+        assert all(b[0] - a[1] >= 90 for a, b in zip(spans[:-1], spans[1:]))
+        assert all(5 <= end - start <= 8 for start, end in layout.stops)
+
+
+def test_a_faster_train_covers_more_distance_and_still_stands_at_stops() -> None:
+    slow, fast = SyntheticRoute(700, 3), SyntheticRoute(700, 3, RouteDifficulty(cruise_speed=30.0))
+    assert fast.layout == slow.layout
+    assert fast.length > 1.3 * slow.length
+    start, end = fast.layout.stops[0]
+    assert fast.position(float(start)) == fast.position(float(end - 1))
+
+
+def test_a_higher_winter_contrast_makes_winter_easier(route: SyntheticRoute) -> None:
+    easier = SyntheticRoute(700, 3, RouteDifficulty(winter_contrast=1.0, winter_shading=1.0))
+    times = moving_times(route.layout, 60)
+    for t in times:
+        # only winter's light changes: same geometry, same summer
+        assert np.array_equal(easier.frame("summer", float(t), W, H), route.frame("summer", float(t), W, H))
+    hard = np.mean([gray(route.frame("winter", float(t), W, H)).std() for t in times])
+    easy = np.mean([gray(easier.frame("winter", float(t), W, H)).std() for t in times])
+    assert easy > 1.5 * hard, (easy, hard)
+
+
+@pytest.mark.parametrize("knobs, message", [
+    ({"tunnel_min_s": 30, "tunnel_max_s": 20}, "tunnel_max_s: 20 is below tunnel_min_s 30"),
+    ({"stop_min_s": 2.5}, "stop_min_s: expected an integer"),
+    ({"cruise_speed": 0.0}, "cruise_speed: expected a positive number"),
+    ({"event_gap_s": -1}, "event_gap_s: expected a number >= 0"),
+])
+def test_bad_knobs_are_rejected(knobs: dict, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        RouteDifficulty(**knobs)

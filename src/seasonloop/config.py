@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-SEASONS: tuple[str, ...] = ("summer", "spring", "fall", "winter")
+from seasonloop.seasons import SEASONS  # re-exported: `from seasonloop.config import SEASONS` keeps working
 
 # The study's six test pairs (its Table 4): "A-B" = database from season A, queries from season B.
 STUDY_PAIRS: tuple[tuple[str, str], ...] = (
@@ -167,6 +167,20 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "width": integer(16),
         "height": integer(16),
         "seed": integer(0),
+        # difficulty knobs (seasonloop.data.synthetic.RouteDifficulty); the speed swings by up to
+        # 9.5 m/s around the cruise speed, so at 10 m/s and more the train never runs backwards
+        "cruise_speed": number(10, 70),
+        "brake_time": number(1, 120),
+        "tunnel_every_s": number(0, None, low_open=True),
+        "tunnel_min_s": integer(1),
+        "tunnel_max_s": integer(1),
+        "stop_every_s": number(0, None, low_open=True),
+        "stop_min_s": integer(1),
+        "stop_max_s": integer(1),
+        "event_gap_s": integer(0),
+        "edge_margin_s": integer(0),
+        "winter_contrast": number(0, 2, low_open=True),
+        "winter_shading": number(0, 2),
     },
     "extract": {
         "fps": number(0, None, low_open=True),
@@ -245,6 +259,13 @@ def _check_split(section: Mapping[str, Any]) -> None:
                          "on either side leaves no training place (split.section_length, test_fraction, gap)")
 
 
+def _check_synthetic(section: Mapping[str, Any]) -> None:
+    for kind in ("tunnel", "stop"):
+        low, high = section[f"{kind}_min_s"], section[f"{kind}_max_s"]
+        if high < low:
+            raise ValueError(f"synthetic.{kind}_max_s: {high} is below synthetic.{kind}_min_s {low}")
+
+
 def _check_sequence(section: Mapping[str, Any]) -> None:
     if section["v_max"] < section["v_min"]:
         raise ValueError(f"sequence.v_max: {section['v_max']} is below sequence.v_min {section['v_min']}")
@@ -252,6 +273,7 @@ def _check_sequence(section: Mapping[str, Any]) -> None:
 
 # Checks across the keys of one section, run when the whole section is checked.
 SECTION_CHECKS: dict[str, Callable[[Mapping[str, Any]], None]] = {
+    "synthetic": _check_synthetic,
     "split": _check_split,
     "sequence": _check_sequence,
 }

@@ -69,6 +69,19 @@ class SyntheticConfig(Section):
     width: int
     height: int
     seed: int
+    # the route's difficulty knobs: seasonloop.data.synthetic.RouteDifficulty has the same fields
+    cruise_speed: float
+    brake_time: float
+    tunnel_every_s: float
+    tunnel_min_s: int
+    tunnel_max_s: int
+    stop_every_s: float
+    stop_min_s: int
+    stop_max_s: int
+    event_gap_s: int
+    edge_margin_s: int
+    winter_contrast: float
+    winter_shading: float
 
 
 @dataclass(frozen=True)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from seasonloop.figures import AE_DESCRIPTORS, autoencoder_descriptors, draw_figures
 from seasonloop.models.registry import get_learner

@@ -1,6 +1,8 @@
-"""What every stage script shares: reading params.yaml and turning bad input into one clear line.
+"""What every stage script shares: reading params.yaml, the pipeline's data folders, and turning bad
+input into one clear line.
 
 Stage scripts are thin: they read params, call the seasonloop library and write their outputs.
+The helpers here only bind params and pipeline paths to library calls (seasonloop.datasets).
 """
 
 from __future__ import annotations
@@ -14,10 +16,13 @@ from typing import Any
 import numpy as np
 import yaml
 
+from seasonloop import datasets
 from seasonloop.config import check_params, check_seasons
-from seasonloop.io import load_array, read_json
 
 PARAMS_FILE = Path("params.yaml")
+# the pipeline's split and augmented training set (their layout: seasonloop.datasets)
+SPLIT = Path("data/split")
+AUGMENTED = Path("data/augmented")
 
 
 def load_params(*keys: str, path: Path = PARAMS_FILE) -> dict[str, Any]:
@@ -52,29 +57,24 @@ def train_seasons(params: dict[str, Any]) -> list[str]:
 
 def training_images(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
     """The concatenated training images of `seasons`, augmented or not as train.augmented says."""
-    if bool(param(params, "train.augmented")):
-        paths = [Path("data/augmented") / f"{season}.npy" for season in seasons]
-    else:
-        paths = [Path("data/split") / f"{season}_train.npy" for season in seasons]
-    return np.concatenate([load_array(path) for path in paths])
+    augmented = AUGMENTED if bool(param(params, "train.augmented")) else None
+    return datasets.training_images(SPLIT, augmented, seasons)
 
 
 def training_places(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
-    """The place id of every image that training_images returns: data/augmented/<season>.npy holds
-    the training places' originals followed by augment.copies augmented copies of each."""
-    places = np.asarray(read_json(Path("data/split/split.json"))["train"])
+    """The place id of every image that training_images returns."""
     copies = int(param(params, "augment.copies")) if bool(param(params, "train.augmented")) else 0
-    return np.tile(places, (copies + 1) * len(seasons))
+    return datasets.training_places(SPLIT, seasons, copies)
 
 
 def test_places() -> np.ndarray:
     """Place ids of the test images, the same for every season (rows of <season>_test.npy)."""
-    return np.asarray(read_json(Path("data/split/split.json"))["test"])
+    return datasets.test_places(SPLIT)
 
 
 def test_images(seasons: list[str]) -> dict[str, np.ndarray]:
     """season -> its (N_test, H, W) test images."""
-    return {season: load_array(Path("data/split") / f"{season}_test.npy") for season in seasons}
+    return datasets.test_images(SPLIT, seasons)
 
 
 def stage_main(run: Callable[[], None]) -> Callable[[], None]:

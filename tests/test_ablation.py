@@ -1,6 +1,10 @@
+import json
+
+import numpy as np
 import pytest
 
-from seasonloop.ablation import plan_ablation
+from seasonloop.ablation import plan_ablation, run_ablation, write_ablation
+from seasonloop.settings import EvaluateConfig, SequenceConfig
 
 STUDY_SETS = [["summer"], ["summer", "winter"], ["summer", "winter", "spring"], ["summer", "winter", "spring", "fall"]]
 PAIRS = ["summer-fall", "summer-spring", "spring-fall", "winter-summer", "winter-fall", "winter-spring"]
@@ -41,3 +45,49 @@ def test_unknown_names_are_errors():
         plan_ablation(["summer", "fall"], "summer-fall", [["autumn"]], PAIRS)
     with pytest.raises(ValueError, match="ablation.pair"):
         plan_ablation(["summer", "fall"], "summer_fall", STUDY_SETS, PAIRS)
+
+
+class MeanLearner:
+    """Describes an image by its row means; remembers what it was fitted on."""
+
+    fitted_on: list[int] = []
+
+    def fit(self, images, progress=False):
+        MeanLearner.fitted_on.append(len(images))
+
+    def describe(self, images):
+        return images.mean(axis=2)
+
+
+def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
+    plan = plan_ablation(["summer", "fall", "winter"], "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"])
+    rng = np.random.default_rng(0)
+    test = {"summer": rng.random((6, 4, 8))}
+    test["fall"] = test["summer"] + rng.normal(0, 0.01, (6, 4, 8))
+    evaluate = EvaluateConfig(pairs=("summer-fall",), metric="euclidean", extra_metrics=(), confidence="ratio",
+                              ratio_exclusion=0, tolerance_frames=0, matchers=("single",))
+    sequence = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
+    made = []
+
+    def new_learner():
+        made.append(1)
+        return MeanLearner()
+
+    MeanLearner.fitted_on = []
+    fraction_correct = run_ablation(plan, {"mean": new_learner}, lambda seasons: np.zeros((10 * len(seasons), 4, 8)),
+                                    test, np.arange(6), evaluate, sequence)
+    assert len(made) == 2 and MeanLearner.fitted_on == [10, 20]
+    assert list(fraction_correct["mean"]) == ["summer", "summer+winter"]
+    assert fraction_correct["mean"]["summer"] == 1.0
+    write_ablation(plan, fraction_correct, tmp_path / "record.json", tmp_path / "figure.png")
+    record = json.loads((tmp_path / "record.json").read_text())
+    assert record == {"fraction_correct": fraction_correct, "notes": [], "pair": "summer-fall",
+                      "season_sets": ["summer", "summer+winter"]}
+    assert (tmp_path / "figure.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_write_ablation_of_a_skipped_plan(tmp_path):
+    plan = plan_ablation(["summer"], "summer-fall", [["summer"]], ["summer-fall"])
+    write_ablation(plan, None, tmp_path / "record.json", tmp_path / "figure.png")
+    assert json.loads((tmp_path / "record.json").read_text()) == {"skipped": plan.skipped}
+    assert (tmp_path / "figure.png").is_file()

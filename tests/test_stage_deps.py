@@ -6,8 +6,9 @@ of params.yaml), the stage script's source is read (never run) to find:
   imports seasonloop.models.registry can build any learner, so it depends on all of
   src/seasonloop/models (and what those modules import);
 - the params it reads: literal keys of param(params, "a.b"), load_params("a", ...) and
-  params["a"], in the script and in the stages/_common.py helpers it calls; each must also be
-  among the keys its load_params call checks before work starts.
+  params["a"], and the section "x" of XConfig.from_params(params) (a seasonloop.settings class
+  whose NAME is "x"), in the script and in the stages/_common.py helpers it calls; each must also
+  be among the keys its load_params call checks before work starts.
 Each must be covered by a declared dep (a file, or a folder above it) or a declared param (the
 key or a parent of it; `params.yaml:` alone covers every key).
 """
@@ -27,6 +28,7 @@ import yaml
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src"
 COMMON = ROOT / "stages" / "_common.py"
+SETTINGS = SRC / "seasonloop" / "settings.py"
 REGISTRY = SRC / "seasonloop" / "models" / "registry.py"
 MODELS = SRC / "seasonloop" / "models"
 
@@ -42,6 +44,20 @@ DYNAMIC_READS: dict[tuple[str, str], Callable[[list[str], dict[str, Any]], list[
     # the ablation fits every learner of ablation.methods
     ("stages/training_seasons.py", "param(params, method)"): lambda argv, params: list(params["ablation"]["methods"]),
 }
+
+
+@cache
+def config_sections() -> dict[str, str]:
+    """seasonloop.settings class name -> the params section it reads (its NAME), from the source."""
+    sections = {}
+    for node in ast.parse(SETTINGS.read_text()).body:
+        if isinstance(node, ast.ClassDef):
+            for statement in node.body:
+                if (isinstance(statement, ast.Assign) and len(statement.targets) == 1
+                        and isinstance(statement.targets[0], ast.Name) and statement.targets[0].id == "NAME"
+                        and isinstance(statement.value, ast.Constant)):
+                    sections[node.name] = statement.value.value
+    return sections
 
 
 def rel(path: Path) -> str:
@@ -142,6 +158,12 @@ def _reads_in(tree: ast.AST, file: str) -> tuple[set[str], set[str], set[str]]:
     dynamic: set[str] = set()
     calls: set[str] = set()
     for node in ast.walk(tree):
+        if (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "from_params"
+                and isinstance(node.func.value, ast.Name)):
+            # SplitConfig.from_params(params) reads (and checks) section "split"
+            section = config_sections().get(node.func.value.id)
+            assert section is not None, f"{file}: {ast.unparse(node)}: not a seasonloop.settings section"
+            keys.add(section)
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
             calls.add(node.func.id)
             if node.func.id in PARAM_READERS:
@@ -185,7 +207,7 @@ def common_reads() -> dict[str, tuple[frozenset[str], frozenset[str]]]:
 
 def script_reads(script: Path) -> tuple[set[str], set[str]]:
     """(literal param keys, dynamic reads) of a stage script, through the _common helpers it calls."""
-    keys, dynamic, calls = _reads_in(ast.parse(script.read_text()), rel(script))
+    keys, dynamic, calls = _reads_in(ast.parse(script.read_text()), str(script))
     helpers = common_reads()
     for call in calls & set(helpers):
         if call not in PARAM_READERS:
@@ -291,3 +313,18 @@ def test_the_checks_see_what_they_should() -> None:
     assert uncovered_modules(["src/seasonloop/models_x.py"], ["src/seasonloop/models"]) == ["src/seasonloop/models_x.py"]
     assert uncovered_params(["evaluate.metric"], ["evaluate"]) == []
     assert uncovered_params(["evaluate_x"], ["evaluate"]) == ["evaluate_x"]
+
+
+def test_config_reads_count_as_section_reads(tmp_path: Path) -> None:
+    # XConfig.from_params(params) reads section x: dvc.yaml must declare it, load_params must check it
+    script = tmp_path / "stage.py"
+    script.write_text('params = load_params("data.seasons", "split")\n'
+                      "config = SplitConfig.from_params(params)\n"
+                      "evaluate = EvaluateConfig.from_params(params)\n")
+    keys, dynamic = script_reads(script)
+    assert {"split", "evaluate", "data.seasons"} <= keys and not dynamic
+    assert uncovered_params(keys, ["data.seasons", "split"]) == ["evaluate"]
+    assert uncovered_params(keys, ["data", "split", "evaluate"]) == []
+    assert uncovered_params(keys, sorted(checked_keys(script))) == ["evaluate"]
+    # every settings class is known, by the section it reads
+    assert config_sections()["SplitConfig"] == "split" and config_sections()["ReportConfig"] == "report"

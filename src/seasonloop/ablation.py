@@ -3,15 +3,24 @@
 The study's defaults name all four seasons; a run on a subset (one real pair, say) keeps what it
 can: the pair if both its seasons are present, else the first of evaluate.pairs that is; each list
 of training seasons cut to the seasons present, repeats dropped. With fewer than two seasons
-there is no pair to evaluate and the ablation is skipped, with the reason.
+there is no pair to evaluate and the ablation is skipped, with the reason. run_ablation fits and
+evaluates the plan; write_ablation writes its record and figure.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
 
-from seasonloop.config import check_seasons, pair_present, parse_pair
+import numpy as np
+
+from seasonloop.config import check_seasons, pair_name, pair_present, parse_pair
+from seasonloop.evaluation import match_pair
+from seasonloop.io import write_json
+from seasonloop.plots import plot_message, plot_series
+from seasonloop.settings import EvaluateConfig, SequenceConfig
 
 
 @dataclass(frozen=True)
@@ -50,3 +59,47 @@ def plan_ablation(seasons: Sequence[str], pair: str, training_seasons: Sequence[
     if not season_sets:
         return AblationPlan(None, [], notes, skipped="skipped: no list of ablation.training_seasons has a season of data.seasons")
     return AblationPlan((database, query), season_sets, notes)
+
+
+def run_ablation(
+    plan: AblationPlan,
+    new_learners: Mapping[str, Callable[[], Any]],
+    training_images: Callable[[list[str]], np.ndarray],
+    test: Mapping[str, np.ndarray],
+    places: np.ndarray,
+    evaluate: EvaluateConfig,
+    sequence: SequenceConfig,
+) -> dict[str, dict[str, float]]:
+    """fraction_correct[method][training seasons joined by "+"] on the plan's pair, single-image
+    matching: for each method (new_learners[method]() gives an unfitted learner) and each list of
+    the plan, a learner fitted on training_images(list). test[season] are the test images of the
+    pair's seasons, both at `places`."""
+    database, query = plan.pair
+    fraction_correct: dict[str, dict[str, float]] = {}
+    for method, new_learner in new_learners.items():
+        fraction_correct[method] = {}
+        for label, chosen in zip(plan.labels, plan.season_sets):
+            learner = new_learner()
+            learner.fit(training_images(chosen), progress=True)
+            # evaluation.py reads its sections as mappings
+            metrics, _, _ = match_pair(learner.describe(test[database]), learner.describe(test[query]),
+                                       places, places, "single", asdict(evaluate), asdict(sequence))
+            fraction_correct[method][label] = metrics["fraction_correct"]
+    return fraction_correct
+
+
+def write_ablation(plan: AblationPlan, fraction_correct: dict[str, dict[str, float]] | None, record: Path,
+                   figure: Path) -> None:
+    """The ablation's JSON record and its figure (study Fig. 18); for a skipped plan, both say why."""
+    if plan.skipped:
+        write_json(record, {"skipped": plan.skipped})
+        plot_message(figure, f"Training-season effect {plan.skipped}")
+        return
+    pair = pair_name(*plan.pair)
+    # season_sets keeps the order (the JSON's keys are sorted)
+    write_json(record, {"pair": pair, "season_sets": plan.labels, "notes": plan.notes,
+                        "fraction_correct": fraction_correct})
+    plot_series({method: (plan.labels, [100 * values[label] for label in plan.labels])
+                 for method, values in fraction_correct.items()},
+                figure, title=f"Training-season effect on {pair}", xlabel="training seasons",
+                ylabel="fraction correct (%)")

@@ -2,7 +2,9 @@
 random horizontal flip and random width / height shifts, no rotation, no vertical flip.
 
 Shifts are whole pixels and the border is filled with the nearest edge pixel (Keras' default
-fill_mode "nearest"); the whole batch is done with one fancy-indexing gather.
+fill_mode "nearest"); the whole batch is done with one fancy-indexing gather. An augmented set is
+the originals followed by `copies` augmented copies, each in the originals' order:
+augmented_places says which place every row shows, for the learners that read it back.
 """
 
 from __future__ import annotations
@@ -42,7 +44,8 @@ def augment_training_set(
     width_shift: float = 0.3,
     height_shift: float = 0.3,
 ) -> np.ndarray:
-    """The originals followed by `copies` augmented copies of each, reproducible from `seed`."""
+    """The originals followed by `copies` augmented copies of each, reproducible from `seed`
+    (row layout: augmented_places)."""
     if copies < 0:
         raise ValueError(f"augment.copies: must be >= 0, got {copies}")
     rng = np.random.default_rng(seed)
@@ -50,3 +53,10 @@ def augment_training_set(
         augment_images(images, rng, horizontal_flip, width_shift, height_shift) for _ in range(copies)
     ]
     return np.concatenate(parts, axis=0)
+
+
+def augmented_places(places: np.ndarray, copies: int) -> np.ndarray:
+    """The place id of every row of augment_training_set(images of `places`, copies, ...)."""
+    if copies < 0:
+        raise ValueError(f"augment.copies: must be >= 0, got {copies}")
+    return np.tile(np.asarray(places), copies + 1)

@@ -1,391 +1,113 @@
-"""A self-contained HTML report of the study: tables, figures and the parameters in one file.
+"""The study's report: every result in one self-contained HTML page, assembled from the files the
+other stages wrote.
 
-Knows nothing of DVC or params.yaml: the section builders take plain Python data (metrics as read
-from their JSON files) and PNG paths or bytes. Images are embedded as base64 data URIs and the
-style sheet is inline, so the file reads offline and can be shared as it is.
+Which files those are is the caller's (ReportFiles); this module reads them in the order the
+tables list them (seasonloop.results), builds the sections (seasonloop.report_sections, the
+example grids of seasonloop.report_examples) and renders the page (seasonloop.report_html).
+The building blocks are re-exported here, so `from seasonloop.report import Table` keeps working.
 """
 
 from __future__ import annotations
 
-import base64
-import html
-import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Union
 
 import numpy as np
-import pandas as pd
 
-from seasonloop.evaluation import MATCHERS
-from seasonloop.matching import best_matches
-from seasonloop.metrics import correct_matches
-from seasonloop.plots import plot_image_grid
-from seasonloop.summary import fraction_correct_table, study_table
+from seasonloop.config import pair_name
+from seasonloop.io import read_json
+from seasonloop.report_examples import Example, example_grid_png, example_grids, examples_section, select_examples
+from seasonloop.report_html import Block, Image, Png, Section, Table, Text, Thumbnails, build_report
+from seasonloop.report_sections import (
+    autoencoder_training_section,
+    dataset_section,
+    figures_section,
+    fraction_correct_section,
+    parameters_section,
+    pr_section,
+    runtime_section,
+    similarity_section,
+    training_seasons_section,
+)
+from seasonloop.results import (
+    EvaluationResults,
+    load_autoencoder_descriptors,
+    load_dataset,
+    load_runtime_record,
+    load_training_seasons,
+)
+from seasonloop.settings import EvaluateConfig
+from seasonloop.summary import pr_landmarks, pr_landmarks_table
 
-PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-MATCHER_NAMES = {"single": "single-image matching", "sequence": "sequence matching (SeqSLAM)"}
-RECALL_COLUMNS = {
-    "recall_at_1": "recall@1",
-    "recall_at_5": "recall@5",
-    "recall_at_10": "recall@10",
-    "recall_at_100_precision": "recall at 100% precision",
-    "auc_pr": "AUC-PR",
-    "auc_pr_vpr_tutorial": "AUC-PR (VPR_Tutorial)",
-}
-DATASET_COLUMNS = {"frames": "places (frames)", "train": "train", "train_augmented": "train, augmented", "test": "test"}
-RUNTIME_COLUMNS = {
-    "fit_seconds": "fit (s)",
-    "n_train_images": "training images",
-    "feature_ms_per_image": "features (ms / image)",
-    "descriptor_dimension": "descriptor dimension",
-}
+__all__ = [
+    "Block", "Example", "Image", "Png", "ReportFiles", "Section", "Table", "Text", "Thumbnails",
+    "autoencoder_training_section", "build_report", "dataset_section", "example_grid_png", "example_grids",
+    "examples_section", "figures_section", "fraction_correct_section", "parameters_section", "pr_section",
+    "runtime_section", "select_examples", "similarity_section", "study_report", "training_seasons_section",
+]
 
-Png = Union[Path, bytes]
-
-_STYLE = """
-body { font-family: sans-serif; max-width: 1200px; margin: 2em auto; padding: 0 1em; color: #222; }
-h1 { border-bottom: 2px solid #444; } h2 { border-bottom: 1px solid #aaa; margin-top: 2em; }
-table { border-collapse: collapse; margin: 0 0 1.5em; font-size: 0.9em; }
-th, td { border: 1px solid #ccc; padding: 0.2em 0.6em; text-align: right; }
-th { background: #f0f0f0; }
-caption, p.caption { caption-side: top; text-align: left; font-weight: bold; margin: 1em 0 0.3em; }
-figure { margin: 0.5em 0 1.5em; } figure img { max-width: 100%; }
-figcaption { font-size: 0.9em; color: #555; }
-table.thumbnails { width: 100%; table-layout: fixed; } table.thumbnails img { width: 100%; }
-table.thumbnails th:first-child { width: 8em; }
-pre { background: #f6f6f6; padding: 1em; overflow-x: auto; font-size: 0.85em; }
-"""
+TITLE = "seasonloop: loop-closure detection across seasons"
+N_EXAMPLES = 3  # correct matches, and as many failures, shown per learner
 
 
 @dataclass(frozen=True)
-class Table:
-    """A DataFrame shown as an HTML table; float cells formatted with float_format."""
+class ReportFiles:
+    """Where the report's inputs are: the other stages' JSON records, descriptors and figures."""
 
-    caption: str
-    frame: pd.DataFrame
-    float_format: str = "{:.1f}"
-
-
-@dataclass(frozen=True)
-class Image:
-    """One PNG (a file or its bytes) with a caption."""
-
-    caption: str
-    png: Png
-
-
-@dataclass(frozen=True)
-class Thumbnails:
-    """PNGs as a grid of small images, pngs[row][column], with row and column labels."""
-
-    caption: str
-    row_labels: Sequence[str]
-    col_labels: Sequence[str]
-    pngs: Sequence[Sequence[Png]]
+    params: Path                   # the parameter file, embedded verbatim
+    dataset: Path                  # seasonloop.datasets.dataset_record
+    runtime: Path                  # seasonloop.results.load_runtime, as written
+    training_seasons: Path         # the training-season ablation's record
+    autoencoder_descriptors: Path  # fraction correct per auto-encoder descriptor
+    autoencoder_training: Path     # how each auto-encoder's training ended
+    features: Path                 # <method>/<season>.npy descriptors
+    season_preview: Path           # a PNG
+    summary: Path                  # fraction_correct[@<metric>].png, pr_<pair>.png
+    similarity: Path               # <method>/<pair>.png
+    training_seasons_figure: Path  # a PNG
+    figures: Path                  # a folder of the study's other figures, *.png
 
 
-@dataclass(frozen=True)
-class Text:
-    """A paragraph, or preformatted text (kept verbatim, e.g. a YAML file)."""
-
-    text: str
-    preformatted: bool = False
-
-
-Block = Union[Table, Image, Thumbnails, Text]
+def _figures(folder: Path) -> dict[str, Path]:
+    """caption -> PNG of every figure in `folder` (the figures stage draws those its learners allow)."""
+    if not folder.is_dir():
+        raise FileNotFoundError(f"{folder}: not found (run the figures stage first)")
+    return {path.stem.replace("_", " "): path for path in sorted(folder.glob("*.png"))}
 
 
-@dataclass(frozen=True)
-class Section:
-    title: str
-    blocks: Sequence[Block]
-
-
-def _labelled(frame: pd.DataFrame, columns: Mapping[str, str]) -> pd.DataFrame:
-    """The known columns first, in the order of `columns` and renamed by it, then any others."""
-    order = [key for key in columns if key in frame] + [key for key in frame if key not in columns]
-    return frame[order].rename(columns=columns)
-
-
-def _data_uri(png: Png) -> str:
-    """The PNG as a data URI; a missing file or non-PNG content is an error naming it."""
-    if isinstance(png, Path):
-        if not png.is_file():
-            raise FileNotFoundError(f"{png}: image not found (run the stage that writes it first)")
-        data, name = png.read_bytes(), str(png)
-    else:
-        data, name = bytes(png), "image bytes"
-    if not data.startswith(PNG_SIGNATURE):
-        raise ValueError(f"{name}: not a PNG image")
-    return "data:image/png;base64," + base64.b64encode(data).decode("ascii")
-
-
-def _block_html(block: Block) -> str:
-    if isinstance(block, Table):
-        table = block.frame.to_html(escape=True, float_format=block.float_format.format, na_rep="–", border=0)
-        return f'<p class="caption">{html.escape(block.caption)}</p>\n{table}'
-    if isinstance(block, Image):
-        caption = html.escape(block.caption)
-        return f'<figure><img src="{_data_uri(block.png)}" alt="{caption}"><figcaption>{caption}</figcaption></figure>'
-    if isinstance(block, Thumbnails):
-        if len(block.pngs) != len(block.row_labels) or any(len(row) != len(block.col_labels) for row in block.pngs):
-            raise ValueError(f"thumbnails {block.caption!r}: pngs must be len(row_labels) x len(col_labels)")
-        header = "".join(f"<th>{html.escape(label)}</th>" for label in block.col_labels)
-        rows = "".join(
-            f"<tr><th>{html.escape(label)}</th>"
-            + "".join(f'<td><img src="{_data_uri(png)}" alt="{html.escape(label)}"></td>' for png in row) + "</tr>"
-            for label, row in zip(block.row_labels, block.pngs))
-        return (f'<table class="thumbnails"><caption>{html.escape(block.caption)}</caption>'
-                f"<tr><th></th>{header}</tr>{rows}</table>")
-    if isinstance(block, Text):
-        return f"<pre>{html.escape(block.text)}</pre>" if block.preformatted else f"<p>{html.escape(block.text)}</p>"
-    raise ValueError(f"unknown report block type {type(block).__name__}")
-
-
-def build_report(title: str, sections: Sequence[Section]) -> str:
-    """One self-contained HTML page: title, a table of contents, then each section in order."""
-    if not sections:
-        raise ValueError("sections is empty: nothing to report")
-    contents = "".join(f'<li><a href="#section-{number}">{html.escape(section.title)}</a></li>'
-                       for number, section in enumerate(sections, 1))
-    body = "\n".join(
-        f'<section id="section-{number}"><h2>{number}. {html.escape(section.title)}</h2>\n'
-        + "\n".join(_block_html(block) for block in section.blocks) + "</section>"
-        for number, section in enumerate(sections, 1))
-    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>'
-            f"<style>{_STYLE}</style></head>\n<body><h1>{html.escape(title)}</h1><nav><ol>{contents}</ol></nav>\n"
-            f"{body}\n</body></html>\n")
-
-
-# ---- the study's sections, from the pipeline's result data ----
-
-def dataset_section(dataset: Mapping[str, Any], preview: Png) -> Section:
-    """Table 3 of the study (places, train, test per season; what the split dropped) and a preview."""
-    seasons = _labelled(pd.DataFrame.from_dict(dataset["seasons"], orient="index"), DATASET_COLUMNS)
-    route = pd.DataFrame({"places": {
-        "dropped from test: tunnels": dataset["dropped_tunnel"],
-        "dropped from test: station stops": dataset["dropped_stop"],
-        "gap between train and test": dataset["gap"],
-    }})
-    blocks: list[Block] = [Table("Images per season", seasons), Table("Places left out of every season", route)]
-    if "detection" in dataset:
-        detection = pd.DataFrame.from_dict(dataset["detection"], orient="index")
-        blocks.append(Table("Tunnel and stop detection against the route's true tunnels and stops", detection,
-                            float_format="{:.3f}"))
-    blocks.append(Image("The same places in every season", preview))
-    return Section("Dataset", blocks)
-
-
-def _beside_study(ours: pd.DataFrame, study: pd.DataFrame) -> pd.DataFrame:
-    """Columns (pair, ours) and (pair, study) side by side; a pair the study gives no number for has ours only.
-
-    The study's numbers are whole percentages, so they are shown without decimals.
-    """
-    columns = {}
-    for pair in ours.columns:
-        columns[(pair, "ours")] = ours[pair]
-        if study[pair].notna().any():
-            columns[(pair, "study (S)")] = study[pair].map(lambda value: "–" if np.isnan(value) else f"{value:.0f}")
-    return pd.DataFrame(columns)
-
-
-def fraction_correct_section(
-    results: Mapping[str, Mapping[str, Mapping[str, float]]],
+def study_report(
+    files: ReportFiles,
+    results: EvaluationResults,
     methods: Sequence[str],
-    matchers: Sequence[str],
-    pairs: Sequence[str],
-    figure: Png,
-    extra_metrics: Sequence[str] = (),
-    extra_figures: Mapping[str, Png] | None = None,
-) -> Section:
-    """Fraction correct beside the study's numbers per metric and matcher, the gain of sequence
-    matching, recall metrics.
-
-    results[label][pair] is the pair's metrics dict (metrics/eval JSON), label = method + "@<metric>"
-    for an extra metric (none for the main one) + MATCHERS[matcher]; extra_figures[metric] is the
-    fraction-correct figure of an extra metric.
-    """
-    for matcher in matchers:
-        if matcher not in MATCHERS:
-            raise ValueError(f"unknown matcher '{matcher}' (known: {', '.join(MATCHERS)})")
-    blocks: list[Block] = [Text(
-        "Fraction of correct matches: correct best matches / queries, in %. Pairs are database-queries; "
-        "(S) marks the study's numbers, given for single-image matching on three pairs only. "
-        "Rows named learner@metric use that distance (evaluate.extra_metrics) instead of the main one "
-        "(evaluate.metric). FastICA's unmixing is orthogonal in the whitened space, so under cosine and "
-        "Euclidean distances ICA matches exactly like whitened PCA with as many components (pca_whiten): "
-        "a gain of ICA over PCA there comes from whitening and keeping the first components, not from "
-        "independence. Under L1 (cityblock) the rotation matters, so ica@cityblock against "
-        "pca_whiten@cityblock measures what independence adds.")]
-    suffixes = {"": "", **{metric: f"@{metric}" for metric in extra_metrics}}
-    for metric, metric_suffix in suffixes.items():
-        ours = {}
-        for matcher in matchers:
-            labels = [method + metric_suffix + MATCHERS[matcher] for method in methods]
-            ours[matcher] = fraction_correct_table({label: results[label] for label in labels}, pairs)
-            distance = f", {metric} distance" if metric else ""
-            blocks.append(Table(f"Fraction correct (%), {MATCHER_NAMES[matcher]}{distance}",
-                                _beside_study(ours[matcher], study_table(labels, pairs))))
-        if "single" in ours and "sequence" in ours:
-            gain = pd.DataFrame(ours["sequence"].to_numpy() - ours["single"].to_numpy(),
-                                index=[method + metric_suffix for method in methods], columns=list(pairs))
-            blocks.append(Table("What sequence matching adds: fraction correct of method+seq minus method "
-                                "(percentage points)", gain, float_format="{:+.1f}"))
-    recall = pd.DataFrame.from_dict(
-        {(pair, label): {key: 100 * results[label][pair][key] for key in RECALL_COLUMNS if key in results[label][pair]}
-         for pair in pairs for label in results}, orient="index").rename(columns=RECALL_COLUMNS)
-    recall.index.names = ["pair", "method"]
-    blocks.append(Table("Recall@N, recall at 100% precision and area under the PR curve, all in % (AUC-PR in the "
-                        "study's convention, where recall reaches 100%; AUC-PR (VPR_Tutorial) with recall = TP / "
-                        "queries, which ends at the fraction correct)", recall))
-    blocks.append(Image("Fraction of correct matches per pair; diamonds: the study's numbers", figure))
-    for metric, png in (extra_figures or {}).items():
-        blocks.append(Image(f"Fraction of correct matches per pair, {metric} distance", png))
-    return Section("Fraction correct", blocks)
-
-
-def pr_section(curves: Mapping[str, Png], landmarks: pd.DataFrame | None = None) -> Section:
-    """One PR figure per pair (pair -> PNG), and the study's PR landmarks beside ours
-    (seasonloop.summary.pr_landmarks_table) when given."""
-    blocks: list[Block] = [
-        Text("Queries sorted by the confidence of their best match; at each distinct confidence the queries "
-             "at least that confident are accepted (tied queries together): at full recall, precision equals "
-             "the fraction correct.")]
-    if landmarks is not None:
-        blocks.append(Table("The study's precision-recall landmarks beside ours (%), single-image matching",
-                            landmarks))
-    blocks += [Image(f"Precision-recall, {pair} (database-queries)", png) for pair, png in curves.items()]
-    return Section("Precision-recall curves", blocks)
-
-
-def similarity_section(matrices: Mapping[str, Mapping[str, Png]], pairs: Sequence[str]) -> Section:
-    """Thumbnails of the similarity matrices, matrices[method][pair] -> PNG, learners x pairs."""
-    return Section("Similarity matrices", [Thumbnails(
-        "Query x database similarity, single-image matching (true matches on the diagonal)",
-        list(matrices), list(pairs), [[matrices[method][pair] for pair in pairs] for method in matrices])])
-
-
-@dataclass(frozen=True)
-class Example:
-    """One query's best match: indices into the query and database sets."""
-
-    query: int
-    match: int
-    truth: int
-    correct: bool
-    confidence: float
-
-
-def select_examples(
-    distances: np.ndarray,
-    database_places: np.ndarray,
-    query_places: np.ndarray,
-    confidence: str,
-    tolerance: int,
-    n: int,
-    ratio_exclusion: int = 0,
-) -> list[Example]:
-    """The n most confident correct matches, then the n most confident failures (fewer if there are not n).
-
-    distances is (queries, database); the true match is the database image nearest the query's place.
-    Ties in confidence keep query order, so the choice is deterministic.
-    """
-    database_places, query_places = np.asarray(database_places), np.asarray(query_places)
-    if np.shape(distances) != (len(query_places), len(database_places)):
-        raise ValueError(f"distances shape {np.shape(distances)} does not match "
-                         f"(queries, database) = ({len(query_places)}, {len(database_places)})")
-    if n < 1:
-        raise ValueError(f"n must be >= 1, got {n}")
-    matches, scores = best_matches(distances, confidence, database_places, ratio_exclusion)
-    correct = correct_matches(database_places[matches], query_places, tolerance)
-    order = np.argsort(-scores, kind="stable")
-    chosen = [*order[correct[order]][:n], *order[~correct[order]][:n]]
-    return [Example(query=int(q), match=int(matches[q]), truth=int(np.abs(database_places - query_places[q]).argmin()),
-                    correct=bool(correct[q]), confidence=float(scores[q])) for q in chosen]
-
-
-def example_grid_png(
-    database_images: np.ndarray,
-    query_images: np.ndarray,
-    examples: Sequence[Example],
-    database_places: np.ndarray,
-    query_places: np.ndarray,
-    title: str,
-) -> bytes:
-    """PNG bytes of a grid, one row per example: query image, best match, true match."""
-    if not examples:
-        raise ValueError("examples is empty: nothing to plot")
-    rows = [[query_images[e.query], database_images[e.match], database_images[e.truth]] for e in examples]
-    # short lines: the labels are drawn vertically beside images only a few lines tall
-    labels = [f"correct\nplace {query_places[e.query]}" if e.correct
-              else f"wrong\nplace {query_places[e.query]}\nmatched {database_places[e.match]}" for e in examples]
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "examples.png"
-        plot_image_grid(rows, path, row_labels=labels, col_labels=["query", "best match", "true match"], title=title)
-        return path.read_bytes()
-
-
-def examples_section(pair: str, grids: Mapping[str, Png]) -> Section:
-    """The example grids of one pair, learner -> PNG."""
-    return Section(f"Example matches and failures, {pair}", [
-        Text("Single-image matching. Per learner: the most confident correct matches, then the most "
-             "confident wrong ones (query, its best database match, the true database image)."),
-        *(Image(f"{method}, {pair}", png) for method, png in grids.items())])
-
-
-def runtime_section(runtime: Mapping[str, Mapping[str, float]]) -> Section:
-    """Fit time (study Table 6) and feature time per image (Table 7), runtime[method][key]."""
-    table = _labelled(pd.DataFrame.from_dict(runtime, orient="index"), RUNTIME_COLUMNS)
-    return Section("Runtimes", [Table("Fit time (study Table 6), feature time per test image (Table 7)",
-                                      table, float_format="{:.4g}")])
-
-
-def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -> Section:
-    """The training-season effect (study Figure 18): {"pair", "fraction_correct": {method: {seasons: value}},
-    "notes": [...]}, or {"skipped": why} when the run's seasons do not allow it."""
-    if "skipped" in training_seasons:
-        return Section("Training-season effect", [Text(f"The training-season ablation was {training_seasons['skipped']}.")])
-    pair = training_seasons["pair"]
-    table = 100 * pd.DataFrame.from_dict(training_seasons["fraction_correct"], orient="index")
-    return Section("Training-season effect", [
-        *(Text(note) for note in training_seasons.get("notes", [])),
-        Table(f"Fraction correct (%) on {pair}, single-image matching, by the seasons trained on", table),
-        Image(f"Training-season effect on {pair} (study Fig. 18)", figure)])
-
-
-def figures_section(figures: Mapping[str, Png], autoencoder_descriptors: Mapping[str, Mapping[str, Mapping[str, float]]]) -> Section:
-    """The study's other figures (caption -> PNG) and the auto-encoder descriptor comparison table.
-
-    autoencoder_descriptors[method][descriptor][pair] is a fraction correct. Either may be empty
-    when the learners they need are not in the run.
-    """
-    blocks: list[Block] = [Image(caption, png) for caption, png in figures.items()]
-    if not figures:
-        blocks.append(Text("No figure: the learners they show (pca, ica_bovw, fae, cae) are not in learners."))
-    if autoencoder_descriptors:
-        table = 100 * pd.DataFrame.from_dict(
-            {(method, descriptor): values for method, by_descriptor in autoencoder_descriptors.items()
-             for descriptor, values in by_descriptor.items()}, orient="index")
-        table.index.names = ["method", "descriptor"]
-        blocks.append(Table("Auto-encoder descriptors (study Fig. 19): fraction correct (%), single-image matching", table))
-    return Section("The study's other figures", blocks)
-
-
-def autoencoder_training_section(training: Mapping[str, Mapping[str, Any]]) -> Section:
-    """How each auto-encoder's training ended, training[method][key] (metrics/autoencoder_training.json)."""
-    if not training:
-        return Section("Auto-encoder training", [Text("No auto-encoder (fae, cae) is in learners.")])
-    table = pd.DataFrame.from_dict(training, orient="index")
-    return Section("Auto-encoder training", [
-        Text("Each auto-encoder trains until its loss on held-out training places stops improving "
-             "(stop reason 'plateau', converged), or stops at its maximum number of epochs or its "
-             "wall-clock budget (not converged); the weights of the lowest validation loss are kept. "
-             "The loss curves and reconstructions are under 'The study's other figures'."),
-        Table("Auto-encoder training (metrics/autoencoder_training.json)", table, float_format="{:.4g}")])
-
-
-def parameters_section(params_text: str) -> Section:
-    """The parameter file that produced the report, verbatim."""
-    return Section("Parameters", [Text("The parameters that produced this report:"), Text(params_text, preformatted=True)])
+    seasons: Sequence[str],
+    evaluate: EvaluateConfig,
+    ablation_methods: Sequence[str],
+    example_pair: tuple[str, str],
+    test_images: Mapping[str, np.ndarray],
+    test_places: np.ndarray,
+) -> str:
+    """The report's HTML. results: every evaluation of `methods` (seasonloop.results.load_evaluations);
+    example_pair: the (database, query) seasons of the example matches, both in test_images."""
+    database, query = example_pair
+    pairs = results.pairs
+    extra_metrics = list(evaluate.extra_metrics)
+    grids = example_grids(files.features, methods, database, query, test_images, test_places, evaluate, N_EXAMPLES)
+    sections = [
+        dataset_section(load_dataset(files.dataset, seasons), files.season_preview),
+        fraction_correct_section(results.metrics, methods, list(evaluate.matchers), pairs,
+                                 files.summary / "fraction_correct.png", extra_metrics,
+                                 {metric: files.summary / f"fraction_correct@{metric}.png" for metric in extra_metrics}),
+        pr_section({pair: files.summary / f"pr_{pair}.png" for pair in pairs},
+                   pr_landmarks_table(pr_landmarks(results.metrics))),
+        similarity_section({method: {pair: files.similarity / method / f"{pair}.png" for pair in pairs}
+                            for method in methods}, pairs),
+        examples_section(pair_name(database, query), grids),
+        runtime_section(load_runtime_record(files.runtime, methods)),
+        training_seasons_section(load_training_seasons(files.training_seasons, ablation_methods),
+                                 files.training_seasons_figure),
+        autoencoder_training_section(read_json(files.autoencoder_training)),
+        figures_section(_figures(files.figures), load_autoencoder_descriptors(files.autoencoder_descriptors, methods)),
+        parameters_section(files.params.read_text()),
+    ]
+    return build_report(TITLE, sections)

@@ -3,14 +3,21 @@
 Places are frame indices along the route. The route is cut into contiguous sections; the last
 `test_fraction` of each section is a test block, and `gap` places on either side of every test
 block are used for nothing, so no training image shows a test place or its immediate neighbours.
+Tunnels and stops are detected from per-frame statistics (seasonloop.preprocess.frame_statistics);
+where the true ones are known (the synthetic route), detection_record scores the detection.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
+
+from seasonloop.datasets import SPLIT_FILE, split_images_file
+from seasonloop.io import load_array, save_array, write_json
+from seasonloop.settings import SplitConfig
 
 
 @dataclass(frozen=True)
@@ -95,3 +102,51 @@ def make_split(
         dropped_tunnel=places[dropped_tunnel],
         dropped_stop=places[dropped_stop],
     )
+
+
+def split_route(stats: Mapping[str, np.ndarray], seasons: Sequence[str], config: SplitConfig) -> tuple[Split, np.ndarray, np.ndarray]:
+    """(split, tunnel mask, stop mask) from the frame statistics `stats` ("<season>_brightness" and
+    "<season>_change" per place, as preprocess writes them)."""
+    tunnel = detect_tunnels({s: stats[f"{s}_brightness"] for s in seasons}, float(config.dark_threshold))
+    stop = detect_stops({s: stats[f"{s}_change"] for s in seasons}, float(config.stop_threshold))
+    split = make_split(len(tunnel), int(config.section_length), float(config.test_fraction), int(config.gap),
+                       tunnel, stop)
+    return split, tunnel, stop
+
+
+def write_split_sets(images_dir: Path, out_dir: Path, seasons: Sequence[str], split: Split) -> None:
+    """The split folder: each season's <season>.npy of `images_dir` cut into its train and test
+    images, and split.json."""
+    for season in seasons:
+        images = load_array(images_dir / f"{season}.npy")
+        save_array(split_images_file(out_dir, season, "train"), images[split.train])
+        save_array(split_images_file(out_dir, season, "test"), images[split.test])
+    write_json(out_dir / SPLIT_FILE, split.to_json())
+
+
+def place_seconds(n_places: int, frame_step: int, fps: float) -> np.ndarray:
+    """The whole second of the route that each place shows: place p is the (p * frame_step)-th
+    sample at `fps` samples per second."""
+    return (np.arange(n_places) * int(frame_step) / float(fps)).astype(int)
+
+
+def detection_scores(found: np.ndarray, truth: np.ndarray) -> dict[str, float | int]:
+    """How many places are truly positive and detected, and the detection's recall and precision."""
+    hits = int(np.sum(found & truth))
+    return {
+        "true": int(truth.sum()),
+        "found": int(found.sum()),
+        "recall": hits / max(1, int(truth.sum())),
+        "precision": hits / max(1, int(found.sum())),
+    }
+
+
+def detection_record(tunnel: np.ndarray, stop: np.ndarray, true_tunnel: np.ndarray, true_stop: np.ndarray,
+                     seconds: np.ndarray) -> dict[str, dict[str, float | int]]:
+    """Tunnel and stop detection scored against the truth per second of the route (true_tunnel,
+    true_stop), place p showing second seconds[p] (place_seconds)."""
+    return {
+        "tunnel": detection_scores(tunnel, true_tunnel[seconds]),
+        # a still, dark tunnel frame looks like a stop too; the split counts it as a tunnel
+        "stop": detection_scores(stop & ~tunnel, true_stop[seconds]),
+    }

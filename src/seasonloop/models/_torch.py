@@ -227,7 +227,13 @@ class TorchAutoEncoderLearner(FeatureLearner):
             return code
         if descriptor == "output":
             return output
-        return patch_normalise(output.reshape(images.shape), self.params["patch_size"]).reshape(len(images), -1)
+        return self.patchnorm_output(output, images.shape[1:])
+
+    def patchnorm_output(self, outputs: np.ndarray, image_shape: tuple[int, int]) -> np.ndarray:
+        """The "output_patchnorm" descriptors (N, H*W) of outputs (N, H*W) of images of (H, W): what
+        describe_as gives, for outputs already at hand (describe_code_and_output's)."""
+        return patch_normalise(outputs.reshape(len(outputs), *image_shape), self.params["patch_size"]).reshape(
+            len(outputs), -1)
 
     def _describe_batch(self, images: np.ndarray) -> np.ndarray:
         return self._descriptor_batch(images, self.params["descriptor"])

@@ -1,0 +1,110 @@
+"""The on-disk layout of the split and of the augmented training set, read back for the learners.
+
+A split folder holds split.json (the place ids of every part, seasonloop.split.Split.to_json) and
+<season>_train.npy / <season>_test.npy, the (N, H, W) images of those places in split.json's
+order. An augmented folder holds <season>.npy: the rows seasonloop.augment.augmented_places
+describes. The callers pass the folders; which folders the pipeline uses is theirs to say.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from seasonloop.augment import augment_training_set, augmented_places
+from seasonloop.io import load_array, read_json, save_array
+from seasonloop.settings import AugmentConfig
+
+SPLIT_FILE = "split.json"
+
+
+def read_split(split_dir: Path) -> dict:
+    """split.json of `split_dir`, as written (n_places and the place ids of every part)."""
+    return read_json(split_dir / SPLIT_FILE)
+
+
+def split_images_file(split_dir: Path, season: str, part: str) -> Path:
+    """<season>_<part>.npy for part "train" or "test"."""
+    return split_dir / f"{season}_{part}.npy"
+
+
+def augmented_file(augmented_dir: Path, season: str) -> Path:
+    return augmented_dir / f"{season}.npy"
+
+
+def test_places(split_dir: Path) -> np.ndarray:
+    """Place ids of the test images, the same for every season (rows of <season>_test.npy)."""
+    return np.asarray(read_split(split_dir)["test"])
+
+
+def test_images(split_dir: Path, seasons: Sequence[str]) -> dict[str, np.ndarray]:
+    """season -> its (N_test, H, W) test images."""
+    return {season: load_array(split_images_file(split_dir, season, "test")) for season in seasons}
+
+
+def training_images(split_dir: Path, augmented_dir: Path | None, seasons: Sequence[str]) -> np.ndarray:
+    """The concatenated training images of `seasons`: the augmented sets of `augmented_dir`, or the
+    split's originals when it is None."""
+    if augmented_dir is not None:
+        paths = [augmented_file(augmented_dir, season) for season in seasons]
+    else:
+        paths = [split_images_file(split_dir, season, "train") for season in seasons]
+    return np.concatenate([load_array(path) for path in paths])
+
+
+def training_places(split_dir: Path, seasons: Sequence[str], copies: int) -> np.ndarray:
+    """The place id of every image that training_images returns, with `copies` augmented copies per
+    original (0 for the originals only)."""
+    places = np.asarray(read_split(split_dir)["train"])
+    if not seasons:
+        return places[:0]
+    return np.concatenate([augmented_places(places, copies) for _ in seasons])
+
+
+def write_augmented_sets(split_dir: Path, out_dir: Path, seasons: Sequence[str], config: AugmentConfig) -> dict[str, dict]:
+    """Augment every season's training images into out_dir/<season>.npy; season -> its image counts
+    (the rows of the study's Table 3)."""
+    split = read_split(split_dir)
+    per_season = {}
+    for index, season in enumerate(seasons):
+        train = load_array(split_images_file(split_dir, season, "train"))
+        # a distinct, reproducible stream per season
+        augmented = augment_training_set(train, int(config.copies), int(config.seed) + index,
+                                         bool(config.horizontal_flip), float(config.width_shift),
+                                         float(config.height_shift))
+        save_array(augmented_file(out_dir, season), augmented)
+        per_season[season] = {
+            "frames": split["n_places"],
+            "train": len(split["train"]),
+            "train_augmented": len(augmented),
+            "test": len(split["test"]),
+        }
+    return per_season
+
+
+def dataset_record(split: Mapping[str, Any], per_season: Mapping[str, dict], frames: Mapping[str, Any],
+                   detection: Mapping[str, Any]) -> dict[str, Any]:
+    """The dataset table (study Table 3): image counts per season and in all, what the split left
+    out, what a place is (frames.json of the frames step) and the detection scores when there are
+    any. The key order is the JSON file's."""
+    n_seasons = len(per_season)
+    return {
+        "seasons": dict(per_season),
+        "total_images": split["n_places"] * n_seasons,
+        "total_train": len(split["train"]) * n_seasons,
+        "total_test": len(split["test"]) * n_seasons,
+        "dropped_tunnel": len(split["dropped_tunnel"]),
+        "dropped_stop": len(split["dropped_stop"]),
+        "gap": len(split["gap"]),
+        # what a place (and so a tolerance of one place) is
+        "place": frames["place"],
+        "frame_step": frames["frame_step"],
+        "pairing": frames["pairing"],
+        # the measured offset of each season against the first (seasonloop.alignment)
+        "alignment": frames["alignment"],
+        "offsets": frames["offsets"],
+        **({"detection": detection} if detection else {}),
+    }

@@ -1,0 +1,165 @@
+"""The study's figures that need fitted models, and the auto-encoder records drawn beside them.
+
+Figure 2 (PCA projection), 12 and 13 (patch-ICA filters, visual words), 19 (auto-encoder
+descriptors: code vs output vs patch-normalised output), 19b (reconstructions), 19c (loss per
+epoch). Each is drawn only when its learner is in the run; the callers pass the models folder
+(<models>/<learner>), the test images and the folder to draw into.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from seasonloop.config import pair_name
+from seasonloop.evaluation import match_pair
+from seasonloop.models.registry import load_learner
+from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
+from seasonloop.settings import EvaluateConfig, SequenceConfig
+
+AE_DESCRIPTORS = ("code", "output", "output_patchnorm")
+AUTOENCODERS = ("fae", "cae")
+N_WORDS_SHOWN, N_EXAMPLES_SHOWN = 12, 10
+FILTERS_PER_ROW = 16
+N_RECONSTRUCTIONS = 2  # test places shown per season
+# what the auto-encoder training record keeps of each auto-encoder's fit info
+TRAINING_RECORD = ("stop_reason", "converged", "epochs_run", "best_epoch", "best_validation_loss", "final_train_loss",
+                   "n_train_images", "n_validation_images", "images_seen", "training_seconds", "precision",
+                   "torch_threads")
+
+
+@dataclass(frozen=True)
+class FigureRecords:
+    """What the figures leave besides PNGs: fraction correct per auto-encoder, descriptor and pair;
+    how each auto-encoder's training ended; one line per figure left out."""
+
+    autoencoder_descriptors: dict[str, dict[str, dict[str, float]]] = field(default_factory=dict)
+    autoencoder_training: dict[str, dict[str, Any]] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+
+
+def autoencoder_descriptors(learner, test: Mapping[str, np.ndarray], batch_size: int) -> dict[str, dict[str, np.ndarray]]:
+    """described[descriptor][season] for the three auto-encoder descriptors.
+
+    One forward pass gives the code and the output, and the patch-normalised output is derived
+    from the output: the CAE costs ~9 GMAC per image.
+    """
+    described: dict[str, dict[str, np.ndarray]] = {descriptor: {} for descriptor in AE_DESCRIPTORS}
+    for season, images in test.items():
+        code, output = learner.describe_code_and_output(images, batch_size, progress=True)
+        described["code"][season] = code
+        described["output"][season] = output
+        described["output_patchnorm"][season] = learner.patchnorm_output(output, images.shape[1:])
+    return described
+
+
+def pca_projection_figure(pca, test: Mapping[str, np.ndarray], places: np.ndarray, seasons: Sequence[str], path: Path) -> None:
+    """Figure 2: the middle test place in two seasons and its projection on the first,
+    condition-dependent principal components vs the kept ones."""
+    # the study contrasts summer and winter; fall back to the first and last season present
+    shown = ["summer" if "summer" in seasons else seasons[0], "winter" if "winter" in seasons else seasons[-1]]
+    middle = len(places) // 2
+    first, kept = int(pca.params["n_discard"]), int(pca.params["n_keep"])
+    images = np.stack([test[season][middle] for season in shown])
+    rows = [[image, low, high] for image, low, high in zip(
+        images, pca.reconstruct(images, 0, first), pca.reconstruct(images, first, first + kept))]
+    plot_image_grid(rows, path, row_labels=[f"{s}, place {places[middle]}" for s in shown],
+                    col_labels=["image", f"PCs 1-{first}", f"PCs {first + 1}-{first + kept}"],
+                    title="Projection on the first vs the kept principal components (study Fig. 2)")
+
+
+def ica_figures(bovw, images: np.ndarray, season: str, out: Path) -> None:
+    """Figures 12 (the patch-ICA filters) and 13 (patches of the most frequent visual words in `images`)."""
+    filters = bovw.filters()
+    plot_image_grid([list(filters[i:i + FILTERS_PER_ROW]) for i in range(0, len(filters), FILTERS_PER_ROW)],
+                    out / "fig12_patch_ica_filters.png", title="ICA filters learned on image patches (study Fig. 12)")
+    examples = bovw.word_examples(images, N_WORDS_SHOWN, N_EXAMPLES_SHOWN)
+    plot_image_grid([[patch for patch in word if not np.isnan(patch).all()] for word in examples],
+                    out / "fig13_visual_words.png", row_labels=[f"word {i + 1}" for i in range(len(examples))],
+                    title=f"Patches of the {N_WORDS_SHOWN} most frequent visual words, {season} (study Fig. 13)")
+
+
+def autoencoder_figures(
+    models_dir: Path,
+    methods: Sequence[str],
+    test: Mapping[str, np.ndarray],
+    places: np.ndarray,
+    pairs: Sequence[tuple[str, str]],
+    batch_size: int,
+    evaluate: EvaluateConfig,
+    sequence: SequenceConfig,
+    out: Path,
+) -> tuple[dict[str, dict[str, dict[str, float]]], dict[str, dict[str, Any]]]:
+    """Figures 19, 19b and 19c of the fitted auto-encoders models_dir/<method> of `methods` (at least
+    one); (fraction correct[method][descriptor][pair], training record[method])."""
+    seasons = list(test)
+    fraction_correct: dict[str, dict[str, dict[str, float]]] = {}
+    training: dict[str, dict[str, Any]] = {}
+    losses: dict[str, dict[str, list[float]]] = {}
+    shown_places = np.linspace(0, len(places) - 1, N_RECONSTRUCTIONS + 2).astype(int)[1:-1]
+    reconstructions = {season: [list(test[season][shown_places])] for season in seasons}
+    for method in methods:
+        # loaded one at a time: loading sets the learner's torch threads for its describe
+        learner = load_learner(models_dir / method)
+        training[method] = {key: learner.fit_info[key] for key in TRAINING_RECORD}
+        losses[method] = {"train": learner.fit_info["loss_per_epoch"],
+                          "validation": learner.fit_info["validation_loss_per_epoch"]}
+        described = autoencoder_descriptors(learner, test, int(batch_size))
+        for season in seasons:
+            reconstructions[season].append(list(
+                described["output"][season][shown_places].reshape(-1, *test[season].shape[1:])))
+        # evaluation.py reads its sections as mappings
+        fraction_correct[method] = {descriptor: {
+            pair_name(a, b): match_pair(described[descriptor][a], described[descriptor][b], places, places, "single",
+                                        asdict(evaluate), asdict(sequence))[0]["fraction_correct"]
+            for a, b in pairs} for descriptor in AE_DESCRIPTORS}
+    plot_series({f"{method} {pair_name(a, b)}": (list(AE_DESCRIPTORS),
+                                                 [100 * fraction_correct[method][d][pair_name(a, b)] for d in AE_DESCRIPTORS])
+                 for method in methods for a, b in pairs},
+                out / "fig19_autoencoder_descriptors.png", title="Auto-encoder descriptors (study Fig. 19)",
+                xlabel="descriptor", ylabel="fraction correct (%)")
+    # rows: a season's input images, then each auto-encoder's reconstructions of them
+    plot_image_grid([images for season in seasons for images in zip(*reconstructions[season])],
+                    out / "fig19b_autoencoder_reconstructions.png",
+                    row_labels=[f"{season}, place {places[index]}" for season in seasons for index in shown_places],
+                    col_labels=["input", *(f"{method} output" for method in methods)],
+                    title="Test images and the auto-encoders' reconstructions")
+    plot_loss_curves(losses, out / "fig19c_autoencoder_loss.png",
+                     title="Auto-encoder training: loss per epoch (validation on held-out training places)")
+    return fraction_correct, training
+
+
+def draw_figures(
+    models_dir: Path,
+    out: Path,
+    learners: Sequence[str],
+    test: Mapping[str, np.ndarray],
+    places: np.ndarray,
+    pairs: Sequence[tuple[str, str]],
+    batch_size: int,
+    evaluate: EvaluateConfig,
+    sequence: SequenceConfig,
+) -> FigureRecords:
+    """Every figure into `out` whose learner is in `learners`, from the models of models_dir/<learner>;
+    test[season] are the test images of every season, in the run's season order."""
+    seasons = list(test)
+    notes = []
+    if "pca" in learners:
+        pca_projection_figure(load_learner(models_dir / "pca"), test, places, seasons, out / "fig02_pca_projection.png")
+    else:
+        notes.append("pca is not in learners: no Figure 2")
+    if "ica_bovw" in learners:
+        ica_figures(load_learner(models_dir / "ica_bovw"), test[seasons[0]], seasons[0], out)
+    else:
+        notes.append("ica_bovw is not in learners: no Figures 12 and 13")
+    autoencoders = [method for method in AUTOENCODERS if method in learners]
+    if not autoencoders:
+        notes.append("neither fae nor cae is in learners: no Figures 19, 19b, 19c")
+        return FigureRecords(notes=notes)
+    fraction_correct, training = autoencoder_figures(models_dir, autoencoders, test, places, pairs, batch_size,
+                                                     evaluate, sequence, out)
+    return FigureRecords(fraction_correct, training, notes)

@@ -1,0 +1,111 @@
+"""Example matches and failures for the report: the most confident correct and wrong best
+matches of one pair, drawn as image grids (query, best match, true match).
+"""
+
+from __future__ import annotations
+
+import tempfile
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from seasonloop.io import load_array
+from seasonloop.matching import best_matches, distance_matrix
+from seasonloop.metrics import correct_matches
+from seasonloop.plots import plot_image_grid
+from seasonloop.report_html import Image, Png, Section, Text
+from seasonloop.settings import EvaluateConfig
+
+@dataclass(frozen=True)
+class Example:
+    """One query's best match: indices into the query and database sets."""
+
+    query: int
+    match: int
+    truth: int
+    correct: bool
+    confidence: float
+
+
+def select_examples(
+    distances: np.ndarray,
+    database_places: np.ndarray,
+    query_places: np.ndarray,
+    confidence: str,
+    tolerance: int,
+    n: int,
+    ratio_exclusion: int = 0,
+) -> list[Example]:
+    """The n most confident correct matches, then the n most confident failures (fewer if there are not n).
+
+    distances is (queries, database); the true match is the database image nearest the query's place.
+    Ties in confidence keep query order, so the choice is deterministic.
+    """
+    database_places, query_places = np.asarray(database_places), np.asarray(query_places)
+    if np.shape(distances) != (len(query_places), len(database_places)):
+        raise ValueError(f"distances shape {np.shape(distances)} does not match "
+                         f"(queries, database) = ({len(query_places)}, {len(database_places)})")
+    if n < 1:
+        raise ValueError(f"n must be >= 1, got {n}")
+    matches, scores = best_matches(distances, confidence, database_places, ratio_exclusion)
+    correct = correct_matches(database_places[matches], query_places, tolerance)
+    order = np.argsort(-scores, kind="stable")
+    chosen = [*order[correct[order]][:n], *order[~correct[order]][:n]]
+    return [Example(query=int(q), match=int(matches[q]), truth=int(np.abs(database_places - query_places[q]).argmin()),
+                    correct=bool(correct[q]), confidence=float(scores[q])) for q in chosen]
+
+
+def example_grid_png(
+    database_images: np.ndarray,
+    query_images: np.ndarray,
+    examples: Sequence[Example],
+    database_places: np.ndarray,
+    query_places: np.ndarray,
+    title: str,
+) -> bytes:
+    """PNG bytes of a grid, one row per example: query image, best match, true match."""
+    if not examples:
+        raise ValueError("examples is empty: nothing to plot")
+    rows = [[query_images[e.query], database_images[e.match], database_images[e.truth]] for e in examples]
+    # short lines: the labels are drawn vertically beside images only a few lines tall
+    labels = [f"correct\nplace {query_places[e.query]}" if e.correct
+              else f"wrong\nplace {query_places[e.query]}\nmatched {database_places[e.match]}" for e in examples]
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "examples.png"
+        plot_image_grid(rows, path, row_labels=labels, col_labels=["query", "best match", "true match"], title=title)
+        return path.read_bytes()
+
+
+def example_grids(
+    features_dir: Path,
+    methods: Sequence[str],
+    database: str,
+    query: str,
+    images: Mapping[str, np.ndarray],
+    places: np.ndarray,
+    evaluate: EvaluateConfig,
+    n: int,
+) -> dict[str, bytes]:
+    """method -> PNG bytes of its example grid on the pair (database, query): single-image best
+    matches of the descriptors features_dir/<method>/<season>.npy under evaluate.metric, the n
+    most confident correct ones and n most confident failures. Both seasons share `places`."""
+    grids = {}
+    for method in methods:
+        features = features_dir / method
+        distances = distance_matrix(load_array(features / f"{database}.npy"), load_array(features / f"{query}.npy"),
+                                    metric=evaluate.metric)
+        examples = select_examples(distances, places, places, evaluate.confidence,
+                                   int(evaluate.tolerance_frames), n, int(evaluate.ratio_exclusion))
+        grids[method] = example_grid_png(images[database], images[query], examples, places, places,
+                                         title=f"{method}: {query} queries vs {database} database")
+    return grids
+
+
+def examples_section(pair: str, grids: Mapping[str, Png]) -> Section:
+    """The example grids of one pair, learner -> PNG."""
+    return Section(f"Example matches and failures, {pair}", [
+        Text("Single-image matching. Per learner: the most confident correct matches, then the most "
+             "confident wrong ones (query, its best database match, the true database image)."),
+        *(Image(f"{method}, {pair}", png) for method, png in grids.items())])

@@ -1,0 +1,94 @@
+"""The summary's files: the study's tables as markdown and CSV, its comparison figures, and the
+long tables `dvc plots show` reads, all from one run's EvaluationResults (seasonloop.results).
+
+Which folder they go to is the caller's; the file names inside it are fixed here (the report and
+dvc.yaml's plots name them).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from seasonloop.dvcplots import pr_long
+from seasonloop.plots import plot_fraction_correct, plot_pr_curves
+from seasonloop.results import EvaluationResults
+from seasonloop.summary import (
+    fraction_correct_table,
+    markdown_table,
+    pr_landmarks,
+    pr_landmarks_table,
+    side_by_side_markdown,
+    study_table,
+)
+
+
+def summary_record(results: EvaluationResults) -> dict[str, Any]:
+    """Fraction correct per label and pair, its mean per label, and the study's PR landmarks beside ours."""
+    labels, pairs, metrics = results.labels, results.pairs, results.metrics
+    return {
+        "fraction_correct": {label: {pair: metrics[label][pair]["fraction_correct"] for pair in pairs} for label in labels},
+        "mean_fraction_correct": {label: float(np.mean([metrics[label][pair]["fraction_correct"] for pair in pairs]))
+                                  for label in labels},
+        "pr_landmarks": pr_landmarks(metrics),
+    }
+
+
+def write_tables(out: Path, results: EvaluationResults, runtime: Mapping[str, Mapping[str, Any]]) -> None:
+    """fraction_correct.md (ours beside the study's numbers) and .csv, pr_landmarks.md, runtime.md."""
+    ours = fraction_correct_table(results.metrics, results.pairs)
+    study = study_table(results.labels, results.pairs)
+    (out / "fraction_correct.md").write_text(
+        "Fraction of correct matches (%), ours (the study's in brackets where it gives one)\n\n"
+        + side_by_side_markdown(ours, study))
+    long = ours.reset_index(names="method").melt(id_vars="method", var_name="pair", value_name="fraction_correct")
+    long["label"] = long["pair"] + " " + long["method"]
+    long.to_csv(out / "fraction_correct.csv", index=False, float_format="%.3f")
+    landmarks = pr_landmarks(results.metrics)
+    landmark_cells = pr_landmarks_table(landmarks).map(lambda value: "n/a" if np.isnan(value) else f"{value:.1f}")
+    (out / "pr_landmarks.md").write_text(
+        "The study's precision-recall landmarks beside ours (%), single-image matching\n\n"
+        + markdown_table(landmark_cells.set_index(landmark_cells.index.map(" ".join)), "pair method landmark"))
+    runtime_cells = pd.DataFrame(runtime).T.map(lambda value: f"{value:.4g}" if isinstance(value, float) else str(value))
+    (out / "runtime.md").write_text("Fit time (study Table 6) and feature time per test image (Table 7)\n\n"
+                                    + markdown_table(runtime_cells, "method"))
+
+
+def write_figures(out: Path, results: EvaluationResults) -> None:
+    """fraction_correct.png for the main metric, fraction_correct@<metric>.png for each extra one
+    (study Figures 10, 11, 16, 17), and pr_<pair>.png: the main metric's PR curves overlaid."""
+    ours = fraction_correct_table(results.metrics, results.pairs)
+    study = study_table(results.labels, results.pairs)
+    for metric in dict.fromkeys(results.metric_of.values()):
+        rows = [label for label in results.labels if results.metric_of[label] == metric]
+        suffix = "" if metric == results.main_metric else f"@{metric}"
+        plot_fraction_correct(ours.loc[rows] / 100, out / f"fraction_correct{suffix}.png",
+                              title=f"Fraction of correct matches per pair, {metric} distance",
+                              reference=study.loc[rows] / 100)
+    for pair in results.pairs:
+        plot_pr_curves(results.curves[pair], f"Precision-recall, {pair} (database-queries)", out / f"pr_{pair}.png")
+
+
+def write_dvc_plots(out: Path, results: EvaluationResults, training_curves: pd.DataFrame) -> None:
+    """pr/<pair>.csv (every learner's curve, a `learner` column) and training_loss.csv (the loss
+    curves only of seasonloop.dvcplots.training_curves: the learning rate is on another scale).
+
+    One file per pair with every learner, so dvc.yaml names no file that a subset of learners or
+    seasons lacks."""
+    (out / "pr").mkdir()
+    for pair in results.pairs:
+        pr_long(results.curves[pair]).to_csv(out / "pr" / f"{pair}.csv", index=False, float_format="%.6g")
+    losses = training_curves[training_curves["metric"].str.startswith("loss/")]
+    losses.to_csv(out / "training_loss.csv", index=False, float_format="%.6g")
+
+
+def write_summary_files(out: Path, results: EvaluationResults, runtime: Mapping[str, Mapping[str, Any]],
+                        training_curves: pd.DataFrame) -> None:
+    """Every file of the summary folder `out` (the tables, the figures, the dvc plots tables)."""
+    write_tables(out, results, runtime)
+    write_figures(out, results)
+    write_dvc_plots(out, results, training_curves)

@@ -1,0 +1,66 @@
+"""Tests for seasonloop.figures (the figures stage's logic) and the learners' patch-normalised output."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from seasonloop.figures import AE_DESCRIPTORS, autoencoder_descriptors, draw_figures
+from seasonloop.models.registry import get_learner
+from seasonloop.patchnorm import patch_normalise
+from seasonloop.settings import EvaluateConfig, SequenceConfig
+
+EVALUATE = EvaluateConfig(pairs=("summer-fall",), metric="cosine", extra_metrics=(), confidence="ratio",
+                          ratio_exclusion=0, tolerance_frames=1, matchers=("single",))
+SEQUENCE = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
+
+
+class FakeAutoEncoder:
+    """Code: the row means; output: the images themselves, flattened."""
+
+    params = {"patch_size": 4}
+
+    def __init__(self):
+        self.batch_sizes = []
+
+    def describe_code_and_output(self, images, batch_size, progress=False):
+        self.batch_sizes.append(batch_size)
+        return images.mean(axis=2), images.reshape(len(images), -1).astype(np.float32)
+
+    def patchnorm_output(self, outputs, image_shape):
+        return patch_normalise(outputs.reshape(len(outputs), *image_shape), 4).reshape(len(outputs), -1)
+
+
+def test_autoencoder_descriptors_one_pass_per_season():
+    rng = np.random.default_rng(0)
+    test = {"summer": rng.random((3, 8, 8)), "fall": rng.random((3, 8, 8))}
+    learner = FakeAutoEncoder()
+    described = autoencoder_descriptors(learner, test, batch_size=7)
+    assert list(described) == list(AE_DESCRIPTORS) and learner.batch_sizes == [7, 7]
+    for season, images in test.items():
+        assert list(described["code"]) == ["summer", "fall"]
+        np.testing.assert_array_equal(described["output"][season], images.reshape(3, -1).astype(np.float32))
+        np.testing.assert_array_equal(described["output_patchnorm"][season],
+                                      patch_normalise(described["output"][season].reshape(3, 8, 8), 4).reshape(3, -1))
+
+
+def test_draw_figures_without_their_learners_draws_nothing(tmp_path):
+    test = {"summer": np.zeros((4, 8, 8)), "fall": np.zeros((4, 8, 8))}
+    records = draw_figures(tmp_path / "models", tmp_path, ["raw_patchnorm"], test, np.arange(4),
+                           [("summer", "fall")], 8, EVALUATE, SEQUENCE)
+    assert records.notes == ["pca is not in learners: no Figure 2", "ica_bovw is not in learners: no Figures 12 and 13",
+                             "neither fae nor cae is in learners: no Figures 19, 19b, 19c"]
+    assert records.autoencoder_descriptors == {} and records.autoencoder_training == {}
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_patchnorm_output_is_the_learners_output_patchnorm_descriptor():
+    rng = np.random.default_rng(1)
+    images = (rng.random((40, 16, 32)) * 255).astype(np.uint8)
+    learner = get_learner("fae")({"hidden": 8, "max_epochs": 1, "batch_size": 16})
+    learner.fit(images, progress=False)
+    _, output = learner.describe_code_and_output(images[:6], batch_size=4)
+    normalised = learner.patchnorm_output(output, images.shape[1:])
+    np.testing.assert_array_equal(normalised, learner.describe_as(images[:6], "output_patchnorm", batch_size=4))
+    # what the figures stage computed itself before the learner had this method
+    np.testing.assert_array_equal(
+        normalised, patch_normalise(output.reshape(6, 16, 32), learner.params["patch_size"]).reshape(6, -1))

@@ -1,0 +1,83 @@
+"""Tests for seasonloop.report.study_report: the whole report assembled from result files in tmp_path."""
+
+from __future__ import annotations
+
+import shutil
+
+import numpy as np
+import pytest
+
+from seasonloop.io import save_array, write_json
+from seasonloop.plots import plot_image_grid
+from seasonloop.report import ReportFiles, study_report
+from seasonloop.results import load_evaluations
+from seasonloop.settings import EvaluateConfig
+
+# the fake metrics/eval folder of test_results
+from test_results import METHODS, PAIRS, VARIANTS, write_evaluations
+
+# the main metric, both matchers: the first two of VARIANTS
+EVALUATE = EvaluateConfig(pairs=tuple(PAIRS), metric="cosine", extra_metrics=(), confidence="ratio",
+                          ratio_exclusion=0, tolerance_frames=0, matchers=("single", "sequence"))
+SEASONS = ["summer", "winter", "fall"]
+
+
+def report_files(root) -> ReportFiles:
+    """Every input of the report under root, the smallest that builds."""
+    png = root / "one.png"
+    plot_image_grid([[np.random.default_rng(0).random((4, 8))]], png)
+    files = ReportFiles(params=root / "params.yaml", dataset=root / "dataset.json", runtime=root / "runtime.json",
+                        training_seasons=root / "training.json", autoencoder_descriptors=root / "ae.json",
+                        autoencoder_training=root / "ae_training.json", features=root / "features",
+                        season_preview=png, summary=root / "summary", similarity=root / "similarity",
+                        training_seasons_figure=png, figures=root / "figures")
+    files.params.write_text("seed: 0\n")
+    write_json(files.dataset, {"seasons": {season: {"frames": 10, "train": 6, "test": 3, "train_augmented": 12}
+                                           for season in reversed(SEASONS)},
+                               "dropped_tunnel": 1, "dropped_stop": 0, "gap": 2})
+    write_json(files.runtime, {method: {"fit_seconds": 1.0, "n_train_images": 6, "feature_ms_per_image": 0.5,
+                                        "descriptor_dimension": 4} for method in METHODS})
+    write_json(files.training_seasons, {"skipped": "skipped: a test"})
+    write_json(files.autoencoder_descriptors, {})
+    write_json(files.autoencoder_training, {})
+    rng = np.random.default_rng(1)
+    for method in METHODS:
+        for season in SEASONS:
+            save_array(files.features / method / f"{season}.npy", rng.random((5, 4)))
+        (files.similarity / method).mkdir(parents=True)
+        for pair in PAIRS:
+            shutil.copy(png, files.similarity / method / f"{pair}.png")
+    files.summary.mkdir()
+    for name in ["fraction_correct", *(f"pr_{pair}" for pair in PAIRS)]:
+        shutil.copy(png, files.summary / f"{name}.png")
+    files.figures.mkdir()
+    shutil.copy(png, files.figures / "fig02_pca_projection.png")
+    return files
+
+
+def test_study_report_from_files(tmp_path):
+    write_evaluations(tmp_path / "eval", tmp_path / "pr")
+    results = load_evaluations(tmp_path / "eval", METHODS, PAIRS, VARIANTS[:2], "cosine")
+    files = report_files(tmp_path)
+    images = {season: np.random.default_rng(2).random((5, 4, 8)) for season in SEASONS}
+    page = study_report(files, results, METHODS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, np.arange(5))
+    assert page.startswith("<!DOCTYPE html>") and "seasonloop: loop-closure detection across seasons" in page
+    titles = ["Dataset", "Fraction correct", "Precision-recall curves", "Similarity matrices",
+              "Example matches and failures, summer-fall", "Runtimes", "Training-season effect",
+              "Auto-encoder training", "The study&#x27;s other figures", "Parameters"]
+    for number, title in enumerate(titles, 1):
+        assert f"<h2>{number}. {title}</h2>" in page, title
+    # the seasons in the run's order, not the JSON's sorted one
+    assert page.index("<th>summer</th>") < page.index("<th>winter</th>") < page.index("<th>fall</th>")
+    assert "The training-season ablation was skipped: a test." in page and "fig02 pca projection" in page
+    assert "seed: 0" in page and str(tmp_path) not in page
+
+
+def test_study_report_needs_the_figures_folder(tmp_path):
+    write_evaluations(tmp_path / "eval", tmp_path / "pr")
+    results = load_evaluations(tmp_path / "eval", METHODS, PAIRS, VARIANTS[:2], "cosine")
+    files = report_files(tmp_path)
+    shutil.rmtree(files.figures)
+    images = {season: np.zeros((5, 4, 8)) for season in SEASONS}
+    with pytest.raises(FileNotFoundError, match="run the figures stage first"):
+        study_report(files, results, METHODS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, np.arange(5))

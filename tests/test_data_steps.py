@@ -21,7 +21,7 @@ from seasonloop.data.sources import (
     real_sources,
     sample_video,
 )
-from seasonloop.preprocess import enhance_contrast, frame_statistics, to_gray
+from seasonloop.preprocess import enhance_image_contrast, frame_statistics, to_gray
 from seasonloop.split import detect_stops, detect_tunnels, make_split, section_blocks
 
 
@@ -134,11 +134,11 @@ def test_preprocess_shapes_and_contrast():
     gray = to_gray(frames, 32, 64)
     assert gray.shape == (3, 32, 64) and gray.dtype == np.uint8
     for method in ("clahe", "equalize"):
-        enhanced = enhance_contrast(gray, method)
+        enhanced = enhance_image_contrast(gray, method)
         # a low-contrast image gets its contrast stretched
         assert enhanced.std() > 2 * gray.std()
     with pytest.raises(ValueError, match="preprocess.contrast"):
-        enhance_contrast(gray, "sharpen")
+        enhance_image_contrast(gray, "sharpen")
     brightness, change = frame_statistics(np.stack([gray[0], gray[0], gray[1]]))
     assert change[0] == np.inf and change[1] == 0 and change[2] > 0
     np.testing.assert_allclose(brightness[0], gray[0].mean())

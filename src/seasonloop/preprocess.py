@@ -19,7 +19,7 @@ def to_gray(frames: np.ndarray, height: int, width: int) -> np.ndarray:
     return out
 
 
-def enhance_contrast(images: np.ndarray, method: str, clahe_clip: float = 2.0, clahe_grid: int = 4) -> np.ndarray:
+def enhance_image_contrast(images: np.ndarray, method: str, clahe_clip: float = 2.0, clahe_grid: int = 4) -> np.ndarray:
     """Contrast-enhance each (H, W) uint8 image independently."""
     if method == "none":
         return images.copy()

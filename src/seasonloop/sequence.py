@@ -1,14 +1,15 @@
 """SeqSLAM sequence matching (Milford & Wyeth 2012) on a query x database distance matrix.
 
-Local contrast enhancement, then for every (query, database) cell the mean enhanced difference
-along straight trailing trajectories of several velocities; the best velocity gives the score.
+Local contrast enhancement of the distance matrix (enhance_distance_contrast), then for every
+(query, database) cell the mean enhanced difference along straight trailing trajectories of several
+velocities; the best velocity gives the score.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-# Rows processed at once by enhance_contrast: bounds its float64 temporaries (~6 x rows x M x 8 B).
+# Rows processed at once by enhance_distance_contrast: bounds its float64 temporaries (~6 x rows x M x 8 B).
 _ENHANCE_ROWS_PER_BLOCK = 256
 
 
@@ -21,7 +22,7 @@ def _as_distance_matrix(distances: np.ndarray) -> np.ndarray:
     return distances
 
 
-def enhance_contrast(distances: np.ndarray, window: int = 10) -> np.ndarray:
+def enhance_distance_contrast(distances: np.ndarray, window: int = 10) -> np.ndarray:
     """SeqSLAM local contrast enhancement of an (N queries, M database) distance matrix.
 
     Each entry (i, j) becomes (d[i, j] - mean) / std, with mean and (population) std of row i over
@@ -117,7 +118,7 @@ def sequence_distances(
     if not (np.isfinite(v_min) and np.isfinite(v_max)) or v_min > v_max:
         raise ValueError(f"need finite v_min <= v_max, got v_min={v_min!r}, v_max={v_max!r}")
 
-    enhanced = enhance_contrast(distances, window)
+    enhanced = enhance_distance_contrast(distances, window)
     n_queries, n_database = enhanced.shape
     query_since_start, _ = segment_offsets(query_places, n_queries, "query_places")
     database_since_start, database_to_end = segment_offsets(database_places, n_database, "database_places")

@@ -21,7 +21,7 @@ from seasonloop.data.sources import (
     real_sources,
     sample_video,
 )
-from seasonloop.preprocess import enhance_image_contrast, frame_statistics, to_gray
+from seasonloop.preprocess import CONTRASTS, enhance_image_contrast, frame_statistics, to_gray
 from seasonloop.split import detect_stops, detect_tunnels, make_split, section_blocks
 
 
@@ -142,6 +142,22 @@ def test_preprocess_shapes_and_contrast():
     brightness, change = frame_statistics(np.stack([gray[0], gray[0], gray[1]]))
     assert change[0] == np.inf and change[1] == 0 and change[2] > 0
     np.testing.assert_allclose(brightness[0], gray[0].mean())
+
+
+@pytest.mark.parametrize("method", list(CONTRASTS))
+def test_every_contrast_method_keeps_shape_and_dtype(method):
+    gray = np.random.default_rng(1).integers(90, 110, (2, 16, 24), dtype=np.uint8)
+    enhanced = enhance_image_contrast(gray, method)
+    assert enhanced.shape == gray.shape and enhanced.dtype == np.uint8 and enhanced is not gray
+    assert enhance_image_contrast(gray[:0], method).shape == (0, 16, 24)
+
+
+def test_an_unknown_contrast_method_is_one_line_naming_the_key_and_the_methods():
+    with pytest.raises(ValueError) as error:
+        enhance_image_contrast(np.zeros((1, 4, 4), np.uint8), "sharpen")
+    message = str(error.value)
+    assert "\n" not in message and message.startswith("preprocess.contrast: unknown method 'sharpen'")
+    assert message.endswith(f"(known: {', '.join(CONTRASTS)})")
 
 
 def test_split_never_puts_a_test_place_or_its_neighbours_in_training():

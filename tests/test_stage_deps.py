@@ -5,8 +5,8 @@ of params.yaml), the stage script's source is read (never run) to find:
 - the library modules it imports, transitively: seasonloop.* and stages/_common.py. A stage that
   imports seasonloop.models.registry can build any learner, so it depends on all of
   src/seasonloop/models (and what those modules import);
-- the params it reads: literal keys of param(params, "a.b"), load_params("a", ...) and
-  params["a"], in the script and in the stages/_common.py helpers it calls; each must also be
+- the params it reads: literal keys of param(params, "a.b"), load_params("a", ...),
+  params["a"] and the section of a typed config built by XConfig.from_params(params), in the script and in the stages/_common.py helpers it calls; each must also be
   among the keys its load_params call checks before work starts.
 Each must be covered by a declared dep (a file, or a folder above it) or a declared param (the
 key or a parent of it; `params.yaml:` alone covers every key).
@@ -24,6 +24,8 @@ from typing import Any
 import pytest
 import yaml
 
+from seasonloop.settings import SECTIONS
+
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src"
 COMMON = ROOT / "stages" / "_common.py"
@@ -33,6 +35,8 @@ MODELS = SRC / "seasonloop" / "models"
 # _common functions whose string arguments are param keys -> index of the first such argument:
 # param(params, "a.b") reads a key; load_params("a", "b.c") checks (and so reads) them
 PARAM_READERS = {"param": 1, "load_params": 0}
+# XConfig.from_params(params) reads (all of) section X: class name -> section name
+CONFIG_SECTIONS = {section.__name__: section.NAME for section in SECTIONS}
 
 # Param reads whose key is computed at run time: what each can read, from the stage's command-line
 # arguments and params.yaml. A dynamic read not listed here fails the test, so none goes unchecked.
@@ -135,6 +139,9 @@ def _reads_in(tree: ast.AST, file: str) -> tuple[set[str], set[str], set[str]]:
                         keys.add(arg.value)
                     elif isinstance(arg, ast.Starred) or not isinstance(arg, ast.Constant):
                         dynamic.add(ast.unparse(node))
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "from_params" \
+                and isinstance(node.func.value, ast.Name) and node.func.value.id in CONFIG_SECTIONS:
+            keys.add(CONFIG_SECTIONS[node.func.value.id])
         elif isinstance(node, ast.Subscript) and isinstance(node.value, ast.Name) and node.value.id == "params":
             if isinstance(node.slice, ast.Constant) and isinstance(node.slice.value, str):
                 keys.add(node.slice.value)
@@ -266,6 +273,9 @@ def test_the_checks_see_what_they_should() -> None:
             "src/seasonloop/models/registry.py", "src/seasonloop/io.py"} <= fit
     keys, _ = script_reads(ROOT / "stages/fit.py")
     assert {"seed", "train.seasons", "data.seasons", "train.augmented"} <= keys
+    # a typed config built from params reads its whole section
+    keys, _ = script_reads(ROOT / "stages/preprocess.py")
+    assert "preprocess" in keys
     assert uncovered_modules(["src/seasonloop/models/pca.py"], ["src/seasonloop/models"]) == []
     assert uncovered_modules(["src/seasonloop/models_x.py"], ["src/seasonloop/models"]) == ["src/seasonloop/models_x.py"]
     assert uncovered_params(["evaluate.metric"], ["evaluate"]) == []

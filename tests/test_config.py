@@ -106,7 +106,7 @@ def test_only_the_keys_asked_for_are_checked(params):
 def test_choices_match_the_library():
     # the schema repeats the library's choices so that config.py imports no heavy module
     assert config.DISTANCE_METRICS == matching.METRICS
-    assert config.CONFIDENCES == matching.CONFIDENCES
+    assert config.CONFIDENCES == tuple(matching.CONFIDENCES)
     assert config.CONTRAST_METHODS == preprocess.CONTRAST_METHODS
     assert config.MATCHER_NAMES == tuple(MATCHERS)
     assert set(config.LEARNER_SECTIONS) == set(LEARNERS)

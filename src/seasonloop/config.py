@@ -250,9 +250,15 @@ def _check_sequence(section: Mapping[str, Any]) -> None:
         raise ValueError(f"sequence.v_max: {section['v_max']} is below sequence.v_min {section['v_min']}")
 
 
+def _check_evaluate(section: Mapping[str, Any]) -> None:
+    if section["metric"] in section["extra_metrics"]:
+        raise ValueError(f"evaluate.extra_metrics: {section['metric']!r} is already evaluate.metric")
+
+
 # Checks across the keys of one section, run when the whole section is checked.
 SECTION_CHECKS: dict[str, Callable[[Mapping[str, Any]], None]] = {
     "split": _check_split,
+    "evaluate": _check_evaluate,
     "sequence": _check_sequence,
 }
 

@@ -143,7 +143,9 @@ def season_map(item: Check) -> Check:
     return check
 
 
-# What the library accepts; tests/test_config.py keeps these in step with the modules that use them.
+# The names of the library's registries (matching.DISTANCES and CONFIDENCES, evaluation.MATCHER_REGISTRY,
+# preprocess.CONTRASTS, data.sources.SOURCES, models.registry.LEARNERS), repeated so that this
+# module imports no heavy library; tests/test_config.py keeps each equal to its registry.
 DISTANCE_METRICS = ("cosine", "euclidean", "cityblock")
 CONFIDENCES = ("distance", "ratio")
 MATCHER_NAMES = ("single", "sequence")

@@ -143,9 +143,8 @@ def season_map(item: Check) -> Check:
     return check
 
 
-# The names of the library's registries (matching.DISTANCES and CONFIDENCES, evaluation.MATCHER_REGISTRY,
-# preprocess.CONTRASTS, data.sources.SOURCES, models.registry.LEARNERS), repeated so that this
-# module imports no heavy library; tests/test_config.py keeps each equal to its registry.
+# The names in the library's registries (README: where they are), repeated so that this module
+# imports no heavy library; tests/test_config.py keeps each equal to its registry, in order.
 DISTANCE_METRICS = ("cosine", "euclidean", "cityblock")
 CONFIDENCES = ("distance", "ratio")
 MATCHER_NAMES = ("single", "sequence")

@@ -20,7 +20,7 @@ from seasonloop.augment import augment_training_set
 from seasonloop.data.synthetic import SyntheticRoute
 from seasonloop.io import read_json, write_json
 from seasonloop.models.base import to_json_value
-from seasonloop.preprocess import enhance_contrast, to_gray
+from seasonloop.preprocess import enhance_image_contrast, to_gray
 from seasonloop.seasons import SEASONS
 
 SPLIT_DIR = Path("data/split")
@@ -41,7 +41,7 @@ def _render(seasons: tuple[str, ...], places: range, seed: int) -> dict[str, np.
     images = {}
     for season in seasons:
         frames = np.stack([route.frame(season, float(t), FRAME_WIDTH, FRAME_HEIGHT) for t in places])
-        images[season] = enhance_contrast(to_gray(frames, HEIGHT, WIDTH), "clahe", 2.0, 4)
+        images[season] = enhance_image_contrast(to_gray(frames, HEIGHT, WIDTH), "clahe", 2.0, 4)
     return images
 
 

@@ -10,10 +10,10 @@ from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main
 
-from seasonloop.data.sources import real_sources
+from seasonloop.data.sources import SOURCES, real_sources
 from seasonloop.data.synthetic import RouteDifficulty, render_route
 from seasonloop.io import staged_dir, write_json
-from seasonloop.settings import SyntheticConfig
+from seasonloop.settings import DataConfig, SyntheticConfig
 
 OUT = Path("data/acquired")
 
@@ -32,9 +32,8 @@ def main() -> None:
             # paths relative to the repository root: the staged folder is renamed to OUT
             sources = {season: {"kind": "video", "path": str(OUT / f"{season}.mp4")} for season in seasons}
         else:
-            kind = {"videos": "video", "frames": "frames"}.get(source)
-            paths = real_sources(source, seasons, param(params, "data"))
-            sources = {season: {"kind": kind, "path": str(path)} for season, path in paths.items()}
+            paths = real_sources(source, seasons, DataConfig.from_params(params))
+            sources = {season: {"kind": SOURCES[source].kind, "path": str(path)} for season, path in paths.items()}
         write_json(out / "sources.json", {"source": source, "seasons": sources})
 
 

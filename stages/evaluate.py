@@ -14,14 +14,14 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-
-from _common import data_seasons, load_params, param, stage_main, test_places
+from _common import data_seasons, load_params, stage_main, test_places
 
 from seasonloop.config import available_pairs, pair_name
 from seasonloop.evaluation import evaluations, match_distances
 from seasonloop.io import load_array, staged_dir, write_json
 from seasonloop.matching import distance_matrix
 from seasonloop.plots import plot_distance_matrix
+from seasonloop.settings import EvaluateConfig, SequenceConfig
 
 
 @stage_main
@@ -30,9 +30,9 @@ def main() -> None:
     parser.add_argument("method")
     method = parser.parse_args().method
     params = load_params("data.seasons", "evaluate", "sequence")
-    evaluate = param(params, "evaluate")
+    evaluate, sequence = EvaluateConfig.from_params(params), SequenceConfig.from_params(params)
     variants = evaluations(evaluate)
-    pairs = available_pairs(data_seasons(params), evaluate["pairs"])
+    pairs = available_pairs(data_seasons(params), evaluate.pairs)
     if not pairs:
         raise ValueError("evaluate.pairs: no pair has both of its seasons in data.seasons")
     places = test_places()
@@ -47,8 +47,7 @@ def main() -> None:
                          for metric in dict.fromkeys(metric for metric, _, _ in variants)}
             for metric, matcher, suffix in variants:
                 name = pair_name(database, query) + suffix
-                metrics, pr, matched = match_distances(distances[metric], places, places, matcher, evaluate,
-                                                       param(params, "sequence"))
+                metrics, pr, matched = match_distances(distances[metric], places, places, matcher, evaluate, sequence)
                 write_json(metrics_dir / f"{name}.json", metrics)
                 pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
                 plot_distance_matrix(matched, f"{method}{suffix}: {database} (database) vs {query} (queries)",

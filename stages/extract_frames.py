@@ -16,10 +16,11 @@ import numpy as np
 
 from _common import data_seasons, load_params, param, stage_main
 
-from seasonloop.data.sources import align_frame_files, check_aligned, list_frame_files, place_description, read_season
+from seasonloop.data.sources import check_aligned, pair_season_files, place_description, read_season
 from seasonloop.alignment import apply_offsets, check_alignment
 from seasonloop.io import load_array, read_json, save_array, staged_dir, write_json
 from seasonloop.plots import plot_image_grid
+from seasonloop.settings import ExtractConfig
 
 SOURCES = Path("data/acquired/sources.json")
 OUT = Path("data/frames")
@@ -35,12 +36,11 @@ def main() -> None:
     missing = [season for season in seasons if season not in sources]
     if missing:
         raise ValueError(f"data.seasons: {', '.join(missing)} not in {SOURCES}; rerun the acquire stage")
-    fps, height, width = float(param(params, "extract.fps")), int(param(params, "extract.height")), int(param(params, "extract.width"))
+    extract = ExtractConfig.from_params(params)
+    fps, height, width = float(extract.fps), int(extract.height), int(extract.width)
     frame_step = int(param(params, "data.frame_step"))
     kinds = {sources[season]["kind"] for season in seasons}
-    files, pairing = None, "video samples paired by time"
-    if kinds == {"frames"}:
-        files, pairing = align_frame_files({season: list_frame_files(Path(sources[season]["path"])) for season in seasons})
+    files, pairing = pair_season_files({season: (sources[season]["kind"], Path(sources[season]["path"])) for season in seasons})
     print(f"extract_frames: {pairing}")
     with staged_dir(OUT) as out:
         counts = {}
@@ -51,7 +51,7 @@ def main() -> None:
             counts[season] = len(frames)
             save_array(out / f"{season}.npy", frames)
             del frames
-        n_places = check_aligned(counts, bool(param(params, "extract.trim_to_shortest")),
+        n_places = check_aligned(counts, bool(extract.trim_to_shortest),
                                  {season: sources[season]["path"] for season in seasons})
         # known offsets drop a season's first places; every season is then cut to one length
         kept = apply_offsets({season: n_places for season in seasons}, dict(param(params, "data.offsets")))
@@ -60,11 +60,11 @@ def main() -> None:
                 save_array(out / f"{season}.npy", np.ascontiguousarray(load_array(out / f"{season}.npy", mmap=True)[kept[season]]))
         n_places = kept[seasons[0]].stop - kept[seasons[0]].start
         alignment = check_alignment({season: load_array(out / f"{season}.npy", mmap=True) for season in seasons},
-                                    int(param(params, "extract.max_offset")))
+                                    int(extract.max_offset))
         write_json(out / "frames.json", {"n_places": n_places, "seasons": seasons, "frames_per_season": counts,
                                          "frame_step": frame_step, "pairing": pairing, "alignment": alignment,
                                          "offsets": dict(param(params, "data.offsets")),
-                                         "place": place_description(kinds.pop() if len(kinds) == 1 else "video", fps, frame_step)})
+                                         "place": place_description(kinds, fps, frame_step)})
         places = np.linspace(0, n_places - 1, PREVIEW_PLACES + 2).round().astype(int)[1:-1]
         stored = {season: load_array(out / f"{season}.npy", mmap=True) for season in seasons}
         grid = [[stored[season][place][..., ::-1] for season in seasons] for place in places]

@@ -10,10 +10,11 @@ import argparse
 import time
 from pathlib import Path
 
-from _common import data_seasons, load_params, param, stage_main, test_images
+from _common import data_seasons, load_params, stage_main, test_images
 
 from seasonloop.io import save_array, write_json
 from seasonloop.models.registry import load_learner
+from seasonloop.settings import FeaturesConfig
 
 
 @stage_main
@@ -23,12 +24,13 @@ def main() -> None:
     parser.add_argument("season")
     args = parser.parse_args()
     params = load_params("data.seasons", "features")
+    settings = FeaturesConfig.from_params(params)
     if args.season not in data_seasons(params):
         raise ValueError(f"season '{args.season}' is not in data.seasons")
     learner = load_learner(Path("models") / args.method)
     images = test_images([args.season])[args.season]
     start = time.perf_counter()
-    features = learner.describe(images, batch_size=int(param(params, "features.batch_size")), progress=True)
+    features = learner.describe(images, batch_size=int(settings.batch_size), progress=True)
     seconds = time.perf_counter() - start
     save_array(Path("data/features") / args.method / f"{args.season}.npy", features)
     write_json(Path("metrics/features") / args.method / f"{args.season}.json", {

@@ -11,10 +11,11 @@ from pathlib import Path
 
 import numpy as np
 
-from _common import data_seasons, load_params, param, stage_main
+from _common import data_seasons, load_params, stage_main
 
 from seasonloop.io import load_array, save_array, staged_dir
-from seasonloop.preprocess import enhance_contrast, frame_statistics, to_gray
+from seasonloop.preprocess import enhance_image_contrast, frame_statistics, to_gray
+from seasonloop.settings import PreprocessConfig
 
 FRAMES = Path("data/frames")
 OUT = Path("data/preprocessed")
@@ -23,13 +24,13 @@ OUT = Path("data/preprocessed")
 @stage_main
 def main() -> None:
     params = load_params("data.seasons", "preprocess")
-    pre = param(params, "preprocess")
+    pre = PreprocessConfig.from_params(params)
     stats = {}
     with staged_dir(OUT) as out:
         for season in data_seasons(params):
-            gray = to_gray(load_array(FRAMES / f"{season}.npy", mmap=True), int(pre["height"]), int(pre["width"]))
+            gray = to_gray(load_array(FRAMES / f"{season}.npy", mmap=True), pre.height, pre.width)
             stats[f"{season}_brightness"], stats[f"{season}_change"] = frame_statistics(gray)
-            save_array(out / f"{season}.npy", enhance_contrast(gray, pre["contrast"], pre["clahe_clip"], pre["clahe_grid"]))
+            save_array(out / f"{season}.npy", enhance_image_contrast(gray, pre.contrast, pre.clahe_clip, pre.clahe_grid))
         np.savez(out / "stats.npz", **stats)
 
 

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import copy
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -10,7 +12,8 @@ import yaml
 
 from seasonloop import config, matching, preprocess
 from seasonloop.config import SCHEMA, TOP_LEVEL, check_params
-from seasonloop.evaluation import MATCHERS
+from seasonloop.data import sources
+from seasonloop.evaluation import MATCHER_REGISTRY, MATCHERS
 from seasonloop.models.registry import LEARNERS
 
 REPO = Path(__file__).resolve().parents[1]
@@ -90,6 +93,10 @@ def test_checks_across_a_section(params):
     bad["sequence"].update(v_min=1.2, v_max=0.8)
     with pytest.raises(ValueError, match=r"sequence\.v_max"):
         check_params(bad, ["sequence"])
+    bad = copy.deepcopy(params)
+    bad["evaluate"].update(metric="cosine", extra_metrics=["cityblock", "cosine"])
+    with pytest.raises(ValueError, match=r"^evaluate\.extra_metrics: 'cosine' is already evaluate\.metric$"):
+        check_params(bad, ["evaluate"])
 
 
 def test_missing_and_unknown_top_level_keys(params):
@@ -114,9 +121,18 @@ def test_only_the_keys_asked_for_are_checked(params):
 
 
 def test_choices_match_the_library():
-    # the schema repeats the library's choices so that config.py imports no heavy module
-    assert config.DISTANCE_METRICS == matching.METRICS
-    assert config.CONFIDENCES == matching.CONFIDENCES
-    assert config.CONTRAST_METHODS == preprocess.CONTRAST_METHODS
-    assert config.MATCHER_NAMES == tuple(MATCHERS)
+    # the schema repeats the registries' names so that config.py imports no heavy module (torch,
+    # cv2): this test is what keeps the two one list, in the same order (the order of "known: ...")
+    assert config.DISTANCE_METRICS == tuple(matching.DISTANCES) == matching.METRICS
+    assert config.CONFIDENCES == tuple(matching.CONFIDENCES)
+    assert config.CONTRAST_METHODS == tuple(preprocess.CONTRASTS) == preprocess.CONTRAST_METHODS
+    assert config.MATCHER_NAMES == tuple(MATCHER_REGISTRY) == tuple(MATCHERS)
+    assert config.SOURCES == tuple(sources.SOURCES)
     assert set(config.LEARNER_SECTIONS) == set(LEARNERS)
+
+
+def test_config_imports_no_heavy_module():
+    # every stage imports config.py: it must stay cheap (the registries live beside their code)
+    code = "import sys, seasonloop.config, seasonloop.settings; print(sorted({'torch', 'cv2', 'sklearn'} & set(sys.modules)))"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == "[]"

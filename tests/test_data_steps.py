@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import cv2
@@ -11,18 +12,26 @@ import pytest
 from seasonloop.augment import augment_images, augment_training_set
 from seasonloop.config import available_pairs, check_seasons
 from seasonloop.data.sources import (
+    FRAME_KINDS,
+    SOURCES,
     _check_outside_copy,
     align_frame_files,
     check_aligned,
     list_frame_files,
     natural_key,
+    pair_season_files,
+    place_description,
     read_frame_folder,
     read_season,
     real_sources,
     sample_video,
 )
-from seasonloop.preprocess import enhance_contrast, frame_statistics, to_gray
+from seasonloop.preprocess import CONTRASTS, enhance_image_contrast, frame_statistics, to_gray
+from seasonloop.settings import DataConfig
 from seasonloop.split import detect_stops, detect_tunnels, make_split, section_blocks
+
+DATA = DataConfig(source="frames", seasons=("summer",), videos_dir="videos", video_files={}, frames_dir="frames",
+                  frame_step=1, offsets={})
 
 
 def write_video(path, n_frames, fps=4, size=(48, 32)):
@@ -63,9 +72,38 @@ def test_frame_folder_reads_sorted_and_rejects_bad(tmp_path):
     with pytest.raises(ValueError, match="00003.png"):
         read_frame_folder(folder, 10, 15, progress=False)
     with pytest.raises(FileNotFoundError, match="winter"):
-        real_sources("frames", ["winter"], {"frames_dir": str(tmp_path)})
+        real_sources("frames", ["winter"], replace(DATA, frames_dir=str(tmp_path)))
     with pytest.raises(ValueError, match="data.source"):
-        real_sources("dropbox", ["summer"], {})
+        real_sources("dropbox", ["summer"], DATA)
+
+
+def test_source_registry_names_and_errors(tmp_path):
+    assert list(SOURCES) == ["synthetic", "videos", "frames"]
+    assert all(source.kind in FRAME_KINDS for source in SOURCES.values())
+    with pytest.raises(ValueError) as error:
+        real_sources("dropbox", ["summer"], DATA)
+    assert str(error.value) == "data.source: unknown source 'dropbox' (known: synthetic, videos, frames)"
+    with pytest.raises(ValueError, match=r"data\.source: 'synthetic' is rendered.*videos, frames\)$"):
+        real_sources("synthetic", ["summer"], DATA)
+    with pytest.raises(ValueError, match=r"unknown frame source kind 'tape' \(known: video, frames\)"):
+        read_season("tape", tmp_path, 1.0, 4, 6)
+
+
+def test_every_real_source_locates_its_files_and_they_read(tmp_path):
+    write_frames(tmp_path / "frames" / "summer", ["1.png", "2.png", "3.png"])
+    write_video(tmp_path / "s.mp4", 8, fps=4)
+    data = replace(DATA, frames_dir=str(tmp_path / "frames"), videos_dir=str(tmp_path), video_files={"summer": "s.mp4"})
+    for name, source in SOURCES.items():
+        if source.locate is None:
+            continue  # rendered by the acquire stage
+        path = real_sources(name, ["summer"], data)["summer"]
+        frames = read_season(source.kind, path, 2.0, 4, 6, progress=False)
+        assert frames.shape[1:] == (4, 6, 3) and len(frames) >= 3
+        files, line = pair_season_files({"summer": (source.kind, path)})
+        assert (files is None) == (FRAME_KINDS[source.kind].list_files is None) and line
+        assert place_description({source.kind}, 2.0, 1)
+    with pytest.raises(ValueError, match=r"data\.video_files: no file given for season 'winter'"):
+        real_sources("videos", ["winter"], data)
 
 
 def write_frames(folder, names, level=lambda i: 20 * i % 250):
@@ -134,14 +172,30 @@ def test_preprocess_shapes_and_contrast():
     gray = to_gray(frames, 32, 64)
     assert gray.shape == (3, 32, 64) and gray.dtype == np.uint8
     for method in ("clahe", "equalize"):
-        enhanced = enhance_contrast(gray, method)
+        enhanced = enhance_image_contrast(gray, method)
         # a low-contrast image gets its contrast stretched
         assert enhanced.std() > 2 * gray.std()
     with pytest.raises(ValueError, match="preprocess.contrast"):
-        enhance_contrast(gray, "sharpen")
+        enhance_image_contrast(gray, "sharpen")
     brightness, change = frame_statistics(np.stack([gray[0], gray[0], gray[1]]))
     assert change[0] == np.inf and change[1] == 0 and change[2] > 0
     np.testing.assert_allclose(brightness[0], gray[0].mean())
+
+
+@pytest.mark.parametrize("method", list(CONTRASTS))
+def test_every_contrast_method_keeps_shape_and_dtype(method):
+    gray = np.random.default_rng(1).integers(90, 110, (2, 16, 24), dtype=np.uint8)
+    enhanced = enhance_image_contrast(gray, method)
+    assert enhanced.shape == gray.shape and enhanced.dtype == np.uint8 and enhanced is not gray
+    assert enhance_image_contrast(gray[:0], method).shape == (0, 16, 24)
+
+
+def test_an_unknown_contrast_method_is_one_line_naming_the_key_and_the_methods():
+    with pytest.raises(ValueError) as error:
+        enhance_image_contrast(np.zeros((1, 4, 4), np.uint8), "sharpen")
+    message = str(error.value)
+    assert "\n" not in message and message.startswith("preprocess.contrast: unknown method 'sharpen'")
+    assert message.endswith(f"(known: {', '.join(CONTRASTS)})")
 
 
 def test_split_never_puts_a_test_place_or_its_neighbours_in_training():

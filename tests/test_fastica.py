@@ -3,8 +3,9 @@ import pytest
 import torch
 from sklearn.decomposition import FastICA
 
-from seasonloop.fastica import TorchFastICA, amari_distance
+from seasonloop.fastica import WHITEN_SOLVERS, TorchFastICA, amari_distance
 from seasonloop.models.base import to_float
+from seasonloop.models.ica import ICA_SOLVERS
 from seasonloop.models.registry import get_learner, load_learner
 
 N_SOURCES, N_FEATURES, N_SAMPLES = 6, 16, 4000
@@ -168,3 +169,29 @@ def test_whitening_is_white_for_ill_conditioned_data():
     whitened = ica._project(data, mean, ica._whitening(data, mean)).double()
     covariance = whitened @ whitened.T / whitened.shape[1]
     assert float((covariance - torch.eye(192, dtype=torch.float64)).abs().max()) < 2e-5
+
+
+@pytest.mark.parametrize("solver", list(ICA_SOLVERS))
+@pytest.mark.parametrize("whiten_solver", list(WHITEN_SOLVERS))
+def test_every_registered_ica_solver_and_whitening_fits_saves_and_loads(tmp_path, solver, whiten_solver):
+    train, test = images(300, 0), images(20, 1)
+    learner = get_learner("ica")({"n_components": 6, "solver": solver, "whiten_solver": whiten_solver,
+                                  "device": "cpu"}, seed=1)
+    info = learner.fit(train, progress=False)
+    assert info["solver"] == solver and info["n_components"] == 6
+    learner.save(tmp_path)
+    np.testing.assert_array_equal(load_learner(tmp_path).describe(test), learner.describe(test))
+
+
+def test_unknown_solvers_are_one_line_errors_naming_the_key_and_the_choices():
+    for params, message in (({"solver": "jax"}, "ica.solver must be one of sklearn, torch, got 'jax'"),
+                            ({"whiten_solver": "qr"}, "ica.whiten_solver must be one of eigh, svd, got 'qr'"),
+                            ({"solver": "torch", "algorithm": "deflation"},
+                             "ica.algorithm = 'deflation' needs ica.solver = 'sklearn' "
+                             "(the torch solver implements the parallel algorithm)"),
+                            ({"solver": "sklearn", "device": "cuda"}, "ica.device = 'cuda' needs ica.solver = 'torch'")):
+        with pytest.raises(ValueError) as error:
+            get_learner("ica")(params)
+        assert str(error.value) == message
+    with pytest.raises(ValueError, match="whiten_solver must be one of eigh, svd, got 'qr'"):
+        TorchFastICA(3, whiten_solver="qr")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.spatial.distance import cdist
 
-from seasonloop.matching import best_matches, distance_matrix
+from seasonloop.matching import CONFIDENCES, DISTANCES, best_matches, distance_matrix
 
 
 @pytest.fixture
@@ -118,3 +118,28 @@ def test_best_matches_bad_inputs_raise():
         best_matches(np.ones((3, 1)), confidence="ratio")
     with pytest.raises(ValueError, match="NaN"):
         best_matches(np.array([[np.nan, 1.0]]))
+
+
+@pytest.mark.parametrize("metric", list(DISTANCES))
+def test_every_registered_metric_gives_non_negative_float32_distances(metric):
+    rng = np.random.default_rng(4)
+    database, queries = rng.normal(size=(7, 5)), rng.normal(size=(6, 5))
+    distances = distance_matrix(database, queries, metric=metric, batch_size=4)
+    assert distances.shape == (6, 7) and distances.dtype == np.float32 and (distances >= 0).all()
+    # a query identical to a database row is nearest to it
+    assert distance_matrix(database, database[[2]], metric=metric).argmin() == 2
+
+
+@pytest.mark.parametrize("confidence", list(CONFIDENCES))
+def test_every_registered_confidence_ranks_a_distinct_match_higher(confidence):
+    distances = np.array([[0.1, 0.9, 0.95], [0.5, 0.55, 0.6]])
+    columns, scores = best_matches(distances, confidence=confidence)
+    assert list(columns) == [0, 0] and scores[0] > scores[1]
+
+
+def test_unknown_metric_and_confidence_are_one_line_listing_the_known_names():
+    for call, names in ((lambda: distance_matrix(np.ones((2, 2)), np.ones((2, 2)), metric="manhattan"), DISTANCES),
+                        (lambda: best_matches(np.ones((2, 2)), confidence="sharpness"), CONFIDENCES)):
+        with pytest.raises(ValueError) as error:
+            call()
+        assert "\n" not in str(error.value) and all(name in str(error.value) for name in names)

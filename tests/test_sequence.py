@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from seasonloop.sequence import enhance_contrast, sequence_distances
+from seasonloop.sequence import enhance_distance_contrast, sequence_distances
 
 
 def reference_enhance(distances: np.ndarray, window: int) -> np.ndarray:
@@ -50,15 +50,15 @@ def noisy_diagonal(size: int, depth: float, seed: int) -> np.ndarray:
     return distances - distances.min()
 
 
-def test_enhance_contrast_matches_loop_reference():
+def test_enhance_distance_contrast_matches_loop_reference():
     rng = np.random.default_rng(0)
     distances = rng.random((6, 17)) * 3.0 + 100.0  # offset: checks the cumulative sums stay precise
-    np.testing.assert_allclose(enhance_contrast(distances, window=6), reference_enhance(distances, 6), atol=1e-5)
+    np.testing.assert_allclose(enhance_distance_contrast(distances, window=6), reference_enhance(distances, 6), atol=1e-5)
 
 
-def test_enhance_contrast_constant_rows_are_finite():
+def test_enhance_distance_contrast_constant_rows_are_finite():
     distances = np.vstack([np.full(10, 0.5), np.arange(10.0)])
-    enhanced = enhance_contrast(distances, window=4)
+    enhanced = enhance_distance_contrast(distances, window=4)
     assert np.isfinite(enhanced).all()
     assert enhanced.min() == 0.0
     assert np.ptp(enhanced[0]) == 0.0
@@ -99,7 +99,7 @@ def test_sequence_never_crosses_a_break_in_place_ids(v_min, v_max):
 def test_sequence_restarts_at_a_break():
     rng = np.random.default_rng(6)
     distances = rng.random((12, 15))
-    enhanced = enhance_contrast(distances, window=4)
+    enhanced = enhance_distance_contrast(distances, window=4)
     result = sequence_distances(distances, length=4, v_min=1.0, v_max=1.0, v_steps=1, window=4,
                                 query_places=QUERY_PLACES, database_places=DATABASE_PLACES)
     # Query row 4 (place 10) starts a segment: its sequence is that one point, so at database
@@ -138,7 +138,7 @@ def test_sequence_recovers_weak_diagonal_single_velocity():
 def test_sequence_length_one_is_enhanced_matrix():
     rng = np.random.default_rng(3)
     distances = rng.random((5, 8))
-    np.testing.assert_allclose(sequence_distances(distances, length=1), enhance_contrast(distances), atol=1e-6)
+    np.testing.assert_allclose(sequence_distances(distances, length=1), enhance_distance_contrast(distances), atol=1e-6)
 
 
 def test_sequence_bad_inputs_raise():
@@ -150,6 +150,6 @@ def test_sequence_bad_inputs_raise():
     with pytest.raises(ValueError, match="v_min"):
         sequence_distances(distances, v_min=1.5, v_max=1.0)
     with pytest.raises(ValueError, match="window"):
-        enhance_contrast(distances, window=1)
+        enhance_distance_contrast(distances, window=1)
     with pytest.raises(ValueError, match="NaN"):
-        enhance_contrast(np.full((2, 2), np.nan))
+        enhance_distance_contrast(np.full((2, 2), np.nan))

@@ -309,6 +309,9 @@ def test_the_checks_see_what_they_should() -> None:
     assert {"src/seasonloop/data/synthetic/__init__.py", "src/seasonloop/data/synthetic/video.py"} <= inner
     keys, _ = script_reads(ROOT / "stages/fit.py")
     assert {"seed", "train.seasons", "data.seasons", "train.augmented"} <= keys
+    # a typed config built from params reads its whole section
+    keys, _ = script_reads(ROOT / "stages/preprocess.py")
+    assert "preprocess" in keys
     assert uncovered_modules(["src/seasonloop/models/pca.py"], ["src/seasonloop/models"]) == []
     assert uncovered_modules(["src/seasonloop/models_x.py"], ["src/seasonloop/models"]) == ["src/seasonloop/models_x.py"]
     assert uncovered_params(["evaluate.metric"], ["evaluate"]) == []

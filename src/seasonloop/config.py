@@ -143,7 +143,8 @@ def season_map(item: Check) -> Check:
     return check
 
 
-# What the library accepts; tests/test_config.py keeps these in step with the modules that use them.
+# The names in the library's registries (README: where they are), repeated so that this module
+# imports no heavy library; tests/test_config.py keeps each equal to its registry, in order.
 DISTANCE_METRICS = ("cosine", "euclidean", "cityblock")
 CONFIDENCES = ("distance", "ratio")
 MATCHER_NAMES = ("single", "sequence")
@@ -271,10 +272,16 @@ def _check_sequence(section: Mapping[str, Any]) -> None:
         raise ValueError(f"sequence.v_max: {section['v_max']} is below sequence.v_min {section['v_min']}")
 
 
+def _check_evaluate(section: Mapping[str, Any]) -> None:
+    if section["metric"] in section["extra_metrics"]:
+        raise ValueError(f"evaluate.extra_metrics: {section['metric']!r} is already evaluate.metric")
+
+
 # Checks across the keys of one section, run when the whole section is checked.
 SECTION_CHECKS: dict[str, Callable[[Mapping[str, Any]], None]] = {
     "synthetic": _check_synthetic,
     "split": _check_split,
+    "evaluate": _check_evaluate,
     "sequence": _check_sequence,
 }
 

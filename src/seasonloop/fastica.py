@@ -16,7 +16,6 @@ import numpy as np
 import torch
 from tqdm.auto import tqdm
 
-WHITEN_SOLVERS = ("eigh", "svd")
 NONLINEARITIES = ("logcosh", "exp", "cube")
 # Rows per block when centring and projecting, so no centred copy of the whole data is made.
 BLOCK_ROWS = 8192
@@ -59,6 +58,39 @@ def _fix_signs(basis: torch.Tensor) -> torch.Tensor:
     scikit-learn does, so results do not depend on the LAPACK / cuSOLVER sign choice."""
     signs = torch.sign(basis[0])
     return basis * torch.where(signs == 0, torch.ones_like(signs), signs)
+
+
+# A whitening solver: (estimator, data, mean) -> (the values it computed, descending; the
+# principal axes as columns, in that order; the data's variance along each). A new solver is one
+# function plus one WHITEN_SOLVERS line.
+Whitening = Callable[["TorchFastICA", np.ndarray, torch.Tensor], tuple[torch.Tensor, torch.Tensor, torch.Tensor]]
+
+
+def _eigh_axes(ica: TorchFastICA, data: np.ndarray, mean: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    n_samples, n_features = data.shape
+    # D x D covariance, accumulated block by block: far cheaper than an SVD when n >> D.
+    covariance = torch.zeros((n_features, n_features), dtype=torch.float32, device=ica.device)
+    for block in ica._blocks(data, mean):
+        covariance.addmm_(block.T, block)
+    # The eigen-decomposition in float64: in float32 the whitened data is visibly not white
+    # (max |covariance - I| 1.4e-3 on benchmarks/bench_ica.py's 256 components, 6e-7 in
+    # float64), and FastICA's symmetric decorrelation assumes unit covariance: the iteration
+    # then wanders (change ~0.07 after 400 iterations) where scikit-learn's converges. The
+    # covariance itself can stay float32, and D x D costs far less than the iterations.
+    computed, axes = torch.linalg.eigh((covariance / n_samples).double())
+    computed, axes = computed.flip(0), axes.flip(1)  # descending
+    return computed, axes, computed
+
+
+def _svd_axes(ica: TorchFastICA, data: np.ndarray, mean: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    _, computed, axes_t = torch.linalg.svd(torch.cat(list(ica._blocks(data, mean))), full_matrices=False)
+    return computed, axes_t.T, computed**2 / data.shape[0]
+
+
+WHITEN_SOLVERS: dict[str, Whitening] = {
+    "eigh": _eigh_axes,
+    "svd": _svd_axes,
+}
 
 
 class TorchFastICA:
@@ -137,24 +169,7 @@ class TorchFastICA:
 
     def _whitening(self, data: np.ndarray, mean: torch.Tensor) -> torch.Tensor:
         """(k, D) matrix K with K @ centred.T of unit covariance, from the top-k principal axes."""
-        n_samples, n_features = data.shape
-        if self.whiten_solver == "eigh":
-            # D x D covariance, accumulated block by block: far cheaper than an SVD when n >> D.
-            covariance = torch.zeros((n_features, n_features), dtype=torch.float32, device=self.device)
-            for block in self._blocks(data, mean):
-                covariance.addmm_(block.T, block)
-            # The eigen-decomposition in float64: in float32 the whitened data is visibly not white
-            # (max |covariance - I| 1.4e-3 on benchmarks/bench_ica.py's 256 components, 6e-7 in
-            # float64), and FastICA's symmetric decorrelation assumes unit covariance: the iteration
-            # then wanders (change ~0.07 after 400 iterations) where scikit-learn's converges. The
-            # covariance itself can stay float32, and D x D costs far less than the iterations.
-            computed, axes = torch.linalg.eigh((covariance / n_samples).double())
-            computed, axes = computed.flip(0), axes.flip(1)  # descending
-            variances = computed
-        else:
-            _, computed, axes_t = torch.linalg.svd(torch.cat(list(self._blocks(data, mean))), full_matrices=False)
-            axes = axes_t.T
-            variances = computed**2 / n_samples
+        computed, axes, variances = WHITEN_SOLVERS[self.whiten_solver](self, data, mean)
         # A value the solver computed (eigenvalue or singular value) within 10 float32 roundings of
         # the largest cannot be told from zero (the covariance or data is float32): whitening its
         # direction would blow up rounding noise.

@@ -1,12 +1,18 @@
-"""Descriptor distances between a database (season A) and queries (season B), and best matches."""
+"""Descriptor distances between a database (season A) and queries (season B), and best matches.
+
+DISTANCES is the registry of distance metrics (evaluate.metric, evaluate.extra_metrics) and
+CONFIDENCES that of match confidences (evaluate.confidence); distance_matrix and best_matches
+validate their inputs and dispatch to them. Their names are config.DISTANCE_METRICS and
+config.CONFIDENCES (tests/test_config.py keeps them in step).
+"""
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import numpy as np
 import torch
 
-METRICS = ("cosine", "euclidean", "cityblock")
-CONFIDENCES = ("distance", "ratio")
 # Query rows per block when finding the ratio's runner-up: bounds the (rows, M) temporaries.
 _RATIO_ROWS_PER_BLOCK = 1024
 
@@ -31,6 +37,52 @@ def _unit_rows(vectors: np.ndarray) -> np.ndarray:
     return np.divide(vectors, norms, out=np.zeros_like(vectors), where=norms > 0)
 
 
+# A metric prepares the float64 (M, D) database once and returns the function that gives the
+# (rows, M) distances of a float64 batch of query rows. A new metric is one function + one line.
+BatchDistances = Callable[[np.ndarray], np.ndarray]
+
+
+def _cosine(database: np.ndarray) -> BatchDistances:
+    database = _unit_rows(database)
+
+    def distances(batch: np.ndarray) -> np.ndarray:
+        similarity = _unit_rows(batch) @ database.T
+        # Rounding can push similarity slightly outside [-1, 1].
+        return np.clip(1.0 - similarity, 0.0, 2.0)
+    return distances
+
+
+def _euclidean(database: np.ndarray) -> BatchDistances:
+    database_sq_norms = np.einsum("ij,ij->i", database, database)
+
+    def distances(batch: np.ndarray) -> np.ndarray:
+        squared = (
+            np.einsum("ij,ij->i", batch, batch)[:, None]
+            + database_sq_norms[None, :]
+            - 2.0 * (batch @ database.T)
+        )
+        # Cancellation in the expanded form can give tiny negatives for identical vectors.
+        return np.sqrt(np.maximum(squared, 0.0))
+    return distances
+
+
+def _cityblock(database: np.ndarray) -> BatchDistances:
+    database_tensor = torch.from_numpy(database)
+
+    def distances(batch: np.ndarray) -> np.ndarray:
+        return torch.cdist(torch.from_numpy(batch), database_tensor, p=1.0).numpy()
+    return distances
+
+
+# The order is config.DISTANCE_METRICS'.
+DISTANCES: dict[str, Callable[[np.ndarray], BatchDistances]] = {
+    "cosine": _cosine,
+    "euclidean": _euclidean,
+    "cityblock": _cityblock,
+}
+METRICS = tuple(DISTANCES)
+
+
 def distance_matrix(
     database: np.ndarray, queries: np.ndarray, metric: str = "cosine", batch_size: int = 4096
 ) -> np.ndarray:
@@ -48,7 +100,7 @@ def distance_matrix(
     """
     database = _as_descriptors(database, "database")
     queries = _as_descriptors(queries, "queries")
-    if metric not in METRICS:
+    if metric not in DISTANCES:
         raise ValueError(f"unknown metric {metric!r}; expected one of {METRICS}")
     if database.shape[1] != queries.shape[1]:
         raise ValueError(
@@ -59,32 +111,11 @@ def distance_matrix(
         raise ValueError(f"batch_size must be >= 1, got {batch_size}")
     batch_size = int(batch_size)
 
-    database = database.astype(np.float64)
-    if metric == "cosine":
-        database = _unit_rows(database)
-    elif metric == "cityblock":
-        database_tensor = torch.from_numpy(database)
-    else:
-        database_sq_norms = np.einsum("ij,ij->i", database, database)
-
+    batch_distances = DISTANCES[metric](database.astype(np.float64))
     distances = np.empty((queries.shape[0], database.shape[0]), dtype=np.float32)
     for start in range(0, queries.shape[0], batch_size):
         batch = queries[start : start + batch_size].astype(np.float64)
-        if metric == "cosine":
-            similarity = _unit_rows(batch) @ database.T
-            # Rounding can push similarity slightly outside [-1, 1].
-            distances[start : start + batch.shape[0]] = np.clip(1.0 - similarity, 0.0, 2.0)
-        elif metric == "cityblock":
-            distances[start : start + batch.shape[0]] = torch.cdist(
-                torch.from_numpy(batch), database_tensor, p=1.0).numpy()
-        else:
-            squared = (
-                np.einsum("ij,ij->i", batch, batch)[:, None]
-                + database_sq_norms[None, :]
-                - 2.0 * (batch @ database.T)
-            )
-            # Cancellation in the expanded form can give tiny negatives for identical vectors.
-            distances[start : start + batch.shape[0]] = np.sqrt(np.maximum(squared, 0.0))
+        distances[start : start + batch.shape[0]] = batch_distances(batch)
     return distances
 
 
@@ -114,13 +145,19 @@ def best_matches(
     if np.isnan(distances).any():
         raise ValueError("distances contains NaN values")
     if confidence not in CONFIDENCES:
-        raise ValueError(f"unknown confidence {confidence!r}; expected one of {CONFIDENCES}")
-
+        raise ValueError(f"unknown confidence {confidence!r}; expected one of {tuple(CONFIDENCES)}")
     best_columns = np.argmin(distances, axis=1)
     best_distances = np.take_along_axis(distances, best_columns[:, None], axis=1)[:, 0].astype(np.float64)
-    if confidence == "distance":
-        return best_columns, -best_distances
+    return best_columns, CONFIDENCES[confidence](distances, best_columns, best_distances, database_places, exclusion)
 
+
+def _distance_confidence(distances: np.ndarray, best_columns: np.ndarray, best_distances: np.ndarray,
+                         database_places: np.ndarray | None, exclusion: int) -> np.ndarray:
+    return -best_distances
+
+
+def _ratio_confidence(distances: np.ndarray, best_columns: np.ndarray, best_distances: np.ndarray,
+                      database_places: np.ndarray | None, exclusion: int) -> np.ndarray:
     if isinstance(exclusion, bool) or not isinstance(exclusion, (int, np.integer)) or exclusion < 0:
         raise ValueError(f"exclusion must be a non-negative integer number of places, got {exclusion!r}")
     places = np.arange(distances.shape[1]) if database_places is None else np.asarray(database_places)
@@ -143,4 +180,12 @@ def best_matches(
     ratio = np.zeros(len(distances))
     positive = (runner_up > 0) & np.isfinite(best_distances)
     ratio[positive] = 1.0 - best_distances[positive] / runner_up[positive]
-    return best_columns, ratio
+    return ratio
+
+
+# confidence -> (distances, best columns, best distances, database places, exclusion) -> one
+# confidence per query, higher = more confident (see best_matches). The order is config.CONFIDENCES'.
+CONFIDENCES: dict[str, Callable[..., np.ndarray]] = {
+    "distance": _distance_confidence,
+    "ratio": _ratio_confidence,
+}

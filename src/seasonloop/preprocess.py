@@ -1,11 +1,15 @@
-"""The study's image preprocessing: grayscale, 32x64, contrast enhanced."""
+"""The study's image preprocessing: grayscale, 32x64, contrast enhanced.
+
+to_gray shrinks the colour frames; CONTRASTS (the registry of preprocess.contrast methods) and
+enhance_image_contrast enhance them; frame_statistics measures them for the split.
+"""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import cv2
 import numpy as np
-
-CONTRAST_METHODS = ("clahe", "equalize", "none")
 
 
 def to_gray(frames: np.ndarray, height: int, width: int) -> np.ndarray:
@@ -19,16 +23,38 @@ def to_gray(frames: np.ndarray, height: int, width: int) -> np.ndarray:
     return out
 
 
-def enhance_contrast(images: np.ndarray, method: str, clahe_clip: float = 2.0, clahe_grid: int = 4) -> np.ndarray:
-    """Contrast-enhance each (H, W) uint8 image independently."""
-    if method == "none":
-        return images.copy()
-    if method == "equalize":
-        return np.stack([cv2.equalizeHist(image) for image in images]) if len(images) else images.copy()
-    if method == "clahe":
-        clahe = cv2.createCLAHE(clipLimit=float(clahe_clip), tileGridSize=(int(clahe_grid), int(clahe_grid)))
-        return np.stack([clahe.apply(image) for image in images]) if len(images) else images.copy()
-    raise ValueError(f"preprocess.contrast: unknown method '{method}' (known: {', '.join(CONTRAST_METHODS)})")
+# One function per preprocess.contrast value, (images, clahe_clip, clahe_grid) -> images; each
+# image is enhanced independently. A new method is one function plus one CONTRASTS line.
+ContrastMethod = Callable[[np.ndarray, float, int], np.ndarray]
+
+
+def _no_contrast(images: np.ndarray, clahe_clip: float, clahe_grid: int) -> np.ndarray:
+    return images.copy()
+
+
+def _equalize(images: np.ndarray, clahe_clip: float, clahe_grid: int) -> np.ndarray:
+    return np.stack([cv2.equalizeHist(image) for image in images]) if len(images) else images.copy()
+
+
+def _clahe(images: np.ndarray, clahe_clip: float, clahe_grid: int) -> np.ndarray:
+    clahe = cv2.createCLAHE(clipLimit=float(clahe_clip), tileGridSize=(int(clahe_grid), int(clahe_grid)))
+    return np.stack([clahe.apply(image) for image in images]) if len(images) else images.copy()
+
+
+# The order is config.CONTRAST_METHODS' (tests/test_config.py keeps them in step).
+CONTRASTS: dict[str, ContrastMethod] = {
+    "clahe": _clahe,
+    "equalize": _equalize,
+    "none": _no_contrast,
+}
+CONTRAST_METHODS = tuple(CONTRASTS)
+
+
+def enhance_image_contrast(images: np.ndarray, method: str, clahe_clip: float = 2.0, clahe_grid: int = 4) -> np.ndarray:
+    """Contrast-enhance each (H, W) uint8 image independently with CONTRASTS[method]."""
+    if method not in CONTRASTS:
+        raise ValueError(f"preprocess.contrast: unknown method '{method}' (known: {', '.join(CONTRASTS)})")
+    return CONTRASTS[method](images, clahe_clip, clahe_grid)
 
 
 def frame_statistics(gray: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -1,14 +1,15 @@
 """SeqSLAM sequence matching (Milford & Wyeth 2012) on a query x database distance matrix.
 
-Local contrast enhancement, then for every (query, database) cell the mean enhanced difference
-along straight trailing trajectories of several velocities; the best velocity gives the score.
+Local contrast enhancement of the distance matrix (enhance_distance_contrast), then for every
+(query, database) cell the mean enhanced difference along straight trailing trajectories of several
+velocities; the best velocity gives the score.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-# Rows processed at once by enhance_contrast: bounds its float64 temporaries (~6 x rows x M x 8 B).
+# Rows processed at once by enhance_distance_contrast: bounds its float64 temporaries (~6 x rows x M x 8 B).
 _ENHANCE_ROWS_PER_BLOCK = 256
 
 
@@ -21,7 +22,7 @@ def _as_distance_matrix(distances: np.ndarray) -> np.ndarray:
     return distances
 
 
-def enhance_contrast(distances: np.ndarray, window: int = 10) -> np.ndarray:
+def enhance_distance_contrast(distances: np.ndarray, window: int = 10) -> np.ndarray:
     """SeqSLAM local contrast enhancement of an (N queries, M database) distance matrix.
 
     Each entry (i, j) becomes (d[i, j] - mean) / std, with mean and (population) std of row i over
@@ -83,6 +84,42 @@ def segment_offsets(places: np.ndarray | None, n: int, name: str) -> tuple[np.nd
     return rows - first_row[segment], last_row[segment] - rows
 
 
+def _check_trajectories(length: int, v_min: float, v_max: float, v_steps: int) -> None:
+    if isinstance(length, bool) or not isinstance(length, (int, np.integer)) or length < 1:
+        raise ValueError(f"length must be an integer >= 1, got {length!r}")
+    if isinstance(v_steps, bool) or not isinstance(v_steps, (int, np.integer)) or v_steps < 1:
+        raise ValueError(f"v_steps must be an integer >= 1, got {v_steps!r}")
+    if not (np.isfinite(v_min) and np.isfinite(v_max)) or v_min > v_max:
+        raise ValueError(f"need finite v_min <= v_max, got v_min={v_min!r}, v_max={v_max!r}")
+
+
+def _add_trajectory_step(total: np.ndarray, enhanced: np.ndarray, step: int, shift: int,
+                         query_since_start: np.ndarray, database_since_start: np.ndarray,
+                         database_to_end: np.ndarray) -> None:
+    """Add step `step` (database shift `shift`) of every trajectory to `total`, in place.
+
+    Target (i, j) reads source (i - step, j - shift), for the queries whose segment reaches back
+    `step` rows; targets whose source column lies outside their database segment ran out of data
+    and are disqualified (+inf) for this velocity.
+    """
+    n_database = enhanced.shape[1]
+    rows = np.flatnonzero(query_since_start >= step)
+    if rows.size == 0:
+        return
+    if abs(shift) >= n_database:
+        total[rows] = np.inf
+        return
+    block = total[rows]
+    if shift >= 0:
+        block[:, shift:] += enhanced[rows - step, : n_database - shift]
+        outside = database_since_start < shift
+    else:
+        block[:, : n_database + shift] += enhanced[rows - step, -shift:]
+        outside = database_to_end < -shift
+    block[:, outside] = np.inf
+    total[rows] = block
+
+
 def sequence_distances(
     distances: np.ndarray,
     length: int = 10,
@@ -110,14 +147,8 @@ def sequence_distances(
     of a segment for queries deep into theirs); ValueError when a whole query row has none.
     """
     distances = _as_distance_matrix(distances)
-    if isinstance(length, bool) or not isinstance(length, (int, np.integer)) or length < 1:
-        raise ValueError(f"length must be an integer >= 1, got {length!r}")
-    if isinstance(v_steps, bool) or not isinstance(v_steps, (int, np.integer)) or v_steps < 1:
-        raise ValueError(f"v_steps must be an integer >= 1, got {v_steps!r}")
-    if not (np.isfinite(v_min) and np.isfinite(v_max)) or v_min > v_max:
-        raise ValueError(f"need finite v_min <= v_max, got v_min={v_min!r}, v_max={v_max!r}")
-
-    enhanced = enhance_contrast(distances, window)
+    _check_trajectories(length, v_min, v_max, v_steps)
+    enhanced = enhance_distance_contrast(distances, window)
     n_queries, n_database = enhanced.shape
     query_since_start, _ = segment_offsets(query_places, n_queries, "query_places")
     database_since_start, database_to_end = segment_offsets(database_places, n_database, "database_places")
@@ -130,24 +161,7 @@ def sequence_distances(
         shifts = np.floor(velocity * steps + 0.5).astype(np.int64)
         total.fill(0.0)
         for step, shift in zip(steps, shifts):
-            # Target (i, j) reads source (i - step, j - shift), for the queries whose segment
-            # reaches back `step` rows; targets whose source column lies outside their database
-            # segment ran out of data and are disqualified for this velocity.
-            rows = np.flatnonzero(query_since_start >= step)
-            if rows.size == 0:
-                continue
-            if abs(shift) >= n_database:
-                total[rows] = np.inf
-                continue
-            block = total[rows]
-            if shift >= 0:
-                block[:, shift:] += enhanced[rows - step, : n_database - shift]
-                outside = database_since_start < shift
-            else:
-                block[:, : n_database + shift] += enhanced[rows - step, -shift:]
-                outside = database_to_end < -shift
-            block[:, outside] = np.inf
-            total[rows] = block
+            _add_trajectory_step(total, enhanced, step, shift, query_since_start, database_since_start, database_to_end)
         total /= points
         np.minimum(best, total, out=best)
     if not np.isfinite(best).any(axis=1).all():

@@ -1,14 +1,17 @@
 """Global ICA: FastICA on whole training images; descriptor = projection on the unmixing matrix.
 
-Two solvers of the same algorithm: "torch" (default; seasonloop.fastica.TorchFastICA, float32,
-CUDA when present, parallel algorithm only; benchmarks/bench_ica.py compares them) or "sklearn"
-(scikit-learn's FastICA, which also offers the deflation algorithm).
+ICA_SOLVERS is the registry of ica.solver values, two solvers of the same algorithm: "torch"
+(default; seasonloop.fastica.TorchFastICA, float32, CUDA when present, parallel algorithm only;
+benchmarks/bench_ica.py compares them) or "sklearn" (scikit-learn's FastICA, which also offers the
+deflation algorithm). Each says what it implements, fits, saves and loads; ICALearner only
+dispatches. Both take the whitening solvers of seasonloop.fastica.WHITEN_SOLVERS (eigh, svd).
 """
 
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -18,7 +21,7 @@ import torch
 from sklearn.decomposition import FastICA
 from sklearn.exceptions import ConvergenceWarning
 
-from seasonloop.fastica import TorchFastICA
+from seasonloop.fastica import WHITEN_SOLVERS, TorchFastICA
 from seasonloop.models._torch import DEVICES, resolve_device
 from seasonloop.models.base import (
     EpochCallback,
@@ -30,10 +33,8 @@ from seasonloop.models.base import (
 
 ESTIMATOR_FILE = "fastica.joblib"
 TORCH_STATE_FILE = "fastica.npz"
-ICA_SOLVERS = ("sklearn", "torch")
 ICA_ALGORITHMS = ("parallel", "deflation")
 ICA_FUNCTIONS = ("logcosh", "exp", "cube")
-WHITEN_SOLVERS = ("eigh", "svd")
 
 
 def fit_fastica(
@@ -81,11 +82,89 @@ def fit_fastica(
     return with_contiguous_arrays(estimator), record
 
 
+@dataclass(frozen=True)
+class ICASolver:
+    """One value of ica.solver: the ica.algorithm and ica.device values it takes; fit(learner,
+    flat images, progress) sets learner.estimator and returns its fit record (from "solver" on);
+    save(estimator, directory) and load(learner, directory) -> estimator keep it on disk."""
+
+    algorithms: tuple[str, ...]
+    devices: tuple[str, ...]
+    fit: Callable[[ICALearner, np.ndarray, bool], dict[str, Any]]
+    save: Callable[[Any, Path], None]
+    load: Callable[[ICALearner, Path], Any]
+
+
+def _fit_sklearn(learner: ICALearner, flat: np.ndarray, progress: bool) -> dict[str, Any]:
+    learner.estimator, convergence = fit_fastica(
+        flat,
+        n_components=learner.params["n_components"],
+        max_iter=learner.params["max_iter"],
+        tol=learner.params["tol"],
+        seed=learner.seed,
+        algorithm=learner.params["algorithm"],
+        fun=learner.params["fun"],
+        whiten_solver=learner.params["whiten_solver"],
+    )
+    return {"solver": "sklearn", **convergence}
+
+
+def _save_sklearn(estimator: FastICA, directory: Path) -> None:
+    joblib.dump(estimator, directory / ESTIMATOR_FILE)
+
+
+def _load_sklearn(learner: ICALearner, directory: Path) -> FastICA:
+    return joblib.load(directory / ESTIMATOR_FILE)
+
+
+def _fit_torch(learner: ICALearner, flat: np.ndarray, progress: bool) -> dict[str, Any]:
+    device = resolve_device(learner.params["device"], learner._key("device"))
+    estimator = learner._torch_estimator(device)
+    try:
+        estimator.fit(flat, progress=progress)
+    except ValueError as error:
+        raise ValueError(f"{learner.name}: {error}") from error
+    learner.estimator = estimator
+    messages = [] if estimator.converged_ else [
+        f"FastICA did not converge in {estimator.n_iter_} iterations (last change "
+        f"{estimator.last_change_:.3g} >= tol {estimator.tol}); raise max_iter or tol"
+    ]
+    return {
+        "solver": "torch",
+        "device": str(device),
+        "n_iter": int(estimator.n_iter_),
+        "max_iter": int(estimator.max_iter),
+        "converged": bool(estimator.converged_),
+        "convergence_warnings": messages,
+    }
+
+
+def _save_torch(estimator: TorchFastICA, directory: Path) -> None:
+    np.savez(directory / TORCH_STATE_FILE, **estimator.to_arrays())
+
+
+def _load_torch(learner: ICALearner, directory: Path) -> TorchFastICA:
+    path = directory / TORCH_STATE_FILE
+    if not path.is_file():
+        raise FileNotFoundError(f"no saved torch FastICA state: {path} does not exist")
+    with np.load(path) as arrays:
+        # The arrays alone define the model; describe() runs in numpy on any machine.
+        return learner._torch_estimator("cpu").load_arrays(dict(arrays))
+
+
+# A new solver is one ICASolver line here (and its functions above).
+ICA_SOLVERS: dict[str, ICASolver] = {
+    "sklearn": ICASolver(ICA_ALGORITHMS, ("auto", "cpu"), _fit_sklearn, _save_sklearn, _load_sklearn),
+    "torch": ICASolver(("parallel",), DEVICES, _fit_torch, _save_torch, _load_torch),
+}
+
+
 class ICALearner(FeatureLearner):
     """FastICA on flattened training images; descriptor = its sources (transform).
 
-    solver "sklearn" uses scikit-learn; "torch" uses TorchFastICA on `device` and is saved as plain
-    numpy arrays (mean, whitening, unmixing).
+    The ica.solver entry of ICA_SOLVERS fits, saves and loads the estimator: "sklearn" uses
+    scikit-learn; "torch" uses TorchFastICA on `device` and is saved as plain numpy arrays (mean,
+    whitening, unmixing).
     """
 
     name = "ica"
@@ -105,23 +184,31 @@ class ICALearner(FeatureLearner):
         super().__init__(params, seed)
         self.estimator: FastICA | TorchFastICA | None = None
 
+    @property
+    def solver(self) -> ICASolver:
+        return ICA_SOLVERS[self.params["solver"]]
+
     def _validate_params(self) -> None:
         self._check_int("n_components", 1)
         self._check_choice("algorithm", ICA_ALGORITHMS)
         self._check_choice("fun", ICA_FUNCTIONS)
         self._check_int("max_iter", 1)
         self._check_positive_float("tol")
-        self._check_choice("whiten_solver", WHITEN_SOLVERS)
+        self._check_choice("whiten_solver", tuple(WHITEN_SOLVERS))
         self._check_int("max_train_images", 0)
-        self._check_choice("solver", ICA_SOLVERS)
+        self._check_choice("solver", tuple(ICA_SOLVERS))
         self._check_choice("device", DEVICES)
-        if self.params["solver"] == "torch" and self.params["algorithm"] != "parallel":
-            raise ValueError(
-                f"{self._key('algorithm')} = {self.params['algorithm']!r} needs {self._key('solver')} = 'sklearn' "
-                f"(the torch solver implements the parallel algorithm)"
-            )
-        if self.params["solver"] == "sklearn" and self.params["device"] == "cuda":
-            raise ValueError(f"{self._key('device')} = 'cuda' needs {self._key('solver')} = 'torch'")
+        self._check_solver_takes("algorithm", "algorithms", f" (the {self.params['solver']} solver implements the "
+                                                            f"{' and '.join(self.solver.algorithms)} algorithm)")
+        self._check_solver_takes("device", "devices")
+
+    def _check_solver_takes(self, key: str, field: str, why: str = "") -> None:
+        """A one-line error naming `key` when the chosen solver does not take its value (its ICASolver
+        `field` does not list it), naming the solvers that do."""
+        value = self.params[key]
+        if value not in getattr(self.solver, field):
+            able = " or ".join(repr(name) for name, solver in ICA_SOLVERS.items() if value in getattr(solver, field))
+            raise ValueError(f"{self._key(key)} = {value!r} needs {self._key('solver')} = {able}{why}")
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         subset, subset_info = select_training_subset(images, self.params["max_train_images"], self.seed)
@@ -133,40 +220,7 @@ class ICALearner(FeatureLearner):
                 f"{self._key('n_components')} = {self.params['n_components']} exceeds {limit}, the most "
                 f"{len(flat)} training images of {flat.shape[1]} pixels allow"
             )
-        if self.params["solver"] == "torch":
-            return {**subset_info, "n_components": self.params["n_components"], **self._fit_torch(flat, progress)}
-        self.estimator, convergence = fit_fastica(
-            flat,
-            n_components=self.params["n_components"],
-            max_iter=self.params["max_iter"],
-            tol=self.params["tol"],
-            seed=self.seed,
-            algorithm=self.params["algorithm"],
-            fun=self.params["fun"],
-            whiten_solver=self.params["whiten_solver"],
-        )
-        return {**subset_info, "n_components": self.params["n_components"], "solver": "sklearn", **convergence}
-
-    def _fit_torch(self, flat: np.ndarray, progress: bool) -> dict[str, Any]:
-        device = resolve_device(self.params["device"], self._key("device"))
-        estimator = self._torch_estimator(device)
-        try:
-            estimator.fit(flat, progress=progress)
-        except ValueError as error:
-            raise ValueError(f"{self.name}: {error}") from error
-        self.estimator = estimator
-        messages = [] if estimator.converged_ else [
-            f"FastICA did not converge in {estimator.n_iter_} iterations (last change "
-            f"{estimator.last_change_:.3g} >= tol {estimator.tol}); raise max_iter or tol"
-        ]
-        return {
-            "solver": "torch",
-            "device": str(device),
-            "n_iter": int(estimator.n_iter_),
-            "max_iter": int(estimator.max_iter),
-            "converged": bool(estimator.converged_),
-            "convergence_warnings": messages,
-        }
+        return {**subset_info, "n_components": self.params["n_components"], **self.solver.fit(self, flat, progress)}
 
     def _torch_estimator(self, device: torch.device | str) -> TorchFastICA:
         return TorchFastICA(
@@ -183,18 +237,7 @@ class ICALearner(FeatureLearner):
         return self.estimator.transform(to_float(images).reshape(len(images), -1))
 
     def _save_state(self, directory: Path) -> None:
-        if isinstance(self.estimator, TorchFastICA):
-            np.savez(directory / TORCH_STATE_FILE, **self.estimator.to_arrays())
-        else:
-            joblib.dump(self.estimator, directory / ESTIMATOR_FILE)
+        self.solver.save(self.estimator, directory)
 
     def _load_state(self, directory: Path) -> None:
-        if self.params["solver"] == "torch":
-            path = directory / TORCH_STATE_FILE
-            if not path.is_file():
-                raise FileNotFoundError(f"no saved torch FastICA state: {path} does not exist")
-            with np.load(path) as arrays:
-                # The arrays alone define the model; describe() runs in numpy on any machine.
-                self.estimator = self._torch_estimator("cpu").load_arrays(dict(arrays))
-        else:
-            self.estimator = joblib.load(directory / ESTIMATOR_FILE)
+        self.estimator = self.solver.load(self, directory)

@@ -11,20 +11,16 @@ import pytest
 
 from seasonloop.augment import augment_images, augment_training_set
 from seasonloop.config import available_pairs, check_seasons
+from seasonloop.data.frames import align_frame_files, list_frame_files, natural_key, read_frame_folder, sample_video
 from seasonloop.data.sources import (
     FRAME_KINDS,
     SOURCES,
     _check_outside_copy,
-    align_frame_files,
     check_aligned,
-    list_frame_files,
-    natural_key,
     pair_season_files,
     place_description,
-    read_frame_folder,
     read_season,
     real_sources,
-    sample_video,
 )
 from seasonloop.preprocess import CONTRASTS, enhance_image_contrast, frame_statistics, to_gray
 from seasonloop.settings import DataConfig

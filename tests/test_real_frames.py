@@ -8,7 +8,7 @@ from pathlib import Path
 import cv2
 import pytest
 
-from seasonloop.data.sources import sample_video
+from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import render_route
 
 from test_pipeline import TINY, dvc, make_workspace

@@ -1,147 +1,41 @@
-"""Checks on the study's parameters: seasons, season pairs, and the schema of every section of params.yaml."""
+"""The schema of params.yaml: every key of every section with its check, and check_params, which runs it.
+
+The checks of one value live in seasonloop.param_checks, seasons and pairs in seasonloop.seasons
+(both re-exported here); the typed sections built after the check in seasonloop.settings.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-from seasonloop.seasons import SEASONS  # re-exported: `from seasonloop.config import SEASONS` keeps working
-
-# The study's six test pairs (its Table 4): "A-B" = database from season A, queries from season B.
-STUDY_PAIRS: tuple[tuple[str, str], ...] = (
-    ("summer", "fall"),
-    ("summer", "spring"),
-    ("spring", "fall"),
-    ("winter", "summer"),
-    ("winter", "fall"),
-    ("winter", "spring"),
+# re-exported, so that `from seasonloop.config import SEASONS, parse_pair, ...` keeps working
+from seasonloop.param_checks import (  # noqa: F401
+    Check,
+    boolean,
+    integer,
+    list_of,
+    number,
+    one_of,
+    pair,
+    season_map,
+    seasons,
+    text,
 )
-
-
-def check_seasons(seasons: Sequence[str], key: str, allowed: Sequence[str] = SEASONS) -> list[str]:
-    """Return `seasons` as a list, or raise naming `key` for an unknown, repeated or empty list."""
-    if isinstance(seasons, str) or not isinstance(seasons, Sequence) or len(seasons) == 0:
-        raise ValueError(f"{key}: expected a non-empty list of seasons, got {seasons!r}")
-    for season in seasons:
-        if season not in allowed:
-            raise ValueError(f"{key}: unknown season '{season}' (known: {', '.join(allowed)})")
-    if len(set(seasons)) != len(seasons):
-        raise ValueError(f"{key}: repeated season in {list(seasons)}")
-    return list(seasons)
-
-
-def pair_name(database: str, query: str) -> str:
-    return f"{database}-{query}"
-
-
-def parse_pair(name: str, key: str = "pair") -> tuple[str, str]:
-    parts = name.split("-")
-    if len(parts) != 2:
-        raise ValueError(f"{key}: '{name}' is not of the form <database season>-<query season>")
-    check_seasons(parts, key)
-    return parts[0], parts[1]
-
-
-def available_pairs(seasons: Sequence[str], pairs: Sequence[str]) -> list[tuple[str, str]]:
-    """The pairs (given as 'A-B' names) whose two seasons are both in `seasons`, in order."""
-    chosen = [parse_pair(name, "evaluate.pairs") for name in pairs]
-    return [(a, b) for a, b in chosen if a in seasons and b in seasons]
-
-
-def pair_present(name: str, seasons: Sequence[str], pairs: Sequence[str], key: str) -> tuple[tuple[str, str], str | None]:
-    """The pair `name` (checked, named by `key`) if both its seasons are in `seasons`, else the first
-    of `pairs` that is (else the first two seasons), with a one-line note saying so (None if kept)."""
-    database, query = parse_pair(name, key)
-    if database in seasons and query in seasons:
-        return (database, query), None
-    if len(seasons) < 2:
-        raise ValueError(f"{key}: a pair needs two seasons and data.seasons has only {list(seasons)}")
-    present = available_pairs(seasons, pairs)
-    chosen = present[0] if present else (seasons[0], seasons[1])
-    return chosen, f"{key} {name} needs a season not in data.seasons: using {pair_name(*chosen)}"
-
+from seasonloop.seasons import (  # noqa: F401
+    SEASONS,
+    STUDY_PAIRS,
+    available_pairs,
+    check_seasons,
+    pair_name,
+    pair_present,
+    parse_pair,
+)
 
 # ---- The schema of params.yaml ---------------------------------------------------------------
 # Every key of every section, with its check; adding a param is one line here. The learner
 # sections are checked by the learner classes themselves (unknown keys raise there), so they are
 # only named here. A stage checks the keys it reads before it starts work (stages/_common.py).
-
-Check = Callable[[str, Any], None]   # (dotted key, value) -> None, or a ValueError naming the key
-
-
-def _fail(key: str, expected: str, value: Any) -> None:
-    raise ValueError(f"{key}: expected {expected}, got {value!r}")
-
-
-def integer(minimum: int | None = None, maximum: int | None = None) -> Check:
-    def check(key: str, value: Any) -> None:
-        if isinstance(value, bool) or not isinstance(value, int) \
-                or (minimum is not None and value < minimum) or (maximum is not None and value > maximum):
-            _fail(key, "an integer" + (f" >= {minimum}" if minimum is not None else "")
-                  + (f" <= {maximum}" if maximum is not None else ""), value)
-    return check
-
-
-def number(low: float | None = None, high: float | None = None, low_open: bool = False, high_open: bool = False) -> Check:
-    def check(key: str, value: Any) -> None:
-        ok = not isinstance(value, bool) and isinstance(value, (int, float))
-        ok = ok and (low is None or (value > low if low_open else value >= low))
-        ok = ok and (high is None or (value < high if high_open else value <= high))
-        if not ok:
-            bounds = ("(" if low_open else "[") + f"{low if low is not None else '-inf'}, " \
-                     + f"{high if high is not None else 'inf'}" + (")" if high_open or high is None else "]")
-            _fail(key, f"a number in {bounds}", value)
-    return check
-
-
-def boolean(key: str, value: Any) -> None:
-    if not isinstance(value, bool):
-        _fail(key, "true or false", value)
-
-
-def text(key: str, value: Any) -> None:
-    if not isinstance(value, str) or not value:
-        _fail(key, "a non-empty string", value)
-
-
-def one_of(*choices: str) -> Check:
-    def check(key: str, value: Any) -> None:
-        if value not in choices:
-            raise ValueError(f"{key}: unknown value {value!r} (known: {', '.join(choices)})")
-    return check
-
-
-def list_of(item: Check, non_empty: bool = True, unique: bool = True) -> Check:
-    def check(key: str, value: Any) -> None:
-        if isinstance(value, str) or not isinstance(value, Sequence) or (non_empty and not value):
-            _fail(key, "a non-empty list" if non_empty else "a list", value)
-        for entry in value:
-            item(key, entry)
-        if unique and len({repr(entry) for entry in value}) != len(value):
-            raise ValueError(f"{key}: repeated entry in {list(value)}")
-    return check
-
-
-def seasons(key: str, value: Any) -> None:
-    check_seasons(value, key)
-
-
-def pair(key: str, value: Any) -> None:
-    if not isinstance(value, str):
-        _fail(key, "a pair name such as summer-fall", value)
-    parse_pair(value, key)
-
-
-def season_map(item: Check) -> Check:
-    def check(key: str, value: Any) -> None:
-        if not isinstance(value, Mapping):
-            _fail(key, "a mapping of season to value", value)
-        for season, entry in value.items():
-            if season not in SEASONS:
-                raise ValueError(f"{key}: unknown season '{season}' (known: {', '.join(SEASONS)})")
-            item(f"{key}.{season}", entry)
-    return check
-
 
 # The names in the library's registries (README: where they are), repeated so that this module
 # imports no heavy library; tests/test_config.py keeps each equal to its registry, in order.

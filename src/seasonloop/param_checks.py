@@ -1,0 +1,87 @@
+"""The building blocks of the params schema: checks of one value, each naming its dotted key in the error.
+
+seasonloop.config composes them into the schema of every section of params.yaml.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
+
+from seasonloop.seasons import SEASONS, check_seasons, parse_pair
+
+Check = Callable[[str, Any], None]   # (dotted key, value) -> None, or a ValueError naming the key
+
+
+def _fail(key: str, expected: str, value: Any) -> None:
+    raise ValueError(f"{key}: expected {expected}, got {value!r}")
+
+
+def integer(minimum: int | None = None, maximum: int | None = None) -> Check:
+    def check(key: str, value: Any) -> None:
+        if isinstance(value, bool) or not isinstance(value, int) \
+                or (minimum is not None and value < minimum) or (maximum is not None and value > maximum):
+            _fail(key, "an integer" + (f" >= {minimum}" if minimum is not None else "")
+                  + (f" <= {maximum}" if maximum is not None else ""), value)
+    return check
+
+
+def number(low: float | None = None, high: float | None = None, low_open: bool = False, high_open: bool = False) -> Check:
+    def check(key: str, value: Any) -> None:
+        ok = not isinstance(value, bool) and isinstance(value, (int, float))
+        ok = ok and (low is None or (value > low if low_open else value >= low))
+        ok = ok and (high is None or (value < high if high_open else value <= high))
+        if not ok:
+            bounds = ("(" if low_open else "[") + f"{low if low is not None else '-inf'}, " \
+                     + f"{high if high is not None else 'inf'}" + (")" if high_open or high is None else "]")
+            _fail(key, f"a number in {bounds}", value)
+    return check
+
+
+def boolean(key: str, value: Any) -> None:
+    if not isinstance(value, bool):
+        _fail(key, "true or false", value)
+
+
+def text(key: str, value: Any) -> None:
+    if not isinstance(value, str) or not value:
+        _fail(key, "a non-empty string", value)
+
+
+def one_of(*choices: str) -> Check:
+    def check(key: str, value: Any) -> None:
+        if value not in choices:
+            raise ValueError(f"{key}: unknown value {value!r} (known: {', '.join(choices)})")
+    return check
+
+
+def list_of(item: Check, non_empty: bool = True, unique: bool = True) -> Check:
+    def check(key: str, value: Any) -> None:
+        if isinstance(value, str) or not isinstance(value, Sequence) or (non_empty and not value):
+            _fail(key, "a non-empty list" if non_empty else "a list", value)
+        for entry in value:
+            item(key, entry)
+        if unique and len({repr(entry) for entry in value}) != len(value):
+            raise ValueError(f"{key}: repeated entry in {list(value)}")
+    return check
+
+
+def seasons(key: str, value: Any) -> None:
+    check_seasons(value, key)
+
+
+def pair(key: str, value: Any) -> None:
+    if not isinstance(value, str):
+        _fail(key, "a pair name such as summer-fall", value)
+    parse_pair(value, key)
+
+
+def season_map(item: Check) -> Check:
+    def check(key: str, value: Any) -> None:
+        if not isinstance(value, Mapping):
+            _fail(key, "a mapping of season to value", value)
+        for season, entry in value.items():
+            if season not in SEASONS:
+                raise ValueError(f"{key}: unknown season '{season}' (known: {', '.join(SEASONS)})")
+            item(f"{key}.{season}", entry)
+    return check

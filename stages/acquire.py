@@ -8,10 +8,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from _common import data_seasons, load_params, param, stage_main
+from _common import data_seasons, load_params, stage_main
 
-from seasonloop.data.sources import SOURCES, real_sources
-from seasonloop.data.synthetic import RouteDifficulty, render_route
+from seasonloop.data.sources import SOURCES, acquire_sources
 from seasonloop.io import staged_dir, write_json
 from seasonloop.settings import DataConfig, SyntheticConfig
 
@@ -21,20 +20,15 @@ OUT = Path("data/acquired")
 @stage_main
 def main() -> None:
     params = load_params("data", "synthetic")
-    source = param(params, "data.source")
+    data, synthetic = DataConfig.from_params(params), SyntheticConfig.from_params(params)
     seasons = data_seasons(params)
     with staged_dir(OUT) as out:
-        if source == "synthetic":
-            syn = SyntheticConfig.from_params(params)
-            # the difficulty knobs are keys of the synthetic section with RouteDifficulty's field names
-            difficulty = RouteDifficulty(**{knob: getattr(syn, knob) for knob in RouteDifficulty.knobs()})
-            render_route(out, seasons, syn.seconds, syn.fps, syn.width, syn.height, syn.seed, difficulty=difficulty)
-            # paths relative to the repository root: the staged folder is renamed to OUT
-            sources = {season: {"kind": "video", "path": str(OUT / f"{season}.mp4")} for season in seasons}
-        else:
-            paths = real_sources(source, seasons, DataConfig.from_params(params))
-            sources = {season: {"kind": SOURCES[source].kind, "path": str(path)} for season, path in paths.items()}
-        write_json(out / "sources.json", {"source": source, "seasons": sources})
+        paths = acquire_sources(out, seasons, data, synthetic)
+        # a rendered file is named by where it will be: the staged folder is renamed to OUT
+        sources = {season: {"kind": SOURCES[data.source].kind,
+                            "path": str(OUT / path.relative_to(out) if path.is_relative_to(out) else path)}
+                   for season, path in paths.items()}
+        write_json(out / "sources.json", {"source": data.source, "seasons": sources})
 
 
 if __name__ == "__main__":

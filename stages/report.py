@@ -7,7 +7,6 @@ report.example_pair to show example matches and failures, and embeds params.yaml
 
 from __future__ import annotations
 
-from dataclasses import asdict
 from pathlib import Path
 
 from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main, test_images, test_places
@@ -46,8 +45,7 @@ def main() -> None:
                                       "report.example_pair")
     if note:
         print(f"report: {note}")
-    # evaluation.py reads its section as a mapping
-    results = load_evaluations(Path("metrics/eval"), methods, pairs, evaluations(asdict(evaluate)), evaluate.metric)
+    results = load_evaluations(Path("metrics/eval"), methods, pairs, evaluations(evaluate), evaluate.metric)
     html = study_report(FILES, results, methods, seasons, evaluate, AblationConfig.from_params(params).methods,
                         example_pair, test_images(list(example_pair)), test_places())
     with staged_file(Path("plots/report.html")) as tmp:

@@ -15,7 +15,6 @@ that train in epochs). What each file holds: seasonloop.summary_files.
 
 from __future__ import annotations
 
-from dataclasses import asdict
 from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main
@@ -36,8 +35,7 @@ def main() -> None:
     seasons = data_seasons(params)
     evaluate = EvaluateConfig.from_params(params)
     pairs = [pair_name(a, b) for a, b in available_pairs(seasons, evaluate.pairs)]
-    # evaluation.py reads its section as a mapping
-    results = load_evaluations(Path("metrics/eval"), methods, pairs, evaluations(asdict(evaluate)), evaluate.metric,
+    results = load_evaluations(Path("metrics/eval"), methods, pairs, evaluations(evaluate), evaluate.metric,
                                pr_dir=Path("plots/pr"))
     runtime = load_runtime(Path("metrics/fit"), Path("metrics/features"), methods, seasons)
     write_json(Path("metrics/summary.json"), summary_record(results))

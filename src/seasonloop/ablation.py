@@ -10,7 +10,7 @@ evaluates the plan; write_ablation writes its record and figure.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -83,7 +83,7 @@ def run_ablation(
             learner.fit(training_images(chosen), progress=True)
             # evaluation.py reads its sections as mappings
             metrics, _, _ = match_pair(learner.describe(test[database]), learner.describe(test[query]),
-                                       places, places, "single", asdict(evaluate), asdict(sequence))
+                                       places, places, "single", evaluate, sequence)
             fraction_correct[method][label] = metrics["fraction_correct"]
     return fraction_correct
 

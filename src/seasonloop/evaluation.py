@@ -13,7 +13,7 @@ module only computes.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -67,26 +67,14 @@ def get_matcher(name: str) -> Matcher:
     return MATCHER_REGISTRY[name]
 
 
-def _evaluate_config(evaluate: EvaluateConfig | Mapping[str, Any]) -> EvaluateConfig:
-    # Transitional: callers that still pass the raw evaluate section get it checked and typed here.
-    return evaluate if isinstance(evaluate, EvaluateConfig) else EvaluateConfig.from_params({"evaluate": evaluate})
+def result_suffix(metric: str, matcher: str, evaluate: EvaluateConfig) -> str:
+    """The suffix of one evaluation's results: '@<metric>' for an extra metric, then the matcher's."""
+    return ("" if metric == evaluate.metric else f"@{metric}") + get_matcher(matcher).suffix
 
 
-def _sequence_config(sequence: SequenceConfig | Mapping[str, Any]) -> SequenceConfig:
-    return sequence if isinstance(sequence, SequenceConfig) else SequenceConfig.from_params({"sequence": sequence})
-
-
-def result_suffix(metric: str, matcher: str, evaluate: EvaluateConfig | Mapping[str, Any]) -> str:
-    """The suffix of one evaluation's results: '@<metric>' for an extra metric, then the matcher's.
-    Reads evaluate.metric only (an EvaluateConfig, or for now the raw section)."""
-    main = evaluate.metric if isinstance(evaluate, EvaluateConfig) else evaluate["metric"]
-    return ("" if metric == main else f"@{metric}") + get_matcher(matcher).suffix
-
-
-def evaluations(evaluate: EvaluateConfig | Mapping[str, Any]) -> list[tuple[str, str, str]]:
+def evaluations(evaluate: EvaluateConfig) -> list[tuple[str, str, str]]:
     """(metric, matcher, suffix) of every evaluation of a learner on a pair, in table order: the
-    main metric's matchers first, then each extra metric's. A raw section is checked (for now)."""
-    evaluate = _evaluate_config(evaluate)
+    main metric's matchers first, then each extra metric's."""
     return [(metric, matcher, result_suffix(metric, matcher, evaluate))
             for metric in [evaluate.metric, *evaluate.extra_metrics] for matcher in evaluate.matchers]
 
@@ -102,9 +90,8 @@ def match_distances(
     """(metrics, PR curve, distance matrix used for matching) from one pair's descriptor distances.
 
     evaluate gives the confidence, ratio exclusion and tolerance; sequence the sequence matcher's
-    settings. Raw sections are still accepted (and checked) while callers move to the configs.
+    settings.
     """
-    evaluate, sequence = _evaluate_config(evaluate), _sequence_config(sequence)
     distances = get_matcher(matcher).distances(distances, database_places, query_places, sequence)
     metrics, pr = evaluate_pair(distances, database_places, query_places,
                                 tolerance=int(evaluate.tolerance_frames), confidence=evaluate.confidence,
@@ -124,6 +111,5 @@ def match_pair(
 ) -> tuple[dict[str, Any], pd.DataFrame, np.ndarray]:
     """(metrics, PR curve, distance matrix used for matching) of one pair with one matcher, under
     `metric` (default evaluate.metric)."""
-    evaluate = _evaluate_config(evaluate)
     distances = distance_matrix(database, queries, metric=evaluate.metric if metric is None else metric)
     return match_distances(distances, database_places, query_places, matcher, evaluate, sequence)

@@ -9,7 +9,7 @@ epoch). Each is drawn only when its learner is in the run; the callers pass the 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -115,7 +115,7 @@ def autoencoder_figures(
         # evaluation.py reads its sections as mappings
         fraction_correct[method] = {descriptor: {
             pair_name(a, b): match_pair(described[descriptor][a], described[descriptor][b], places, places, "single",
-                                        asdict(evaluate), asdict(sequence))[0]["fraction_correct"]
+                                        evaluate, sequence)[0]["fraction_correct"]
             for a, b in pairs} for descriptor in AE_DESCRIPTORS}
     plot_series({f"{method} {pair_name(a, b)}": (list(AE_DESCRIPTORS),
                                                  [100 * fraction_correct[method][d][pair_name(a, b)] for d in AE_DESCRIPTORS])

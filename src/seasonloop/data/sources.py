@@ -3,10 +3,10 @@
 Every reader returns colour frames (N, height, width, 3) uint8 BGR at a storage size, so the rest
 of the pipeline does not care where the frames came from. Frame i of every season is the same place.
 
-Two registries: SOURCES (data.source -> the kind of its files and where they are; "synthetic" is
-rendered by the acquire stage) and FRAME_KINDS (a kind in data/acquired/sources.json -> how one
+Two registries: SOURCES (data.source -> the kind of its files and where they are, or how they are
+rendered: "synthetic", the built-in route) and FRAME_KINDS (a kind in data/acquired/sources.json -> how one
 season is read, how places are paired across seasons and what a place is). A new source is one
-locating function plus one SOURCES line; a new kind one reader plus one FRAME_KINDS line.
+locating (or rendering) function plus one SOURCES line; a new kind one reader plus one FRAME_KINDS line.
 """
 
 from __future__ import annotations
@@ -18,7 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from seasonloop.data.frames import align_frame_files, list_frame_files, read_frame_files, sample_video
-from seasonloop.settings import DataConfig
+from seasonloop.data.synthetic import RouteDifficulty, render_route
+from seasonloop.settings import DataConfig, SyntheticConfig
 
 
 def check_aligned(counts: Mapping[str, int], trim_to_shortest: bool, sources: Mapping[str, Path]) -> int:
@@ -60,6 +61,14 @@ def _video_files(seasons: Sequence[str], data: DataConfig) -> dict[str, Path]:
     return paths
 
 
+def _render_synthetic(out: Path, seasons: Sequence[str], data: DataConfig, synthetic: SyntheticConfig) -> dict[str, Path]:
+    # the difficulty knobs are keys of the synthetic section with RouteDifficulty's field names
+    difficulty = RouteDifficulty(**{knob: getattr(synthetic, knob) for knob in RouteDifficulty.knobs()})
+    render_route(out, seasons, synthetic.seconds, synthetic.fps, synthetic.width, synthetic.height, synthetic.seed,
+                 difficulty=difficulty)
+    return {season: out / f"{season}.mp4" for season in seasons}
+
+
 def _frame_folders(seasons: Sequence[str], data: DataConfig) -> dict[str, Path]:
     paths = {season: Path(data.frames_dir) / season for season in seasons}
     for season, folder in paths.items():
@@ -71,17 +80,19 @@ def _frame_folders(seasons: Sequence[str], data: DataConfig) -> dict[str, Path]:
 @dataclass(frozen=True)
 class Source:
     """One value of data.source: the FRAME_KINDS kind of its files, and how to find them (season ->
-    path, checked to exist); None for a source the acquire stage renders itself."""
+    path, checked to exist) or, for a rendered source, how to render them (into a folder, returning
+    season -> path)."""
 
     kind: str
-    locate: Callable[[Sequence[str], DataConfig], dict[str, Path]] | None
+    locate: Callable[[Sequence[str], DataConfig], dict[str, Path]] | None = None
+    render: Callable[[Path, Sequence[str], DataConfig, SyntheticConfig], dict[str, Path]] | None = None
 
 
 # The order is config.SOURCES' (tests/test_config.py keeps them in step).
 SOURCES: dict[str, Source] = {
-    "synthetic": Source("video", None),  # stages/acquire.py renders it (seasonloop.data.synthetic)
-    "videos": Source("video", _video_files),
-    "frames": Source("frames", _frame_folders),
+    "synthetic": Source("video", render=_render_synthetic),  # seasonloop.data.synthetic
+    "videos": Source("video", locate=_video_files),
+    "frames": Source("frames", locate=_frame_folders),
 }
 
 
@@ -100,6 +111,15 @@ def real_sources(source: str, seasons: Sequence[str], data: DataConfig) -> dict[
         real = ", ".join(name for name, entry in SOURCES.items() if entry.locate is not None)
         raise ValueError(f"data.source: '{source}' is rendered, not read from disk (sources on disk: {real})")
     return locate(seasons, data)
+
+
+def acquire_sources(out: Path, seasons: Sequence[str], data: DataConfig, synthetic: SyntheticConfig) -> dict[str, Path]:
+    """Season -> the file(s) to read for data.source: rendered into `out` (the built-in route), or
+    found on disk and checked to exist."""
+    source = get_source(data.source)
+    if source.render is not None:
+        return source.render(Path(out), seasons, data, synthetic)
+    return real_sources(data.source, seasons, data)
 
 
 # ---- kinds of files: reading a season, pairing places, describing a place ------------------------

@@ -9,14 +9,16 @@ torch threads and library versions, so that a different result elsewhere can be 
 from __future__ import annotations
 
 import argparse
+import platform
 import time
+from importlib.metadata import version
 from pathlib import Path
 
+import torch
 from dvclive import Live
 
 from _common import load_params, param, stage_main, train_seasons, training_images, training_places
 
-from seasonloop.environment import fit_record
 from seasonloop.io import staged_dir, write_json
 from seasonloop.models.registry import get_learner
 
@@ -47,7 +49,17 @@ def main() -> None:
         fit_seconds = time.perf_counter() - start
     with staged_dir(Path("models") / method) as out:
         learner.save(out)
-    write_json(Path("metrics/fit") / f"{method}.json", fit_record(fit_seconds, len(images), seasons, info))
+    write_json(Path("metrics/fit") / f"{method}.json", {
+        "fit_seconds": fit_seconds,
+        "n_train_images": len(images),
+        "train_seasons": seasons,
+        "info": info,
+        "environment": {
+            "torch_threads": torch.get_num_threads(),
+            "python": platform.python_version(),
+            **{package: version(package) for package in ("numpy", "scikit-learn", "torch", "opencv-python-headless")},
+        },
+    })
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""The library halves of the extract_frames, evaluate and fit stages, on tiny inputs."""
+"""The library halves of the extract_frames and evaluate stages, on tiny inputs."""
 
 from __future__ import annotations
 
@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 
 from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
-from seasonloop.environment import PACKAGES, fit_record
 from seasonloop.pair_evaluation import evaluate_learner
 from seasonloop.settings import EvaluateConfig, ExtractConfig, SequenceConfig
 
@@ -89,9 +88,3 @@ def test_evaluate_learner_writes_every_pair_metric_and_matcher(tmp_path):
     assert json.loads((dirs[0] / "summer-fall.json").read_text())["fraction_correct"] == 1.0
     with pytest.raises(ValueError, match="evaluate.pairs: no pair"):
         evaluate_learner("pca", features, [], np.arange(15), evaluate, sequence, *dirs)
-
-
-def test_fit_record_holds_the_fit_and_its_environment():
-    record = fit_record(1.5, 10, ["summer"], {"n_iter": 3})
-    assert list(record) == ["fit_seconds", "n_train_images", "train_seasons", "info", "environment"]
-    assert set(PACKAGES) <= set(record["environment"]) and record["environment"]["torch_threads"] >= 1

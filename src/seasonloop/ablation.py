@@ -81,7 +81,6 @@ def run_ablation(
         for label, chosen in zip(plan.labels, plan.season_sets):
             learner = new_learner()
             learner.fit(training_images(chosen), progress=True)
-            # evaluation.py reads its sections as mappings
             metrics, _, _ = match_pair(learner.describe(test[database]), learner.describe(test[query]),
                                        places, places, "single", evaluate, sequence)
             fraction_correct[method][label] = metrics["fraction_correct"]

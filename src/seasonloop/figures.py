@@ -112,7 +112,6 @@ def autoencoder_figures(
         for season in seasons:
             reconstructions[season].append(list(
                 described["output"][season][shown_places].reshape(-1, *test[season].shape[1:])))
-        # evaluation.py reads its sections as mappings
         fraction_correct[method] = {descriptor: {
             pair_name(a, b): match_pair(described[descriptor][a], described[descriptor][b], places, places, "single",
                                         evaluate, sequence)[0]["fraction_correct"]

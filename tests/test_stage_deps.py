@@ -25,10 +25,11 @@ from typing import Any
 import pytest
 import yaml
 
+from seasonloop.settings import SECTIONS
+
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src"
 COMMON = ROOT / "stages" / "_common.py"
-SETTINGS = SRC / "seasonloop" / "settings.py"
 REGISTRY = SRC / "seasonloop" / "models" / "registry.py"
 MODELS = SRC / "seasonloop" / "models"
 
@@ -48,16 +49,8 @@ DYNAMIC_READS: dict[tuple[str, str], Callable[[list[str], dict[str, Any]], list[
 
 @cache
 def config_sections() -> dict[str, str]:
-    """seasonloop.settings class name -> the params section it reads (its NAME), from the source."""
-    sections = {}
-    for node in ast.parse(SETTINGS.read_text()).body:
-        if isinstance(node, ast.ClassDef):
-            for statement in node.body:
-                if (isinstance(statement, ast.Assign) and len(statement.targets) == 1
-                        and isinstance(statement.targets[0], ast.Name) and statement.targets[0].id == "NAME"
-                        and isinstance(statement.value, ast.Constant)):
-                    sections[node.name] = statement.value.value
-    return sections
+    """seasonloop.settings class name -> the params section it reads (its NAME)."""
+    return {section.__name__: section.NAME for section in SECTIONS}
 
 
 def rel(path: Path) -> str:

@@ -62,9 +62,11 @@ def test_stops_on_plateau_and_keeps_the_best_weights():
     assert info["epochs_run"] < 50
     losses = info["validation_loss_per_epoch"]
     assert info["best_validation_loss"] == min(losses) == losses[info["best_epoch"] - 1]
-    # stopped 3 epochs after the last improvement of 1%
-    last_improvement = max(epoch for epoch in range(1, len(losses) + 1)
-                           if losses[epoch - 1] < 0.99 * min(losses[: epoch - 1], default=np.inf))
+    # stopped 3 epochs after the last improvement of 1% over the loss of the previous such improvement
+    reference, last_improvement = np.inf, 0
+    for epoch, loss in enumerate(losses, start=1):
+        if loss < 0.99 * reference:
+            reference, last_improvement = loss, epoch
     assert info["epochs_run"] == last_improvement + 3
     # it learned: the best validation loss is well below the first epoch's
     assert info["best_validation_loss"] < 0.8 * losses[0]
@@ -131,3 +133,50 @@ def test_validation_holds_out_every_image_of_its_places():
     assert info["n_train_images"] == 100 and info["torch_threads"] == torch.get_num_threads()
     with pytest.raises(ValueError, match="places of shape"):
         learner.fit(frames, progress=False, places=places[:10])
+
+
+def test_learning_rate_is_cut_at_the_lr_patience_th_epoch_without_improvement():
+    # params.yaml: "the learning rate is halved after lr_patience such epochs"; torch's own
+    # patience cuts one epoch later, so the schedule must translate
+    for lr_patience in (1, 2, 3):
+        optimiser = torch.optim.SGD([nn.Parameter(torch.zeros(1))], lr=1.0)
+        schedule = _training.learning_rate_schedule(optimiser, config(lr_patience=lr_patience))
+        schedule.step(1.0)  # the first epoch sets the reference
+        rates = []
+        for _ in range(lr_patience):
+            schedule.step(1.0)  # no improvement
+            rates.append(optimiser.param_groups[0]["lr"])
+        assert rates == [1.0] * (lr_patience - 1) + [0.5], lr_patience
+    with pytest.raises(ValueError, match="lr_patience"):
+        _training.learning_rate_schedule(optimiser, config(lr_patience=0))
+    with pytest.raises(ValueError, match=r"fae\.lr_patience"):
+        get_learner("fae")({"lr_patience": 0})
+
+
+class BlowsUpAfter(nn.Module):
+    """small_autoencoder() whose weights turn NaN after `steps` training batches, as an exploding
+    gradient would leave them."""
+
+    def __init__(self, steps: int):
+        super().__init__()
+        self.inner, self.steps = small_autoencoder(), steps
+
+    def forward(self, batch: torch.Tensor) -> torch.Tensor:
+        if self.training:
+            self.steps -= 1
+            if self.steps < 0:
+                with torch.no_grad():
+                    for parameter in self.inner.parameters():
+                        parameter.fill_(float("nan"))
+        return self.inner(batch)
+
+
+def test_a_run_that_diverges_says_so_and_keeps_its_last_finite_weights():
+    train, validation = images(64, 0), images(16, 1)
+    model = BlowsUpAfter(steps=2 * 4)  # 4 batches an epoch: epochs 1-2 train, epoch 3 diverges
+    info = train_until_plateau(model, train, validation, config(patience=50), CPU, progress=False).info()
+    # NaN fails both comparisons of the plateau test: before the fix this read "plateau", converged
+    assert (info["stop_reason"], info["converged"], info["epochs_run"]) == ("diverged", False, 3)
+    assert np.isnan(info["validation_loss_per_epoch"][-1])
+    assert info["best_epoch"] in (1, 2) and np.isfinite(info["best_validation_loss"])
+    assert all(torch.isfinite(parameter).all() for parameter in model.parameters())

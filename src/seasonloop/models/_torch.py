@@ -88,7 +88,7 @@ class TorchAutoEncoderLearner(FeatureLearner):
         "batch_size": 128,
         "learning_rate": 1e-3,
         # stop when the validation loss has not improved by min_delta (relative) for `patience`
-        # epochs; halve the learning rate after lr_patience such epochs
+        # epochs in a row; halve the learning rate at the lr_patience-th such epoch in a row
         "patience": 5,
         "min_delta": 0.005,
         "lr_patience": 2,
@@ -118,9 +118,9 @@ class TorchAutoEncoderLearner(FeatureLearner):
         """Raise ValueError if the network cannot take height x width images (subclasses override)."""
 
     def _validate_params(self) -> None:
-        for key in ("max_epochs", "batch_size", "patch_size", "patience", "validation_block"):
+        for key in ("max_epochs", "batch_size", "patch_size", "patience", "validation_block", "lr_patience"):
             self._check_int(key, 1)
-        for key in ("max_train_images", "max_validation_images", "lr_patience", "threads"):
+        for key in ("max_train_images", "max_validation_images", "threads"):
             self._check_int(key, 0)
         for key in ("learning_rate", "lr_factor"):
             self._check_positive_float(key)

@@ -24,7 +24,8 @@ from seasonloop.models.base import EpochCallback
 
 PRECISIONS = ("auto", "float32", "bfloat16")
 # Why training stopped; only a plateau means the model has learned what it can from this data.
-STOP_PLATEAU, STOP_MAX_EPOCHS, STOP_BUDGET = "plateau", "max_epochs", "budget"
+# diverged: a loss became NaN or infinite (the weights of the best finite epoch are kept).
+STOP_PLATEAU, STOP_MAX_EPOCHS, STOP_BUDGET, STOP_DIVERGED = "plateau", "max_epochs", "budget", "diverged"
 
 
 def cpu_has_native_bfloat16() -> bool:
@@ -69,7 +70,7 @@ class TrainingConfig:
     learning_rate: float
     patience: int          # epochs without a relative improvement of min_delta -> plateau
     min_delta: float       # relative improvement of the validation loss that counts
-    lr_patience: int       # epochs without improvement before the learning rate is cut
+    lr_patience: int       # the learning rate is cut at the lr_patience-th epoch without improvement (>= 1)
     lr_factor: float       # ... by this factor (ReduceLROnPlateau)
     budget_seconds: float  # 0: no wall-clock budget
     seed: int
@@ -159,6 +160,16 @@ class _Plateau:
             self.reference_loss, self.improved_epoch = loss, epoch
 
 
+def learning_rate_schedule(optimiser: torch.optim.Optimizer, config: TrainingConfig) -> torch.optim.lr_scheduler.ReduceLROnPlateau:
+    """ReduceLROnPlateau that cuts the rate at the lr_patience-th epoch in a row without a relative
+    improvement of min_delta: torch cuts when the bad epochs *exceed* its patience, hence the - 1."""
+    if config.lr_patience < 1:
+        raise ValueError(f"lr_patience must be an integer >= 1, got {config.lr_patience!r}")
+    return torch.optim.lr_scheduler.ReduceLROnPlateau(
+        optimiser, mode="min", factor=config.lr_factor, patience=config.lr_patience - 1,
+        threshold=config.min_delta, threshold_mode="rel")
+
+
 def train_until_plateau(
     model: nn.Module,
     train_images: torch.Tensor,
@@ -178,16 +189,15 @@ def train_until_plateau(
     improvement of at least min_delta (same threshold as ReduceLROnPlateau, which cuts the
     learning rate after lr_patience epochs without one) restarts the patience count; training
     stops after `patience` epochs without one (plateau), at max_epochs, or when the next epoch
-    would overrun budget_seconds. The model ends with the weights of its lowest validation loss.
+    would overrun budget_seconds, or as soon as a loss is NaN or infinite (diverged). The model ends
+    with the weights of its lowest validation loss.
     on_epoch(epoch, {"train_loss", "validation_loss", "learning_rate"}) runs after each epoch.
     Shuffling has its own generator seeded from config.seed, so the global torch RNG is left alone.
     """
     generator = torch.Generator().manual_seed(config.seed)
     model.to(device=device, memory_format=memory_format)
     optimiser = torch.optim.Adam(model.parameters(), lr=config.learning_rate)
-    scheduler = torch.optim.lr_scheduler.ReduceLROnPlateau(
-        optimiser, mode="min", factor=config.lr_factor, patience=config.lr_patience,
-        threshold=config.min_delta, threshold_mode="rel")
+    scheduler = learning_rate_schedule(optimiser, config)
     train_loss: list[float] = []
     validation_loss: list[float] = []
     learning_rate: list[float] = []
@@ -200,11 +210,17 @@ def train_until_plateau(
                                        memory_format, f"{description} epoch {epoch}/{config.max_epochs}", progress))
         learning_rate.append(optimiser.param_groups[0]["lr"])
         validation_loss.append(mean_loss(model, validation_images, config.batch_size, device, dtype, memory_format))
-        scheduler.step(validation_loss[-1])
-        plateau.update(epoch, validation_loss[-1], model)
+        diverged = not (np.isfinite(train_loss[-1]) and np.isfinite(validation_loss[-1]))
+        if not diverged:
+            scheduler.step(validation_loss[-1])
+            plateau.update(epoch, validation_loss[-1], model)
         if on_epoch is not None:
             on_epoch(epoch, {"train_loss": train_loss[-1], "validation_loss": validation_loss[-1],
                              "learning_rate": learning_rate[-1]})
+        if diverged:
+            # NaN fails every comparison, so without this a diverged run would read as a plateau
+            stop_reason = STOP_DIVERGED
+            break
         elapsed = time.perf_counter() - start_time
         if epoch - plateau.improved_epoch >= config.patience:
             stop_reason = STOP_PLATEAU

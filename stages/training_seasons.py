@@ -12,7 +12,8 @@ from __future__ import annotations
 import functools
 from pathlib import Path
 
-from _common import data_seasons, load_params, param, stage_main, test_images, test_places, training_images
+from _common import (data_seasons, load_params, param, stage_main, test_images, test_places, training_images,
+                     training_places)
 
 from seasonloop.ablation import plan_ablation, run_ablation, write_ablation
 from seasonloop.models.registry import get_learner
@@ -24,7 +25,7 @@ FIGURE = Path("plots/training_seasons.png")
 
 @stage_main
 def main() -> None:
-    params = load_params("seed", "data.seasons", "train.augmented", "ablation", "evaluate", "sequence")
+    params = load_params("seed", "data.seasons", "train.augmented", "augment.copies", "ablation", "evaluate", "sequence")
     ablation = AblationConfig.from_params(params)
     evaluate = EvaluateConfig.from_params(params)
     plan = plan_ablation(data_seasons(params), ablation.pair, ablation.training_seasons, evaluate.pairs)
@@ -40,7 +41,8 @@ def main() -> None:
     # every learner checks its section before the first (possibly long) fit
     for new_learner in new_learners.values():
         new_learner()
-    fraction_correct = run_ablation(plan, new_learners, lambda seasons: training_images(params, seasons),
+    fraction_correct = run_ablation(plan, new_learners,
+                                    lambda seasons: (training_images(params, seasons), training_places(params, seasons)),
                                     test_images(list(plan.pair)), test_places(), evaluate,
                                     SequenceConfig.from_params(params))
     write_ablation(plan, fraction_correct, RECORD, FIGURE)

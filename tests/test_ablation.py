@@ -51,9 +51,11 @@ class MeanLearner:
     """Describes an image by its row means; remembers what it was fitted on."""
 
     fitted_on: list[int] = []
+    places: list = []
 
-    def fit(self, images, progress=False):
+    def fit(self, images, progress=False, places=None):
         MeanLearner.fitted_on.append(len(images))
+        MeanLearner.places.append(places)
 
     def describe(self, images):
         return images.mean(axis=2)
@@ -73,10 +75,16 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
         made.append(1)
         return MeanLearner()
 
-    MeanLearner.fitted_on = []
-    fraction_correct = run_ablation(plan, {"mean": new_learner}, lambda seasons: np.zeros((10 * len(seasons), 4, 8)),
-                                    test, np.arange(6), evaluate, sequence)
+    def training_set(seasons):
+        # every season shows the same 5 places, each twice (original and augmented copy)
+        return np.zeros((10 * len(seasons), 4, 8)), np.tile(np.repeat(np.arange(5), 2), len(seasons))
+
+    MeanLearner.fitted_on, MeanLearner.places = [], []
+    fraction_correct = run_ablation(plan, {"mean": new_learner}, training_set, test, np.arange(6), evaluate, sequence)
     assert len(made) == 2 and MeanLearner.fitted_on == [10, 20]
+    # the place ids reach fit: an auto-encoder then validates on places it never trains on
+    assert [None if places is None else list(places) for places in MeanLearner.places] == [
+        list(training_set(["summer"])[1]), list(training_set(["summer", "winter"])[1])]
     assert list(fraction_correct["mean"]) == ["summer", "summer+winter"]
     assert fraction_correct["mean"]["summer"] == 1.0
     write_ablation(plan, fraction_correct, tmp_path / "record.json", tmp_path / "figure.png")

@@ -64,7 +64,7 @@ def plan_ablation(seasons: Sequence[str], pair: str, training_seasons: Sequence[
 def run_ablation(
     plan: AblationPlan,
     new_learners: Mapping[str, Callable[[], Any]],
-    training_images: Callable[[list[str]], np.ndarray],
+    training_set: Callable[[list[str]], tuple[np.ndarray, np.ndarray]],
     test: Mapping[str, np.ndarray],
     places: np.ndarray,
     evaluate: EvaluateConfig,
@@ -72,15 +72,18 @@ def run_ablation(
 ) -> dict[str, dict[str, float]]:
     """fraction_correct[method][training seasons joined by "+"] on the plan's pair, single-image
     matching: for each method (new_learners[method]() gives an unfitted learner) and each list of
-    the plan, a learner fitted on training_images(list). test[season] are the test images of the
-    pair's seasons, both at `places`."""
+    the plan, a learner fitted on training_set(list) = (images, the place id of each image). The
+    place ids go to fit, so that an auto-encoder holds out whole places (every season and augmented
+    copy of them) for validation. test[season] are the test images of the pair's seasons, both at
+    `places`."""
     database, query = plan.pair
     fraction_correct: dict[str, dict[str, float]] = {}
     for method, new_learner in new_learners.items():
         fraction_correct[method] = {}
         for label, chosen in zip(plan.labels, plan.season_sets):
             learner = new_learner()
-            learner.fit(training_images(chosen), progress=True)
+            images, image_places = training_set(chosen)
+            learner.fit(images, progress=True, places=image_places)
             metrics, _, _ = match_pair(learner.describe(test[database]), learner.describe(test[query]),
                                        places, places, "single", evaluate, sequence)
             fraction_correct[method][label] = metrics["fraction_correct"]

@@ -102,9 +102,26 @@ def cpu_busy_fraction(seconds: float = 1.0) -> float | None:
     return (second[0] - first[0]) / (second[1] - first[1])
 
 
+def cpu_model() -> str:
+    """The CPU's model name and its vector units (what lscpu shows), e.g. 'AMD EPYC (avx2, avx512f,
+    avx512_bf16)': machines differ between sessions, and timings mean little without it."""
+    try:
+        lines = Path("/proc/cpuinfo").read_text().splitlines()
+    except OSError:
+        return platform.processor() or "unknown CPU"
+    fields = dict(line.split(":", 1) for line in lines if ":" in line)
+    fields = {key.strip(): value.strip() for key, value in fields.items()}
+    flags = set(fields.get("flags", "").split())
+    units = [flag for flag in ("avx2", "avx512f", "avx512_bf16", "amx_bf16") if flag in flags]
+    return f"{fields.get('model name', 'unknown CPU')} ({', '.join(units) or 'no AVX2'})"
+
+
 def machine() -> dict[str, Any]:
     """What the timings are measured on, and how busy the CPU is with other work just now."""
     return {
+        "cpu": cpu_model(),
+        # an ISA cap (ATEN_CPU_CAPABILITY=avx2 ONEDNN_MAX_CPU_ISA=AVX2) estimates an AVX2-only CPU
+        "isa_cap": {key: os.environ.get(key) for key in ("ATEN_CPU_CAPABILITY", "ONEDNN_MAX_CPU_ISA")},
         "cpu_count": os.cpu_count(),
         "torch_threads": torch.get_num_threads(),
         "cuda": torch.cuda.get_device_name(0) if torch.cuda.is_available() else None,

@@ -1,35 +1,59 @@
-"""FAE and CAE (Table 5) speed and quality in every precision and memory format, side by side in
-one run: training and inference images/s at 32x64 through the learners' own fit and describe
-(float32 vs bfloat16 autocast, and contiguous vs channels_last for the CAE), on the CPU and, when
-present, on CUDA; then the quality check: validation loss after the same number of steps from the
-same seed in each variant, and the fraction correct on summer-fall.
+"""FAE and CAE (Table 5) speed and quality in every way of running them, side by side in one run:
+training and inference images/s at 32x64 through the learners' own fit and describe: float32 vs
+bfloat16 autocast, contiguous vs channels_last activations, batch size, and torch.compile for the
+CAE, at Table 5's width and at the default run's (`--cae-widths`), on the CPU and, when present,
+on CUDA; then the quality check: validation loss after the same number of epochs from the same
+seed in each variant, and the fraction correct on summer-fall.
 
-    python benchmarks/bench_autoencoders.py [--fae-images 4096] [--cae-images 64]
+    python benchmarks/bench_autoencoders.py [--fae-images 4096] [--cae-images 64] [--cae-widths 1,0.0625]
 
-A speed-up counts only at equal quality (validation loss within 2% relative of float32, same
-fraction correct). Where the CPU has no bfloat16 units torch emulates bfloat16, several times
-slower than float32; the bfloat16 throughput is then measured on fewer images and its quality
-check is skipped (precision 'auto' uses float32 there). Writes benchmarks/results/bench_autoencoders.json;
+A speed-up counts only at equal quality (validation loss within 2% relative of the float32
+reference after the same epochs from the same seed). Where the CPU has no bfloat16 units torch
+emulates bfloat16, several times slower than float32; the bfloat16 throughput is then measured on
+fewer images and its quality check is skipped. Writes benchmarks/results/bench_autoencoders.json;
 the headline line is printed last.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+from dataclasses import dataclass
 
 import numpy as np
 import torch
 
 from _common import HEIGHT, WIDTH, load_note, machine, pair_images, timed, training_images, write_result
+from seasonloop.cae_widths import width_channels, width_label
 from seasonloop.matching import distance_matrix
 from seasonloop.metrics import evaluate_pair
 from seasonloop.models._training import cpu_has_native_bfloat16
 from seasonloop.models.registry import get_learner
 
-# (precision, channels_last) variants per network; the first is the float32 reference
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One way of running a network: autocast precision, activation layout, batch size, torch.compile."""
+
+    precision: str = "float32"
+    channels_last: bool = False
+    batch_size: int = 0      # 0: the learner's default
+    compiled: bool = False
+
+    @property
+    def label(self) -> str:
+        return " + ".join([self.precision] + (["channels_last"] if self.channels_last else [])
+                          + ([f"batch {self.batch_size}"] if self.batch_size else [])
+                          + (["compile"] if self.compiled else []))
+
+
+# variants per network; the first is the float32 reference
 VARIANTS = {
-    "fae": [("float32", False), ("bfloat16", False)],
-    "cae": [("float32", False), ("float32", True), ("bfloat16", False), ("bfloat16", True)],
+    "fae": [Variant(), Variant("bfloat16")],
+    "cae": [Variant(), Variant(channels_last=True), Variant(channels_last=True, batch_size=128),
+            Variant(channels_last=True, compiled=True), Variant("bfloat16"), Variant("bfloat16", channels_last=True),
+            Variant("bfloat16", channels_last=True, compiled=True)],
 }
 QUALITY_TOLERANCE = 0.02  # relative validation-loss difference that still counts as equal quality
 GOALS = {"train": 8.0, "describe": 10.0}  # the CAE's speed-up goals over float32
@@ -38,7 +62,10 @@ GOALS = {"train": 8.0, "describe": 10.0}  # the CAE's speed-up goals over float3
 def parse_args() -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--fae-images", type=int, default=4096, help="images timed for the FAE on the CPU")
-    parser.add_argument("--cae-images", type=int, default=64, help="images timed for the CAE on the CPU (~9 GMAC each)")
+    parser.add_argument("--cae-images", type=int, default=64,
+                        help="images timed for the CAE on the CPU (~9 GMAC each at width 1; scaled by 1/width^2)")
+    parser.add_argument("--cae-widths", default="1,0.0625",
+                        help="CAE widths, fractions of Table 5's channels (1: Table 5; 0.0625: the default run's)")
     parser.add_argument("--emulated-images", type=int, default=16,
                         help="CAE images timed in bfloat16 on a CPU that only emulates it")
     parser.add_argument("--quality-images", type=int, default=256, help="training images of the quality check")
@@ -54,9 +81,22 @@ def native_bfloat16(device: str) -> bool:
     return torch.cuda.is_bf16_supported() if device == "cuda" else cpu_has_native_bfloat16()
 
 
-def learner_for(name: str, precision: str, channels_last: bool, device: str, seed: int, **params):
-    learner = get_learner(name)({"precision": precision, "device": device, "max_train_images": 0, **params}, seed=seed)
-    learner.channels_last = channels_last  # the class's choice, overridden to measure both
+def learner_for(name: str, variant: Variant, device: str, seed: int, **params):
+    if variant.batch_size:
+        params["batch_size"] = variant.batch_size
+    learner = get_learner(name)({"precision": variant.precision, "device": device, "max_train_images": 0, **params},
+                                seed=seed)
+    learner.channels_last = variant.channels_last  # the class's choice, overridden to measure both
+    if variant.compiled:
+        build = learner._seeded_model
+
+        def compiled_model():
+            # encoder and decoder compiled apart: describe runs them one at a time
+            model = build()
+            model.encoder, model.decoder = torch.compile(model.encoder), torch.compile(model.decoder)
+            return model
+
+        learner._seeded_model = compiled_model
     return learner
 
 
@@ -68,15 +108,17 @@ def synchronised(function, device: str):
     return result
 
 
-def throughput(name: str, precision: str, channels_last: bool, device: str, images: np.ndarray, seed: int) -> dict:
+def throughput(name: str, variant: Variant, device: str, images: np.ndarray, seed: int, **params) -> dict:
     """Training images/s (one epoch of fit, validated on 2 images) and inference images/s (describe)."""
     places = np.arange(len(images))
-    one_epoch = {"max_epochs": 1, "max_validation_images": 2, "validation_block": 1}
-    batch = get_learner(name).defaults["batch_size"]
-    # warm-up on one batch: CUDA context, oneDNN primitive creation
-    learner_for(name, precision, channels_last, device, seed, **one_epoch).fit(
+    one_epoch = {"max_epochs": 1, "max_validation_images": 2, "validation_block": 1, **params}
+    batch = variant.batch_size or get_learner(name).defaults["batch_size"]
+    # warm-up on one batch: CUDA context, oneDNN primitive creation (torch.compile compiles on
+    # its first call, so the timed fit below reuses nothing: its compile time is in the figure
+    # unless the warm-up's compiled kernels are cached, which inductor does on disk)
+    learner_for(name, variant, device, seed, **one_epoch).fit(
         images[: batch + 2], progress=False, places=places[: batch + 2])
-    learner = learner_for(name, precision, channels_last, device, seed, **one_epoch)
+    learner = learner_for(name, variant, device, seed, **one_epoch)
     info = synchronised(lambda: learner.fit(images, progress=False, places=places), device)
     learner.describe(images[:8], batch_size=8)
     _, describe_seconds = timed(lambda: synchronised(lambda: learner.describe(images, batch_size=256), device))
@@ -85,11 +127,11 @@ def throughput(name: str, precision: str, channels_last: bool, device: str, imag
             "describe_images_per_s": len(images) / describe_seconds}
 
 
-def quality(name: str, precision: str, channels_last: bool, device: str, images: np.ndarray,
-            pair: tuple[np.ndarray, np.ndarray, np.ndarray], epochs: int, seed: int) -> dict:
+def quality(name: str, variant: Variant, device: str, images: np.ndarray,
+            pair: tuple[np.ndarray, np.ndarray, np.ndarray], epochs: int, seed: int, **params) -> dict:
     """Validation loss after `epochs` epochs from `seed` (no early stop) and summer-fall fraction correct."""
-    learner = learner_for(name, precision, channels_last, device, seed, max_epochs=epochs, patience=epochs + 1,
-                          max_validation_images=0)
+    learner = learner_for(name, variant, device, seed, max_epochs=epochs, patience=epochs + 1,
+                          max_validation_images=0, **params)
     info = learner.fit(images, progress=False, places=np.arange(len(images)))
     database, queries, places = pair
     distances = distance_matrix(learner.describe(database), learner.describe(queries), metric="cosine")
@@ -97,50 +139,70 @@ def quality(name: str, precision: str, channels_last: bool, device: str, images:
     return {"final_validation_loss": info["validation_loss_per_epoch"][-1], "fraction_correct": metrics["fraction_correct"]}
 
 
-def label(precision: str, channels_last: bool) -> str:
-    return precision + (" + channels_last" if channels_last else "")
+def networks(args: argparse.Namespace) -> list[tuple[str, str, dict, int]]:
+    """(result key, learner name, extra params, images timed on the CPU) of each network measured."""
+    rows = [("fae", "fae", {}, args.fae_images)]
+    for width in (float(text) for text in args.cae_widths.split(",")):
+        key = "cae" if width == 1 else f"cae {width_label(width)}"
+        # the same seconds of timing at any width: the cost goes as width^2
+        count = max(args.cae_images, min(64 * args.cae_images, round(args.cae_images / width ** 2)))
+        rows.append((key, "cae", {"channels": width_channels(width)}, count))
+    return rows
+
+
+def measure(name: str, params: dict, count: int, device: str, args: argparse.Namespace, quality_images: np.ndarray,
+            pair: tuple) -> dict:
+    """Every variant of one network on one device: throughput, quality, speed-up over the first."""
+    scale = args.cuda_scale if device == "cuda" else 1
+    runs = {}
+    for variant in VARIANTS[name]:
+        emulated = variant.precision == "bfloat16" and not native_bfloat16(device)
+        images, _ = training_images((min(count, args.emulated_images) if emulated and name == "cae" else count) * scale,
+                                    args.seed)
+        run = throughput(name, variant, device, images, args.seed, **params)
+        # quality is checked where a variant could be chosen: not for emulated bfloat16
+        run["quality"] = None if emulated else quality(name, variant, device, quality_images, pair,
+                                                       args.quality_epochs, args.seed, **params)
+        run["emulated_bfloat16"] = emulated
+        runs[variant.label] = run
+    reference = runs[VARIANTS[name][0].label]
+    for run in runs.values():
+        run["speedup_vs_float32"] = {key: run[f"{key}_images_per_s"] / reference[f"{key}_images_per_s"] for key in GOALS}
+        if run["quality"] is not None:
+            run["quality"]["validation_loss_change"] = (
+                run["quality"]["final_validation_loss"] / reference["quality"]["final_validation_loss"] - 1)
+    return runs
+
+
+def verdict(run: dict) -> str:
+    if run["quality"] is None:
+        return "quality not checked (bfloat16 emulated on this CPU)"
+    change = run["quality"]["validation_loss_change"]
+    return (f"validation loss {run['quality']['final_validation_loss']:.5f} ({change:+.2%}, "
+            f"{'equal' if abs(change) <= QUALITY_TOLERANCE else 'NOT equal'} quality), summer-fall "
+            f"{100 * run['quality']['fraction_correct']:.1f}% correct")
 
 
 def main() -> None:
     args = parse_args()
     measured_on = machine()
     devices = ["cpu"] + (["cuda"] if torch.cuda.is_available() else [])
-    print(f"{HEIGHT}x{WIDTH} images; torch threads {torch.get_num_threads()}; "
-          f"native bfloat16 on this CPU: {cpu_has_native_bfloat16()}"
+    print(f"{HEIGHT}x{WIDTH} images; {measured_on['cpu']}; torch threads "
+          f"{torch.get_num_threads()}; native bfloat16 on this CPU: {cpu_has_native_bfloat16()}; "
+          f"ATEN_CPU_CAPABILITY={os.environ.get('ATEN_CPU_CAPABILITY', '(unset)')}, "
+          f"ONEDNN_MAX_CPU_ISA={os.environ.get('ONEDNN_MAX_CPU_ISA', '(unset)')}"
           + ("" if "cuda" in devices else "; CUDA not available (CUDA figures skipped)"))
     pair = tuple(array[: args.pair_places or None] for array in pair_images("summer", "fall", args.seed)[:3])
     quality_images, _ = training_images(args.quality_images, args.seed + 1)
     results: dict = {}
-    for name, sizes in (("fae", args.fae_images), ("cae", args.cae_images)):
+    for key, name, params, count in networks(args):
         for device in devices:
-            scale = args.cuda_scale if device == "cuda" else 1
-            runs = results.setdefault(name, {}).setdefault(device, {})
-            for precision, channels_last in VARIANTS[name]:
-                emulated = precision == "bfloat16" and not native_bfloat16(device)
-                count = (args.emulated_images if emulated and name == "cae" else sizes) * scale
-                images, _ = training_images(count, args.seed)
-                run = throughput(name, precision, channels_last, device, images, args.seed)
-                # quality is checked where a variant could be chosen: not for emulated bfloat16
-                run["quality"] = None if emulated else quality(
-                    name, precision, channels_last, device, quality_images, pair, args.quality_epochs, args.seed)
-                run["emulated_bfloat16"] = emulated
-                runs[label(precision, channels_last)] = run
-            reference = runs[label(*VARIANTS[name][0])]
-            for variant, run in runs.items():
-                speedup = {key: run[f"{key}_images_per_s"] / reference[f"{key}_images_per_s"] for key in GOALS}
-                run["speedup_vs_float32"] = speedup
-                if run["quality"] is None:
-                    verdict = "quality not checked (bfloat16 emulated: auto uses float32 here)"
-                else:
-                    loss_change = run["quality"]["final_validation_loss"] / reference["quality"]["final_validation_loss"] - 1
-                    run["quality"]["validation_loss_change"] = loss_change
-                    equal = abs(loss_change) <= QUALITY_TOLERANCE
-                    verdict = (f"validation loss {run['quality']['final_validation_loss']:.5f} ({loss_change:+.2%}, "
-                               f"{'equal' if equal else 'NOT equal'} quality), summer-fall "
-                               f"{100 * run['quality']['fraction_correct']:.1f}% correct")
-                print(f"  {name} on {device:4s} {variant:27s}: train {run['train_images_per_s']:8.1f} images/s "
+            runs = results.setdefault(key, {})[device] = measure(name, params, count, device, args, quality_images, pair)
+            for label, run in runs.items():
+                speedup = run["speedup_vs_float32"]
+                print(f"  {key:8s} on {device:4s} {label:45s}: train {run['train_images_per_s']:8.1f} images/s "
                       f"({speedup['train']:.2f}x), describe {run['describe_images_per_s']:8.1f} images/s "
-                      f"({speedup['describe']:.2f}x) [{run['n_images']} images]; {verdict}")
+                      f"({speedup['describe']:.2f}x) [{run['n_images']} images]; {verdict(run)}", flush=True)
 
     note = load_note(measured_on)
     path = write_result("bench_autoencoders", {"args": vars(args), "results": results, "load_note": note}, measured_on)
@@ -148,14 +210,17 @@ def main() -> None:
     if note:
         print(note)
     device = devices[-1]
-    checked = {variant: run for variant, run in results["cae"][device].items() if run["quality"] is not None
-               and abs(run["quality"].get("validation_loss_change", 0.0)) <= QUALITY_TOLERANCE}
-    best = max(checked, key=lambda variant: checked[variant]["speedup_vs_float32"]["train"])
-    speedup = checked[best]["speedup_vs_float32"]
-    print(f"HEADLINE: cae on {device}, fastest at equal quality ({best}, {args.quality_epochs} epochs from the same "
-          f"seed in each): train {speedup['train']:.2f}x and describe {speedup['describe']:.2f}x float32 "
-          f"(goals {GOALS['train']:.0f}x / {GOALS['describe']:.0f}x: "
-          + ", ".join(f"{key} {'met' if speedup[key] >= goal else 'not met'}" for key, goal in GOALS.items()) + ")")
+    for key in (key for key in results if key.startswith("cae")):
+        checked = {label: run for label, run in results[key][device].items() if run["quality"] is not None
+                   and abs(run["quality"]["validation_loss_change"]) <= QUALITY_TOLERANCE}
+        best = max(checked, key=lambda label: checked[label]["speedup_vs_float32"]["train"])
+        speedup = checked[best]["speedup_vs_float32"]
+        print(f"HEADLINE: {key} on {device}, fastest at equal quality ({best}; validation loss within "
+              f"{QUALITY_TOLERANCE:.0%} after {args.quality_epochs} epochs from the same seed): train "
+              f"{speedup['train']:.2f}x and describe {speedup['describe']:.2f}x float32 contiguous (goals "
+              f"{GOALS['train']:.0f}x / {GOALS['describe']:.0f}x: "
+              + ", ".join(f"{goal_key} {'met' if speedup[goal_key] >= goal else 'not met'}"
+                          for goal_key, goal in GOALS.items()) + ")")
 
 
 if __name__ == "__main__":

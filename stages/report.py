@@ -30,6 +30,8 @@ FILES = ReportFiles(
     summary=Path("plots/summary"),
     similarity=Path("plots/similarity"),
     training_seasons_figure=Path("plots/training_seasons.png"),
+    cae_widths=Path("metrics/cae_widths.json"),
+    cae_widths_figure=Path("plots/cae_widths.png"),
     figures=Path("plots/figures"),
 )
 

@@ -30,7 +30,8 @@ def report_files(root) -> ReportFiles:
                         training_seasons=root / "training.json", autoencoder_descriptors=root / "ae.json",
                         autoencoder_training=root / "ae_training.json", features=root / "features",
                         season_preview=png, summary=root / "summary", similarity=root / "similarity",
-                        training_seasons_figure=png, figures=root / "figures")
+                        training_seasons_figure=png, cae_widths=root / "cae_widths.json", cae_widths_figure=png,
+                        figures=root / "figures")
     files.params.write_text("seed: 0\n")
     write_json(files.dataset, {"seasons": {season: {"frames": 10, "train": 6, "test": 3, "train_augmented": 12}
                                            for season in reversed(SEASONS)},
@@ -40,6 +41,12 @@ def report_files(root) -> ReportFiles:
     write_json(files.training_seasons, {"skipped": "skipped: a test"})
     write_json(files.autoencoder_descriptors, {})
     write_json(files.autoencoder_training, {})
+    width = {"channels": [6, 16, 24], "converged": True, "stop_reason": "plateau", "epochs_run": 30,
+             "best_validation_loss": 0.003, "cosine_with_input": 0.9,
+             **{descriptor: {"fraction_correct": {"summer-fall": 0.5}, "agreement_with_raw": {"summer-fall": 0.75}}
+                for descriptor in ("output_patchnorm", "code")}}
+    write_json(files.cae_widths, {"pairs": ["summer-fall"], "metric": "cosine", "widths": {"1/16": width},
+                                  "raw_patchnorm": {"fraction_correct": {"summer-fall": 0.25}}})
     rng = np.random.default_rng(1)
     for method in METHODS:
         for season in SEASONS:
@@ -64,13 +71,14 @@ def test_study_report_from_files(tmp_path):
     assert page.startswith("<!DOCTYPE html>") and "seasonloop: loop-closure detection across seasons" in page
     titles = ["Dataset", "Fraction correct", "Precision-recall curves", "Similarity matrices",
               "Example matches and failures, summer-fall", "Runtimes", "Training-season effect",
-              "Auto-encoder training", "The study&#x27;s other figures", "Parameters"]
+              "Auto-encoder training", "CAE width", "The study&#x27;s other figures", "Parameters"]
     for number, title in enumerate(titles, 1):
         assert f"<h2>{number}. {title}</h2>" in page, title
     # the seasons in the run's order, not the JSON's sorted one
     assert page.index("<th>summer</th>") < page.index("<th>winter</th>") < page.index("<th>fall</th>")
     assert "The training-season ablation was skipped: a test." in page and "fig02 pca projection" in page
     assert "seed: 0" in page and str(tmp_path) not in page
+    assert "<td>6/16/24</td>" in page and "<th>1/16</th>" in page
 
 
 def test_study_report_needs_the_figures_folder(tmp_path):

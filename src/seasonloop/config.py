@@ -137,6 +137,11 @@ SCHEMA: dict[str, dict[str, Check]] = {
     "report": {
         "example_pair": pair,
     },
+    "cae_widths": {
+        # fractions of Table 5's channels [96, 256, 384] (seasonloop.cae_widths)
+        "widths": list_of(number(0, 1, low_open=True)),
+        "pairs": list_of(pair),
+    },
 }
 
 # Top-level keys that are values, not sections.

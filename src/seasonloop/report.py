@@ -21,6 +21,7 @@ from seasonloop.report_examples import Example, example_grid_png, example_grids,
 from seasonloop.report_html import Block, Image, Png, Section, Table, Text, Thumbnails, build_report
 from seasonloop.report_sections import (
     autoencoder_training_section,
+    cae_widths_section,
     dataset_section,
     figures_section,
     fraction_correct_section,
@@ -42,7 +43,7 @@ from seasonloop.summary import pr_landmarks, pr_landmarks_table
 
 __all__ = [
     "Block", "Example", "Image", "Png", "ReportFiles", "Section", "Table", "Text", "Thumbnails",
-    "autoencoder_training_section", "build_report", "dataset_section", "example_grid_png", "example_grids",
+    "autoencoder_training_section", "build_report", "cae_widths_section", "dataset_section", "example_grid_png", "example_grids",
     "examples_section", "figures_section", "fraction_correct_section", "parameters_section", "pr_section",
     "runtime_section", "select_examples", "similarity_section", "study_report", "training_seasons_section",
 ]
@@ -66,6 +67,8 @@ class ReportFiles:
     summary: Path                  # fraction_correct[@<metric>].png, pr_<pair>.png
     similarity: Path               # <method>/<pair>.png
     training_seasons_figure: Path  # a PNG
+    cae_widths: Path               # the CAE width sweep's record (seasonloop.cae_widths)
+    cae_widths_figure: Path        # a PNG
     figures: Path                  # a folder of the study's other figures, *.png
 
 
@@ -107,6 +110,7 @@ def study_report(
         training_seasons_section(load_training_seasons(files.training_seasons, ablation_methods),
                                  files.training_seasons_figure),
         autoencoder_training_section(read_json(files.autoencoder_training)),
+        cae_widths_section(read_json(files.cae_widths), files.cae_widths_figure),
         figures_section(_figures(files.figures), load_autoencoder_descriptors(files.autoencoder_descriptors, methods)),
         parameters_section(files.params.read_text()),
     ]

@@ -167,6 +167,33 @@ def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -
         Image(f"Training-season effect on {pair} (study Fig. 18)", figure)])
 
 
+def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:
+    """The CAE width sweep (metrics/cae_widths.json, seasonloop.cae_widths): one row per width."""
+    pairs = record["pairs"]
+    rows = {}
+    for label, row in record["widths"].items():
+        rows[label] = {"channels": "/".join(map(str, row["channels"])),
+                       "converged": row["converged"], "stop": row["stop_reason"], "epochs": row["epochs_run"],
+                       "best val. loss": row["best_validation_loss"], "cos(output, input)": row["cosine_with_input"],
+                       **{f"output {pair}": 100 * row["output_patchnorm"]["fraction_correct"][pair] for pair in pairs},
+                       **{f"code {pair}": 100 * row["code"]["fraction_correct"][pair] for pair in pairs},
+                       **{f"output = raw {pair}": 100 * row["output_patchnorm"]["agreement_with_raw"][pair]
+                          for pair in pairs}}
+    rows["raw_patchnorm"] = {f"output {pair}": 100 * record["raw_patchnorm"]["fraction_correct"][pair] for pair in pairs}
+    table = pd.DataFrame.from_dict(rows, orient="index")
+    return Section("CAE width", [
+        Text("Table 5's CAE trained at fractions of its channel widths, each to its validation plateau (or "
+             "marked not converged), single-image matching under " + record["metric"] + ". 'output': the "
+             "patch-normalised output (the pipeline's CAE descriptor); 'code': the code vector; "
+             "cos(output, input): mean cosine of the patch-normalised output with the patch-normalised "
+             "input image; 'output = raw': the fraction of queries whose best match is raw_patchnorm's. "
+             "Table 5 has no bottleneck, so a CAE that scores like raw_patchnorm and agrees with it may "
+             "mostly measure the raw image."),
+        Table("CAE width sweep (metrics/cae_widths.json): fraction correct and agreement in %", table,
+              float_format="{:.4g}"),
+        Image("Fraction correct against the CAE's width", figure)])
+
+
 def figures_section(figures: Mapping[str, Png], autoencoder_descriptors: Mapping[str, Mapping[str, Mapping[str, float]]]) -> Section:
     """The study's other figures (caption -> PNG) and the auto-encoder descriptor comparison table.
 

@@ -168,6 +168,13 @@ class AblationConfig(Section):
 
 
 @dataclass(frozen=True)
+class CaeWidthsConfig(Section):
+    NAME = "cae_widths"
+    widths: tuple[float, ...]
+    pairs: tuple[str, ...]
+
+
+@dataclass(frozen=True)
 class ReportConfig(Section):
     NAME = "report"
     example_pair: str
@@ -175,5 +182,5 @@ class ReportConfig(Section):
 
 SECTIONS: tuple[type[Section], ...] = (
     DataConfig, SyntheticConfig, ExtractConfig, PreprocessConfig, SplitConfig, AugmentConfig, TrainConfig,
-    FeaturesConfig, EvaluateConfig, SequenceConfig, AblationConfig, ReportConfig,
+    FeaturesConfig, EvaluateConfig, SequenceConfig, AblationConfig, CaeWidthsConfig, ReportConfig,
 )

@@ -160,6 +160,18 @@ class _Plateau:
             self.reference_loss, self.improved_epoch = loss, epoch
 
 
+def _stop_reason(epoch: int, diverged: bool, plateau: _Plateau, config: TrainingConfig, elapsed: float) -> str | None:
+    """Why training stops after `epoch` (elapsed seconds in), or None to go on."""
+    if diverged:
+        # NaN fails every comparison, so without this a diverged run would read as a plateau
+        return STOP_DIVERGED
+    if epoch - plateau.improved_epoch >= config.patience:
+        return STOP_PLATEAU
+    if config.budget_seconds and epoch < config.max_epochs and elapsed * (epoch + 1) / epoch > config.budget_seconds:
+        return STOP_BUDGET
+    return None
+
+
 def learning_rate_schedule(optimiser: torch.optim.Optimizer, config: TrainingConfig) -> torch.optim.lr_scheduler.ReduceLROnPlateau:
     """ReduceLROnPlateau that cuts the rate at the lr_patience-th epoch in a row without a relative
     improvement of min_delta: torch cuts when the bad epochs *exceed* its patience, hence the - 1."""
@@ -217,16 +229,9 @@ def train_until_plateau(
         if on_epoch is not None:
             on_epoch(epoch, {"train_loss": train_loss[-1], "validation_loss": validation_loss[-1],
                              "learning_rate": learning_rate[-1]})
-        if diverged:
-            # NaN fails every comparison, so without this a diverged run would read as a plateau
-            stop_reason = STOP_DIVERGED
-            break
-        elapsed = time.perf_counter() - start_time
-        if epoch - plateau.improved_epoch >= config.patience:
-            stop_reason = STOP_PLATEAU
-            break
-        if config.budget_seconds and epoch < config.max_epochs and elapsed * (epoch + 1) / epoch > config.budget_seconds:
-            stop_reason = STOP_BUDGET
+        stop = _stop_reason(epoch, diverged, plateau, config, time.perf_counter() - start_time)
+        if stop:
+            stop_reason = stop
             break
     if plateau.best_state is None:
         raise RuntimeError(f"{description}: the validation loss was never finite ({validation_loss})")

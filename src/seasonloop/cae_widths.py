@@ -1,0 +1,173 @@
+"""The CAE width sweep: Table 5's convolutional auto-encoder at fractions of its channel widths.
+
+Table 5's network costs ~9 GMAC per 32x64 image forward, which no 2-core CPU trains to a plateau
+in the time a run has, so the default run uses a narrower copy (params.yaml `cae.channels`). This
+sweep tells whether that matters: for each width (a fraction of Table 5's [96, 256, 384] channels)
+a CAE with the `cae` section's other settings is trained to its validation plateau (or marked not
+converged), and for its code and its patch-normalised output it records the fraction correct on
+each pair, and how close it is to the raw image:
+
+- cosine_with_input: the mean cosine between the patch-normalised output and the patch-normalised
+  input image (1: the network has learned the identity, up to patch normalisation);
+- agreement_with_raw: the fraction of queries whose best match equals raw_patchnorm's best match
+  under the same distance (high: the descriptor ranks places as the raw image does).
+
+Table 5 has no bottleneck (its code holds 8 x 16 x 384 values, 24x the 2,048 input pixels), so a
+well-trained CAE can score well by reproducing the image; these two columns say how much of a
+CAE row is the raw image.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from seasonloop.evaluation import match_pair
+from seasonloop.io import staged_file, write_json
+from seasonloop.matching import best_matches, distance_matrix
+from seasonloop.plots import plot_series
+from seasonloop.settings import EvaluateConfig, SequenceConfig
+
+TABLE5_CHANNELS = (96, 256, 384)
+DESCRIPTORS = ("output_patchnorm", "code")
+# what the record keeps of each width's fit info
+FIT_RECORD = ("converged", "stop_reason", "epochs_run", "best_epoch", "best_validation_loss", "n_train_images",
+              "n_validation_images", "images_seen", "training_seconds", "precision", "n_parameters")
+
+
+def width_channels(width: float) -> list[int]:
+    """Table 5's channels scaled by `width` (at least 1 each)."""
+    if isinstance(width, bool) or not isinstance(width, (int, float)) or not 0 < width <= 1:
+        raise ValueError(f"cae_widths.widths: each width must be a fraction of Table 5's channels in (0, 1], got {width!r}")
+    return [max(1, round(width * channels)) for channels in TABLE5_CHANNELS]
+
+
+def width_label(width: float) -> str:
+    """'1/8' for 0.125, '1' for 1.0."""
+    return str(Fraction(width).limit_denominator(256))
+
+
+def agreement(descriptors: tuple[np.ndarray, np.ndarray], reference: tuple[np.ndarray, np.ndarray], metric: str) -> float:
+    """Fraction of queries whose best database match is the same under both descriptors
+    ((database, queries) each), with the same distance."""
+    ours = best_matches(distance_matrix(*descriptors, metric=metric))[0]
+    theirs = best_matches(distance_matrix(*reference, metric=metric))[0]
+    return float(np.mean(ours == theirs))
+
+
+def mean_cosine(first: np.ndarray, second: np.ndarray) -> float:
+    """Mean over rows of the cosine between first[i] and second[i] (zero rows count as 0)."""
+    first, second = np.asarray(first, np.float64), np.asarray(second, np.float64)
+    norms = np.linalg.norm(first, axis=1) * np.linalg.norm(second, axis=1)
+    cosines = np.divide(np.sum(first * second, axis=1), norms, out=np.zeros(len(first)), where=norms > 0)
+    return float(np.mean(cosines))
+
+
+def describe_width(learner, raw, test: Mapping[str, np.ndarray], places: np.ndarray,
+                   pairs: Sequence[tuple[str, str]], evaluate: EvaluateConfig, sequence: SequenceConfig,
+                   batch_size: int) -> dict[str, Any]:
+    """Fraction correct, agreement with `raw` (a fitted raw_patchnorm) per descriptor and pair, and
+    the cosine of the patch-normalised output with the patch-normalised input, of a fitted CAE."""
+    described: dict[str, dict[str, np.ndarray]] = {descriptor: {} for descriptor in DESCRIPTORS}
+    raw_described = {season: raw.describe(images) for season, images in test.items()}
+    cosines = []
+    for season, images in test.items():
+        code, output = learner.describe_code_and_output(images, batch_size)
+        described["code"][season] = code
+        described["output_patchnorm"][season] = learner.patchnorm_output(output, images.shape[1:])
+        cosines.append(mean_cosine(described["output_patchnorm"][season], raw_described[season]))
+    record: dict[str, Any] = {"cosine_with_input": float(np.mean(cosines))}
+    for descriptor in DESCRIPTORS:
+        ours = described[descriptor]
+        record[descriptor] = {
+            "fraction_correct": {f"{a}-{b}": match_pair(ours[a], ours[b], places, places, "single", evaluate,
+                                                        sequence)[0]["fraction_correct"] for a, b in pairs},
+            "agreement_with_raw": {f"{a}-{b}": agreement((ours[a], ours[b]), (raw_described[a], raw_described[b]),
+                                                         evaluate.metric) for a, b in pairs},
+        }
+    return record
+
+
+def run_width_sweep(
+    widths: Sequence[float],
+    new_cae: Callable[[list[int]], Any],
+    raw,
+    training_set: tuple[np.ndarray, np.ndarray],
+    test: Mapping[str, np.ndarray],
+    places: np.ndarray,
+    pairs: Sequence[tuple[str, str]],
+    evaluate: EvaluateConfig,
+    sequence: SequenceConfig,
+    batch_size: int,
+    fitted: Mapping[float, Any] | None = None,
+) -> dict[str, Any]:
+    """The sweep's record: new_cae(channels) gives an unfitted CAE, trained on training_set
+    (images, place ids); raw is a fitted raw_patchnorm, also evaluated as the reference row.
+    fitted[width]: a CAE already trained at that width with the same settings, images and seed
+    (the pipeline's own fit@cae), evaluated without training it again."""
+    fitted = dict(fitted or {})
+    images, image_places = training_set
+    raw_test = {season: raw.describe(test[season]) for season in test}
+    record: dict[str, Any] = {
+        "pairs": [f"{a}-{b}" for a, b in pairs],
+        "metric": evaluate.metric,
+        "raw_patchnorm": {"fraction_correct": {
+            f"{a}-{b}": match_pair(raw_test[a], raw_test[b], places, places, "single", evaluate, sequence)[0][
+                "fraction_correct"] for a, b in pairs}},
+        "widths": {},
+    }
+    for width in widths:
+        channels = width_channels(width)
+        if width in fitted:
+            learner = fitted[width]
+        else:
+            learner = new_cae(channels)
+            learner.fit(images, progress=True, places=image_places)
+        record["widths"][width_label(width)] = {
+            "width": float(width), "channels": channels, "reused": width in fitted,
+            **{key: learner.fit_info[key] for key in FIT_RECORD},
+            **describe_width(learner, raw, test, places, pairs, evaluate, sequence, batch_size),
+        }
+    return record
+
+
+def width_table(record: Mapping[str, Any]) -> str:
+    """The sweep as a markdown table: one row per width, fraction correct (%) per pair for the
+    patch-normalised output and the code, agreement with raw_patchnorm, fit facts."""
+    pairs = record["pairs"]
+    header = (["width", "channels", "converged (epochs)", "best val. loss", "cos(out, in)"]
+              + [f"out {pair}" for pair in pairs] + [f"code {pair}" for pair in pairs]
+              + [f"out = raw {pair}" for pair in pairs])
+    rows = []
+    for label, row in record["widths"].items():
+        converged = f"{'yes' if row['converged'] else 'no: ' + row['stop_reason']} ({row['epochs_run']})"
+        rows.append([label, "/".join(map(str, row["channels"])), converged, f"{row['best_validation_loss']:.5f}",
+                     f"{row['cosine_with_input']:.3f}"]
+                    + [f"{100 * row['output_patchnorm']['fraction_correct'][p]:.1f}" for p in pairs]
+                    + [f"{100 * row['code']['fraction_correct'][p]:.1f}" for p in pairs]
+                    + [f"{100 * row['output_patchnorm']['agreement_with_raw'][p]:.1f}" for p in pairs])
+    raw = record["raw_patchnorm"]["fraction_correct"]
+    rows.append(["raw_patchnorm", "", "", "", "1.000"] + [f"{100 * raw[p]:.1f}" for p in pairs]
+                + [""] * len(pairs) + ["100.0"] * len(pairs))
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(row) + " |" for row in rows]
+    return "\n".join(lines) + "\n"
+
+
+def write_width_sweep(record: Mapping[str, Any], json_path: Path, figure_path: Path, table_path: Path) -> None:
+    """metrics/cae_widths.json, its figure (fraction correct against width) and its markdown table."""
+    write_json(json_path, record)
+    labels = list(record["widths"])
+    series = {f"{'output' if descriptor == 'output_patchnorm' else descriptor} {pair}": (
+        labels, [100 * record["widths"][label][descriptor]["fraction_correct"][pair] for label in labels])
+        for descriptor in DESCRIPTORS for pair in record["pairs"]}
+    series.update({f"raw_patchnorm {pair}": (labels, [100 * record["raw_patchnorm"]["fraction_correct"][pair]] * len(labels))
+                   for pair in record["pairs"]})
+    plot_series(series, figure_path, title=f"CAE width (fraction of Table 5's channels), single image, {record['metric']}",
+                xlabel="width", ylabel="fraction correct (%)")
+    with staged_file(Path(table_path)) as tmp:
+        tmp.write_text(width_table(record))

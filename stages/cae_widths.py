@@ -1,0 +1,62 @@
+"""Stage cae_widths: the CAE width sweep (seasonloop.cae_widths).
+
+For each width of cae_widths.widths (a fraction of Table 5's channels), a CAE with the `cae`
+section's other settings is trained on the training images of train.seasons to its validation
+plateau, and its code and patch-normalised output are evaluated on cae_widths.pairs (single-image
+matching) beside raw_patchnorm. The width of the pipeline's own CAE (cae.channels, when cae is in
+learners) is not trained again: fit@cae trained it with the same settings, images and seed, so the
+stage loads models/cae. Writes metrics/cae_widths.json, plots/cae_widths.png and plots/cae_widths.md
+(the table the report shows).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from _common import (data_seasons, load_params, param, stage_main, test_images, test_places, train_seasons,
+                     training_images, training_places)
+
+from seasonloop.cae_widths import run_width_sweep, width_channels, write_width_sweep
+from seasonloop.config import available_pairs
+from seasonloop.models.cae import ConvolutionalAutoEncoder
+from seasonloop.models.raw_patchnorm import RawPatchNorm
+from seasonloop.models.registry import load_learner
+from seasonloop.settings import CaeWidthsConfig, EvaluateConfig, FeaturesConfig, SequenceConfig
+
+
+@stage_main
+def main() -> None:
+    params = load_params("seed", "learners", "data.seasons", "train", "augment.copies", "evaluate", "sequence",
+                         "features", "cae_widths", "cae", "raw_patchnorm")
+    sweep = CaeWidthsConfig.from_params(params)
+    evaluate = EvaluateConfig.from_params(params)
+    seed = int(param(params, "seed"))
+    cae_params = dict(param(params, "cae"))
+
+    def new_cae(channels: list[int]) -> ConvolutionalAutoEncoder:
+        return ConvolutionalAutoEncoder({**cae_params, "channels": channels}, seed=seed)
+
+    for width in sweep.widths:  # every width and the CAE section are checked before the first fit
+        new_cae(width_channels(width))
+    pairs = available_pairs(data_seasons(params), sweep.pairs)
+    if not pairs:
+        raise ValueError(f"cae_widths.pairs: none of {list(sweep.pairs)} has both seasons in data.seasons")
+    seasons = sorted({season for pair in pairs for season in pair}, key=data_seasons(params).index)
+    test = test_images(seasons)
+    raw = RawPatchNorm(param(params, "raw_patchnorm"), seed=seed)
+    raw.fit(test[seasons[0]], progress=False)  # nothing is learned; fit only records the image size
+    chosen = train_seasons(params)
+    fitted = {}
+    if "cae" in param(params, "learners"):
+        pipeline_cae = load_learner(Path("models/cae"))
+        fitted = {width: pipeline_cae for width in sweep.widths
+                  if width_channels(width) == list(pipeline_cae.params["channels"]) and pipeline_cae.params == new_cae(
+                      width_channels(width)).params and pipeline_cae.seed == seed}
+    record = run_width_sweep(sweep.widths, new_cae, raw, (training_images(params, chosen), training_places(params, chosen)),
+                             test, test_places(), pairs, evaluate, SequenceConfig.from_params(params),
+                             FeaturesConfig.from_params(params).batch_size, fitted)
+    write_width_sweep(record, Path("metrics/cae_widths.json"), Path("plots/cae_widths.png"), Path("plots/cae_widths.md"))
+
+
+if __name__ == "__main__":
+    main()

@@ -6,12 +6,15 @@ on CUDA; then the quality check: validation loss after the same number of epochs
 seed in each variant, and the fraction correct on summer-fall.
 
     python benchmarks/bench_autoencoders.py [--fae-images 4096] [--cae-images 64] [--cae-widths 1,0.0625]
+        [--plateau-images 2048]
 
 A speed-up counts only at equal quality (validation loss within 2% relative of the float32
 reference after the same epochs from the same seed). Where the CPU has no bfloat16 units torch
 emulates bfloat16, several times slower than float32; the bfloat16 throughput is then measured on
-fewer images and its quality check is skipped. Writes benchmarks/results/bench_autoencoders.json;
-the headline line is printed last.
+fewer images and its quality check is skipped. `--plateau-images N` adds the strict comparison:
+the CAE trained in float32 and in bfloat16 (where the CPU has the units) to its validation plateau
+on N images with the pipeline's stopping rule, timed, with its best validation loss and fraction
+correct. Writes benchmarks/results/bench_autoencoders.json; the headline line is printed last.
 """
 
 from __future__ import annotations
@@ -73,6 +76,10 @@ def parse_args() -> argparse.Namespace:
     parser.add_argument("--pair-places", type=int, default=0,
                         help="test places of summer-fall in the quality check (0: all)")
     parser.add_argument("--cuda-scale", type=int, default=16, help="CUDA runs use this many times more images")
+    parser.add_argument("--plateau-images", type=int, default=0,
+                        help="also train the CAE of each width in float32 and in bfloat16 (channels_last, where "
+                             "the CPU has bfloat16 units) to its validation plateau on this many images and compare "
+                             "time, best validation loss and fraction correct (0: skip)")
     parser.add_argument("--seed", type=int, default=0)
     return parser.parse_args()
 
@@ -174,6 +181,26 @@ def measure(name: str, params: dict, count: int, device: str, args: argparse.Nam
     return runs
 
 
+def to_plateau(params: dict, args: argparse.Namespace, pair: tuple) -> dict:
+    """float32 vs bfloat16 (channels_last), each trained to its validation plateau with the pipeline's
+    stopping rule: the speed-up at equal quality in the strict sense (both converged)."""
+    images, _ = training_images(args.plateau_images, args.seed)
+    places = np.arange(len(images)) // 2  # pairs of images share a place, as original and augmented copy
+    runs = {}
+    for precision in ("float32", "bfloat16"):
+        if precision == "bfloat16" and not cpu_has_native_bfloat16():
+            continue
+        learner = learner_for("cae", Variant(precision, channels_last=True), "cpu", args.seed,
+                              max_validation_images=256, max_epochs=300, **params)
+        info = learner.fit(images, progress=False, places=places)
+        database, queries, pair_places = pair
+        distances = distance_matrix(learner.describe(database), learner.describe(queries), metric="cosine")
+        metrics, _ = evaluate_pair(distances, pair_places, pair_places, tolerance=0, confidence="distance")
+        runs[precision] = {key: info[key] for key in ("converged", "stop_reason", "epochs_run", "best_validation_loss",
+                                                      "training_seconds")} | {"fraction_correct": metrics["fraction_correct"]}
+    return runs
+
+
 def verdict(run: dict) -> str:
     if run["quality"] is None:
         return "quality not checked (bfloat16 emulated on this CPU)"
@@ -203,6 +230,20 @@ def main() -> None:
                 print(f"  {key:8s} on {device:4s} {label:45s}: train {run['train_images_per_s']:8.1f} images/s "
                       f"({speedup['train']:.2f}x), describe {run['describe_images_per_s']:8.1f} images/s "
                       f"({speedup['describe']:.2f}x) [{run['n_images']} images]; {verdict(run)}", flush=True)
+
+    if args.plateau_images:
+        for key, name, params, _ in networks(args):
+            if name != "cae":
+                continue
+            runs = results[key]["cpu_to_plateau"] = to_plateau(params, args, pair)
+            for precision, run in runs.items():
+                print(f"  {key:8s} to its plateau in {precision:8s} ({args.plateau_images} images): "
+                      f"{run['training_seconds']:.0f} s, {run['epochs_run']} epochs, converged {run['converged']}, best "
+                      f"validation loss {run['best_validation_loss']:.5f}, summer-fall {100 * run['fraction_correct']:.1f}%",
+                      flush=True)
+            if len(runs) == 2:
+                print(f"  {key:8s} to its plateau: bfloat16 {runs['float32']['training_seconds'] / runs['bfloat16']['training_seconds']:.2f}x "
+                      f"float32's speed, best validation loss {runs['bfloat16']['best_validation_loss'] / runs['float32']['best_validation_loss'] - 1:+.1%}")
 
     note = load_note(measured_on)
     path = write_result("bench_autoencoders", {"args": vars(args), "results": results, "load_note": note}, measured_on)

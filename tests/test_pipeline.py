@@ -28,8 +28,10 @@ TINY = {
     "ica": {"n_components": 16, "max_iter": 200},
     "ica_bovw": {"n_train_patches": 3000, "n_components": 15, "n_words": 20},
     "fae": {"hidden": 32, "max_epochs": 2},
-    "cae": {"channels": [4, 8, 8], "kernels": [5, 3, 3], "max_epochs": 1, "max_train_images": 64,
+    "cae": {"channels": [3, 8, 12], "kernels": [5, 3, 3], "max_epochs": 1, "max_train_images": 64,
             "max_validation_images": 16},
+    # 1/32 is the CAE's own width (reused from fit@cae), 1/16 is trained by the sweep
+    "cae_widths": {"widths": [0.03125, 0.0625]},
     "ablation": {"training_seasons": [["summer"], ["summer", "winter"]], "pair": "summer-fall"},
 }
 
@@ -140,6 +142,12 @@ def test_learners_metrics_and_plots_exist(workspace):
     training = json.loads((workspace / "metrics/autoencoder_training.json").read_text())
     assert set(training) == {"fae", "cae"} and training["cae"]["epochs_run"] == 1
     assert (workspace / "plots/figures/fig19b_autoencoder_reconstructions.png").is_file()
+    sweep = json.loads((workspace / "metrics/cae_widths.json").read_text())
+    assert sweep["pairs"] == ["summer-fall", "winter-summer"]  # spring-fall has no spring here
+    assert {label: (row["channels"], row["reused"]) for label, row in sweep["widths"].items()} == {
+        "1/32": ([3, 8, 12], True), "1/16": ([6, 16, 24], False)}
+    assert sweep["widths"]["1/32"]["best_validation_loss"] == training["cae"]["best_validation_loss"]
+    assert (workspace / "plots/cae_widths.md").read_text().count("\n| 1/") == 2
     shown = dvc(workspace, "plots", "show", "--json")
     assert shown.returncode == 0, shown.stderr
     plots = json.loads(shown.stdout)
@@ -154,6 +162,7 @@ def test_learners_metrics_and_plots_exist(workspace):
     report = (workspace / "plots/report.html").read_text()
     assert "data:image/png;base64," in report and "summer-fall" in report
     assert "pca_whiten@cityblock" in report and "precision-recall landmarks" in report
+    assert "CAE width sweep" in report
 
 
 @pytest.mark.e2e

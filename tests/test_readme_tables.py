@@ -1,0 +1,53 @@
+"""The README's results tables are what docs/write_tables.py writes from the pipeline's outputs
+(their copies in docs/results/), never typed in by hand."""
+
+import importlib.util
+import json
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+spec = importlib.util.spec_from_file_location("write_tables", ROOT / "docs" / "write_tables.py")
+write_tables = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(write_tables)
+
+
+def provenance() -> dict:
+    return json.loads(write_tables.PROVENANCE.read_text())
+
+
+def test_every_readme_table_is_what_the_script_writes():
+    text = write_tables.README.read_text()
+    names = [line.split()[2] for line in text.splitlines() if line.startswith("<!-- table: ")]
+    assert set(names) == set(write_tables.TABLES), "each table of docs/write_tables.py appears in README.md once"
+    assert len(names) == len(set(names))
+    assert write_tables.rewrite(text, provenance()) == text, "run `python docs/write_tables.py`"
+
+
+def test_the_snapshots_say_where_they_came_from():
+    record = provenance()
+    for name, (_, copy, _) in write_tables.TABLES.items():
+        assert (write_tables.RESULTS / copy).is_file()
+        assert {"commit", "dirty", "command", "cpu"} <= set(record[name])
+
+
+@pytest.mark.parametrize("name", ["fraction_correct", "autoencoder_training"])
+def test_snapshots_of_the_default_run_match_its_outputs_when_present(name):
+    """Where this clone has run the default pipeline and its lock is the committed one, the copies
+    in docs/results/ must be its outputs (otherwise the README shows another run)."""
+    source, copy, _ = write_tables.TABLES[name]
+    if not (ROOT / source).is_file():
+        pytest.skip(f"{source} not present (the pipeline has not run in this clone)")
+    import subprocess
+
+    lock_changed = subprocess.run(["git", "-C", str(ROOT), "diff", "--quiet", "HEAD", "--", "dvc.lock", "params.yaml"])
+    if lock_changed.returncode:
+        pytest.skip("dvc.lock or params.yaml differ from HEAD: the workspace holds another run")
+    assert (ROOT / source).read_text() == (write_tables.RESULTS / copy).read_text(), (
+        "run `python docs/write_tables.py --snapshot " + name + "` after `dvc repro`")
+
+
+def test_an_unknown_table_name_is_an_error():
+    with pytest.raises(ValueError, match="unknown table 'nope'"):
+        write_tables.rewrite("<!-- table: nope -->\nx\n<!-- /table -->", {})

@@ -83,4 +83,8 @@ def test_sweep_record_table_and_figure(tmp_path):
     write_width_sweep(record, tmp_path / "sweep.json", tmp_path / "sweep.png", tmp_path / "sweep.md")
     assert json.loads((tmp_path / "sweep.json").read_text()) == json.loads(json.dumps(record))
     assert (tmp_path / "sweep.md").read_text() == table
+    # read back from JSON (keys sorted as text: "1/32" < "1/48"), the rows still go narrowest first
+    reread = width_table(json.loads((tmp_path / "sweep.json").read_text()))
+    assert reread.index("| 1/48 |") < reread.index("| 1/32 |") and reread == width_table(
+        {**record, "widths": dict(reversed(record["widths"].items()))})
     assert (tmp_path / "sweep.png").read_bytes().startswith(b"\x89PNG")

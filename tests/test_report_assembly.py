@@ -41,7 +41,7 @@ def report_files(root) -> ReportFiles:
     write_json(files.training_seasons, {"skipped": "skipped: a test"})
     write_json(files.autoencoder_descriptors, {})
     write_json(files.autoencoder_training, {})
-    width = {"channels": [6, 16, 24], "converged": True, "stop_reason": "plateau", "epochs_run": 30,
+    width = {"width": 0.0625, "channels": [6, 16, 24], "converged": True, "stop_reason": "plateau", "epochs_run": 30,
              "best_validation_loss": 0.003, "cosine_with_input": 0.9,
              **{descriptor: {"fraction_correct": {"summer-fall": 0.5}, "agreement_with_raw": {"summer-fall": 0.75}}
                 for descriptor in ("output_patchnorm", "code")}}

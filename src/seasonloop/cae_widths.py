@@ -135,6 +135,11 @@ def run_width_sweep(
     return record
 
 
+def by_width(record: Mapping[str, Any]) -> list[tuple[str, Mapping[str, Any]]]:
+    """(label, row) of every width, narrowest first (a JSON record's keys come back sorted as text)."""
+    return sorted(record["widths"].items(), key=lambda item: item[1]["width"])
+
+
 def width_table(record: Mapping[str, Any]) -> str:
     """The sweep as a markdown table: one row per width, fraction correct (%) per pair for the
     patch-normalised output and the code, agreement with raw_patchnorm, fit facts."""
@@ -143,7 +148,7 @@ def width_table(record: Mapping[str, Any]) -> str:
               + [f"out {pair}" for pair in pairs] + [f"code {pair}" for pair in pairs]
               + [f"out = raw {pair}" for pair in pairs])
     rows = []
-    for label, row in record["widths"].items():
+    for label, row in by_width(record):
         converged = f"{'yes' if row['converged'] else 'no: ' + row['stop_reason']} ({row['epochs_run']})"
         rows.append([label, "/".join(map(str, row["channels"])), converged, f"{row['best_validation_loss']:.5f}",
                      f"{row['cosine_with_input']:.3f}"]
@@ -161,7 +166,7 @@ def width_table(record: Mapping[str, Any]) -> str:
 def write_width_sweep(record: Mapping[str, Any], json_path: Path, figure_path: Path, table_path: Path) -> None:
     """metrics/cae_widths.json, its figure (fraction correct against width) and its markdown table."""
     write_json(json_path, record)
-    labels = list(record["widths"])
+    labels = [label for label, _ in by_width(record)]
     series = {f"{'output' if descriptor == 'output_patchnorm' else descriptor} {pair}": (
         labels, [100 * record["widths"][label][descriptor]["fraction_correct"][pair] for label in labels])
         for descriptor in DESCRIPTORS for pair in record["pairs"]}

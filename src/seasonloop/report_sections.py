@@ -171,7 +171,7 @@ def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:
     """The CAE width sweep (metrics/cae_widths.json, seasonloop.cae_widths): one row per width."""
     pairs = record["pairs"]
     rows = {}
-    for label, row in record["widths"].items():
+    for label, row in sorted(record["widths"].items(), key=lambda item: item[1]["width"]):
         rows[label] = {"channels": "/".join(map(str, row["channels"])),
                        "converged": row["converged"], "stop": row["stop_reason"], "epochs": row["epochs_run"],
                        "best val. loss": row["best_validation_loss"], "cos(output, input)": row["cosine_with_input"],

@@ -127,6 +127,10 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
 }
 
 
+# figures copied beside a table's snapshot (the README shows the copy): table name -> (figure, copy)
+FIGURES = {"cae_widths": ("plots/cae_widths.png", "cae_widths_sweep.png")}
+
+
 def provenance_line(name: str, provenance: dict) -> str:
     source, snapshot, _ = TABLES[name]
     run = provenance.get(name, {})
@@ -140,7 +144,8 @@ def provenance_line(name: str, provenance: dict) -> str:
 
 def table_block(name: str, provenance: dict) -> str:
     _, snapshot, render = TABLES[name]
-    return render(RESULTS / snapshot) + "\n" + provenance_line(name, provenance)
+    figure = f"\n![{name}](docs/results/{FIGURES[name][1]})\n" if name in FIGURES else ""
+    return render(RESULTS / snapshot) + figure + "\n" + provenance_line(name, provenance)
 
 
 def rewrite(text: str, provenance: dict) -> str:
@@ -174,6 +179,8 @@ def snapshot(names: list[str], command: str) -> None:
         if not (ROOT / source).is_file():
             raise FileNotFoundError(f"{source}: not found (run the pipeline first)")
         shutil.copyfile(ROOT / source, RESULTS / copy)
+        if name in FIGURES:
+            shutil.copyfile(ROOT / FIGURES[name][0], RESULTS / FIGURES[name][1])
         provenance[name] = {"commit": commit, "dirty": dirty, "command": command, "cpu": cpu_model()}
     PROVENANCE.write_text(json.dumps(provenance, indent=2, sort_keys=True) + "\n")
 

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from seasonloop.evaluation import match_pair
+from seasonloop.figures import autoencoder_descriptors
 from seasonloop.io import staged_file, write_json
 from seasonloop.matching import best_matches, distance_matrix
 from seasonloop.plots import plot_series
@@ -72,14 +73,9 @@ def describe_width(learner, raw, test: Mapping[str, np.ndarray], places: np.ndar
                    batch_size: int) -> dict[str, Any]:
     """Fraction correct, agreement with `raw` (a fitted raw_patchnorm) per descriptor and pair, and
     the cosine of the patch-normalised output with the patch-normalised input, of a fitted CAE."""
-    described: dict[str, dict[str, np.ndarray]] = {descriptor: {} for descriptor in DESCRIPTORS}
+    described = autoencoder_descriptors(learner, test, batch_size)
     raw_described = {season: raw.describe(images) for season, images in test.items()}
-    cosines = []
-    for season, images in test.items():
-        code, output = learner.describe_code_and_output(images, batch_size)
-        described["code"][season] = code
-        described["output_patchnorm"][season] = learner.patchnorm_output(output, images.shape[1:])
-        cosines.append(mean_cosine(described["output_patchnorm"][season], raw_described[season]))
+    cosines = [mean_cosine(described["output_patchnorm"][season], raw_described[season]) for season in test]
     record: dict[str, Any] = {"cosine_with_input": float(np.mean(cosines))}
     for descriptor in DESCRIPTORS:
         ours = described[descriptor]

@@ -68,13 +68,13 @@ def mean_cosine(first: np.ndarray, second: np.ndarray) -> float:
     return float(np.mean(cosines))
 
 
-def describe_width(learner, raw, test: Mapping[str, np.ndarray], places: np.ndarray,
-                   pairs: Sequence[tuple[str, str]], evaluate: EvaluateConfig, sequence: SequenceConfig,
-                   batch_size: int) -> dict[str, Any]:
-    """Fraction correct, agreement with `raw` (a fitted raw_patchnorm) per descriptor and pair, and
-    the cosine of the patch-normalised output with the patch-normalised input, of a fitted CAE."""
+def describe_width(learner, raw_described: Mapping[str, np.ndarray], test: Mapping[str, np.ndarray],
+                   places: np.ndarray, pairs: Sequence[tuple[str, str]], evaluate: EvaluateConfig,
+                   sequence: SequenceConfig, batch_size: int) -> dict[str, Any]:
+    """Fraction correct, agreement with raw_patchnorm (raw_described[season]: its descriptors of
+    test[season]) per descriptor and pair, and the cosine of the patch-normalised output with the
+    patch-normalised input, of a fitted CAE."""
     described = autoencoder_descriptors(learner, test, batch_size)
-    raw_described = {season: raw.describe(images) for season, images in test.items()}
     cosines = [mean_cosine(described["output_patchnorm"][season], raw_described[season]) for season in test]
     record: dict[str, Any] = {"cosine_with_input": float(np.mean(cosines))}
     for descriptor in DESCRIPTORS:
@@ -126,7 +126,7 @@ def run_width_sweep(
         record["widths"][width_label(width)] = {
             "width": float(width), "channels": channels, "reused": width in fitted,
             **{key: learner.fit_info[key] for key in FIT_RECORD},
-            **describe_width(learner, raw, test, places, pairs, evaluate, sequence, batch_size),
+            **describe_width(learner, raw_test, test, places, pairs, evaluate, sequence, batch_size),
         }
     return record
 

@@ -19,6 +19,7 @@ import torch
 from seasonloop.augment import augment_training_set
 from seasonloop.data.synthetic import SyntheticRoute
 from seasonloop.io import read_json, write_json
+from seasonloop.machine import cpu_model
 from seasonloop.models.base import to_json_value
 from seasonloop.preprocess import enhance_image_contrast, to_gray
 from seasonloop.seasons import SEASONS
@@ -100,20 +101,6 @@ def cpu_busy_fraction(seconds: float = 1.0) -> float | None:
     if first is None or second is None or second[1] == first[1]:
         return None
     return (second[0] - first[0]) / (second[1] - first[1])
-
-
-def cpu_model() -> str:
-    """The CPU's model name and its vector units (what lscpu shows), e.g. 'AMD EPYC (avx2, avx512f,
-    avx512_bf16)': machines differ between sessions, and timings mean little without it."""
-    try:
-        lines = Path("/proc/cpuinfo").read_text().splitlines()
-    except OSError:
-        return platform.processor() or "unknown CPU"
-    fields = dict(line.split(":", 1) for line in lines if ":" in line)
-    fields = {key.strip(): value.strip() for key, value in fields.items()}
-    flags = set(fields.get("flags", "").split())
-    units = [flag for flag in ("avx2", "avx512f", "avx512_bf16", "amx_bf16") if flag in flags]
-    return f"{fields.get('model name', 'unknown CPU')} ({', '.join(units) or 'no AVX2'})"
 
 
 def machine() -> dict[str, Any]:

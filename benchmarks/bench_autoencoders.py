@@ -140,10 +140,14 @@ def quality(name: str, variant: Variant, device: str, images: np.ndarray,
     learner = learner_for(name, variant, device, seed, max_epochs=epochs, patience=epochs + 1,
                           max_validation_images=0, **params)
     info = learner.fit(images, progress=False, places=np.arange(len(images)))
+    return {"final_validation_loss": info["validation_loss_per_epoch"][-1], "fraction_correct": pair_correct(learner, pair)}
+
+
+def pair_correct(learner, pair: tuple[np.ndarray, np.ndarray, np.ndarray]) -> float:
+    """Single-image fraction correct of a fitted learner on pair = (database, queries, places), cosine."""
     database, queries, places = pair
     distances = distance_matrix(learner.describe(database), learner.describe(queries), metric="cosine")
-    metrics, _ = evaluate_pair(distances, places, places, tolerance=0, confidence="distance")
-    return {"final_validation_loss": info["validation_loss_per_epoch"][-1], "fraction_correct": metrics["fraction_correct"]}
+    return evaluate_pair(distances, places, places, tolerance=0, confidence="distance")[0]["fraction_correct"]
 
 
 def networks(args: argparse.Namespace) -> list[tuple[str, str, dict, int]]:
@@ -193,11 +197,8 @@ def to_plateau(params: dict, args: argparse.Namespace, pair: tuple) -> dict:
         learner = learner_for("cae", Variant(precision, channels_last=True), "cpu", args.seed,
                               max_validation_images=256, max_epochs=300, **params)
         info = learner.fit(images, progress=False, places=places)
-        database, queries, pair_places = pair
-        distances = distance_matrix(learner.describe(database), learner.describe(queries), metric="cosine")
-        metrics, _ = evaluate_pair(distances, pair_places, pair_places, tolerance=0, confidence="distance")
         runs[precision] = {key: info[key] for key in ("converged", "stop_reason", "epochs_run", "best_validation_loss",
-                                                      "training_seconds")} | {"fraction_correct": metrics["fraction_correct"]}
+                                                      "training_seconds")} | {"fraction_correct": pair_correct(learner, pair)}
     return runs
 
 

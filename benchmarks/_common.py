@@ -1,7 +1,7 @@
 """Shared helpers of the benchmark scripts (run from the repository root; not a pytest module).
 
 Data: the pipeline's preprocessed images when `dvc repro` has written data/split/, otherwise
-images rendered by seasonloop.data.synthetic and preprocessed by seasonloop.preprocess.
+images rendered by seasonloop.data.synthetic and preprocessed by seasonloop.data.preprocess.
 """
 
 from __future__ import annotations
@@ -16,13 +16,13 @@ from typing import Any
 import numpy as np
 import torch
 
-from seasonloop.augment import augment_training_set
+from seasonloop.data.augment import augment_training_set
 from seasonloop.data.synthetic import SyntheticRoute
 from seasonloop.io import read_json, write_json
 from seasonloop.machine import cpu_model
-from seasonloop.models.base import to_json_value
-from seasonloop.preprocess import enhance_image_contrast, to_gray
-from seasonloop.seasons import SEASONS
+from seasonloop.models.core.learner import to_json_value
+from seasonloop.data.preprocess import enhance_image_contrast, to_gray
+from seasonloop.params.seasons import SEASONS
 
 SPLIT_DIR = Path("data/split")
 RESULTS_DIR = Path("benchmarks/results")

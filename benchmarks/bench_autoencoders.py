@@ -27,10 +27,10 @@ import numpy as np
 import torch
 
 from _common import HEIGHT, WIDTH, load_note, machine, pair_images, timed, training_images, write_result
-from seasonloop.cae_widths import width_channels, width_label
-from seasonloop.matching import distance_matrix
-from seasonloop.metrics import evaluate_pair
-from seasonloop.models._training import cpu_has_native_bfloat16
+from seasonloop.ablations.cae_widths import width_channels, width_label
+from seasonloop.evaluation.matching import distance_matrix
+from seasonloop.evaluation.metrics import evaluate_pair
+from seasonloop.models.core.training import cpu_has_native_bfloat16
 from seasonloop.models.registry import get_learner
 
 

@@ -16,11 +16,11 @@ import numpy as np
 import torch
 
 from _common import load_note, machine, pair_images, timed, training_images, write_result
-from seasonloop.config import parse_pair
-from seasonloop.fastica import TorchFastICA, amari_distance
-from seasonloop.matching import distance_matrix
-from seasonloop.metrics import evaluate_pair
-from seasonloop.models.base import to_float
+from seasonloop.params.schema import parse_pair
+from seasonloop.models.core.fastica import TorchFastICA, amari_distance
+from seasonloop.evaluation.matching import distance_matrix
+from seasonloop.evaluation.metrics import evaluate_pair
+from seasonloop.models.core.learner import to_float
 from seasonloop.models.ica import fit_fastica
 
 

@@ -17,8 +17,8 @@ import argparse
 import numpy as np
 
 from _common import load_note, machine, timed, write_result
-from seasonloop.matching import METRICS, best_matches, distance_matrix
-from seasonloop.metrics import evaluate_pair
+from seasonloop.evaluation.matching import METRICS, best_matches, distance_matrix
+from seasonloop.evaluation.metrics import evaluate_pair
 
 
 def parse_args() -> argparse.Namespace:

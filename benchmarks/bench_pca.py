@@ -20,8 +20,9 @@ from scipy.linalg import subspace_angles
 from sklearn.decomposition import PCA
 
 from _common import load_note, machine, timed, training_images, write_result
-from seasonloop.models.base import to_float
-from seasonloop.models.pca import SVD_SOLVERS, PCALearner
+from seasonloop.models.core.learner import to_float
+from seasonloop.models.core.projection import SVD_SOLVERS
+from seasonloop.models.pca import PCALearner
 
 EXACT_SOLVERS = ("full", "covariance_eigh")
 

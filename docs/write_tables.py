@@ -25,7 +25,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
-from seasonloop.cae_widths import width_table  # noqa: E402
+from seasonloop.ablations.cae_widths import width_table  # noqa: E402
 from seasonloop.machine import cpu_model  # noqa: E402
 
 RESULTS = ROOT / "docs" / "results"

@@ -1,8 +1,7 @@
-"""What every stage script shares: reading params.yaml, the pipeline's data folders, and turning bad
-input into one clear line.
+"""What every stage script shares: reading (and checking) params.yaml, and turning bad input into
+one clear line. Imports seasonloop.params only; the pipeline's data sets are in _datasets.py.
 
 Stage scripts are thin: they read params, call the seasonloop library and write their outputs.
-The helpers here only bind params and pipeline paths to library calls (seasonloop.datasets).
 """
 
 from __future__ import annotations
@@ -13,16 +12,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import yaml
 
-from seasonloop import datasets
-from seasonloop.config import check_params, check_seasons
+from seasonloop.params.schema import check_params, check_seasons
 
 PARAMS_FILE = Path("params.yaml")
-# the pipeline's split and augmented training set (their layout: seasonloop.datasets)
-SPLIT = Path("data/split")
-AUGMENTED = Path("data/augmented")
 
 
 def load_params(*keys: str, path: Path = PARAMS_FILE) -> dict[str, Any]:
@@ -53,28 +47,6 @@ def data_seasons(params: dict[str, Any]) -> list[str]:
 def train_seasons(params: dict[str, Any]) -> list[str]:
     """train.seasons, each of which must be among the data's seasons."""
     return check_seasons(param(params, "train.seasons"), "train.seasons", allowed=data_seasons(params))
-
-
-def training_images(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
-    """The concatenated training images of `seasons`, augmented or not as train.augmented says."""
-    augmented = AUGMENTED if bool(param(params, "train.augmented")) else None
-    return datasets.training_images(SPLIT, augmented, seasons)
-
-
-def training_places(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
-    """The place id of every image that training_images returns."""
-    copies = int(param(params, "augment.copies")) if bool(param(params, "train.augmented")) else 0
-    return datasets.training_places(SPLIT, seasons, copies)
-
-
-def test_places() -> np.ndarray:
-    """Place ids of the test images, the same for every season (rows of <season>_test.npy)."""
-    return datasets.test_places(SPLIT)
-
-
-def test_images(seasons: list[str]) -> dict[str, np.ndarray]:
-    """season -> its (N_test, H, W) test images."""
-    return datasets.test_images(SPLIT, seasons)
 
 
 def stage_main(run: Callable[[], None]) -> Callable[[], None]:

@@ -12,7 +12,7 @@ from _common import data_seasons, load_params, stage_main
 
 from seasonloop.data.sources import SOURCES, acquire_sources
 from seasonloop.io import staged_dir, write_json
-from seasonloop.settings import DataConfig, SyntheticConfig
+from seasonloop.params.settings import DataConfig, SyntheticConfig
 
 OUT = Path("data/acquired")
 

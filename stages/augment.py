@@ -7,11 +7,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from _common import AUGMENTED, SPLIT, data_seasons, load_params, stage_main
-
-from seasonloop.datasets import dataset_record, read_split, write_augmented_sets
+from _common import data_seasons, load_params, stage_main
+from _datasets import AUGMENTED, SPLIT
+from seasonloop.data.datasets import dataset_record, read_split, write_augmented_sets
 from seasonloop.io import read_json, staged_dir, write_json
-from seasonloop.settings import AugmentConfig
+from seasonloop.params.settings import AugmentConfig
 
 DATASET = Path("metrics/dataset.json")
 DETECTION = Path("metrics/detection.json")

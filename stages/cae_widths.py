@@ -1,4 +1,4 @@
-"""Stage cae_widths: the CAE width sweep (seasonloop.cae_widths).
+"""Stage cae_widths: the CAE width sweep (seasonloop.ablations.cae_widths).
 
 For each width of cae_widths.widths (a fraction of Table 5's channels), a CAE with the `cae`
 section's other settings is trained on the training images of train.seasons to its validation
@@ -13,15 +13,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from _common import (data_seasons, load_params, param, stage_main, test_images, test_places, train_seasons,
-                     training_images, training_places)
+from _common import data_seasons, load_params, param, stage_main, train_seasons
+from _datasets import test_images, test_places, training_images, training_places
 
-from seasonloop.cae_widths import run_width_sweep, width_channels, write_width_sweep
-from seasonloop.config import available_pairs
+from seasonloop.ablations.cae_widths import run_width_sweep, width_channels, write_width_sweep
+from seasonloop.params.schema import available_pairs
 from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.raw_patchnorm import RawPatchNorm
 from seasonloop.models.registry import load_learner
-from seasonloop.settings import CaeWidthsConfig, EvaluateConfig, FeaturesConfig, SequenceConfig
+from seasonloop.params.settings import CaeWidthsConfig, EvaluateConfig, FeaturesConfig, SequenceConfig
 
 
 @stage_main

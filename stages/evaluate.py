@@ -6,7 +6,7 @@ SeqSLAM-style sequence matching), writes metrics/eval/<method>/<pair><suffix>.js
 plots/pr/<method>/<pair><suffix>.csv (the study's PR convention) and
 plots/similarity/<method>/<pair><suffix>.png, where suffix is "@<metric>" for an extra metric
 (nothing for evaluate.metric) followed by "" for single-image matching and "+seq" for sequence
-matching (seasonloop.evaluation.result_suffix).
+matching (seasonloop.evaluation.matchers.result_suffix).
 """
 
 from __future__ import annotations
@@ -14,12 +14,13 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from _common import data_seasons, load_params, stage_main, test_places
+from _common import data_seasons, load_params, stage_main
+from _datasets import test_places
 
-from seasonloop.config import available_pairs
+from seasonloop.params.schema import available_pairs
 from seasonloop.io import staged_dir
-from seasonloop.pair_evaluation import evaluate_learner
-from seasonloop.settings import EvaluateConfig, SequenceConfig
+from seasonloop.evaluation.pair_evaluation import evaluate_learner
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 
 @stage_main

@@ -1,7 +1,7 @@
 """Stage extract_frames: extract.fps frames a second from every season (every data.frame_step-th
 kept: one kept frame is a place), at the storage size. Frame folders are read in natural order and
 paired by file name when the seasons share names. Then the seasons' alignment is measured
-(seasonloop.alignment): a clear non-zero offset stops the run, and data.offsets shifts a season
+(seasonloop.data.alignment): a clear non-zero offset stops the run, and data.offsets shifts a season
 by a known one. frames.json records both.
 
 Writes data/frames/<season>.npy (N, h, w, 3) uint8 BGR, data/frames/frames.json and a preview of
@@ -17,7 +17,7 @@ from _common import data_seasons, load_params, param, stage_main
 from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
 from seasonloop.io import read_json, staged_dir, write_json
 from seasonloop.plots import plot_image_grid
-from seasonloop.settings import ExtractConfig
+from seasonloop.params.settings import ExtractConfig
 
 SOURCES = Path("data/acquired/sources.json")
 OUT = Path("data/frames")

@@ -12,11 +12,12 @@ import argparse
 import time
 from pathlib import Path
 
-from _common import data_seasons, load_params, stage_main, test_images
+from _common import data_seasons, load_params, stage_main
+from _datasets import test_images
 
 from seasonloop.io import save_array, staged_dir, write_json
 from seasonloop.models.registry import load_learner
-from seasonloop.settings import FeaturesConfig
+from seasonloop.params.settings import FeaturesConfig
 
 
 @stage_main

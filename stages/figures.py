@@ -7,19 +7,20 @@ output vs patch-normalised output, single-image fraction correct), fig19b_autoen
 (test inputs of every season beside the FAE's and CAE's reconstructions) and
 fig19c_autoencoder_loss.png (training and validation loss per epoch); metrics/autoencoder_descriptors.json
 and metrics/autoencoder_training.json (how each auto-encoder's training ended).
-A figure whose learner is not in `learners` is left out, with a line saying so (seasonloop.figures).
+A figure whose learner is not in `learners` is left out, with a line saying so (seasonloop.reporting.figures).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from _common import data_seasons, load_params, param, stage_main, test_images, test_places
+from _common import data_seasons, load_params, param, stage_main
+from _datasets import test_images, test_places
 
-from seasonloop.config import available_pairs
-from seasonloop.figures import draw_figures
+from seasonloop.params.schema import available_pairs
+from seasonloop.reporting.figures import draw_figures
 from seasonloop.io import staged_dir, write_json
-from seasonloop.settings import EvaluateConfig, FeaturesConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, FeaturesConfig, SequenceConfig
 
 
 @stage_main

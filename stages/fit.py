@@ -17,7 +17,8 @@ from pathlib import Path
 import torch
 from dvclive import Live
 
-from _common import load_params, param, stage_main, train_seasons, training_images, training_places
+from _common import load_params, param, stage_main, train_seasons
+from _datasets import training_images, training_places
 
 from seasonloop.io import staged_dir, write_json
 from seasonloop.models.registry import get_learner

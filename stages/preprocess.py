@@ -14,8 +14,8 @@ import numpy as np
 from _common import data_seasons, load_params, stage_main
 
 from seasonloop.io import load_array, save_array, staged_dir
-from seasonloop.preprocess import enhance_image_contrast, frame_statistics, to_gray
-from seasonloop.settings import PreprocessConfig
+from seasonloop.data.preprocess import enhance_image_contrast, frame_statistics, to_gray
+from seasonloop.params.settings import PreprocessConfig
 
 FRAMES = Path("data/frames")
 OUT = Path("data/preprocessed")

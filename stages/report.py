@@ -2,21 +2,22 @@
 
 Reads the other stages' metrics and figures, recomputes the single-image best matches of
 report.example_pair to show example matches and failures, and embeds params.yaml verbatim
-(seasonloop.report assembles it).
+(seasonloop.reporting.report assembles it).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main, test_images, test_places
+from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main
+from _datasets import test_images, test_places
 
-from seasonloop.config import available_pairs, pair_name, pair_present
-from seasonloop.evaluation import evaluations
+from seasonloop.params.schema import available_pairs, pair_name, pair_present
+from seasonloop.evaluation.matchers import evaluations
 from seasonloop.io import staged_file
-from seasonloop.report import ReportFiles, study_report
-from seasonloop.results import load_evaluations
-from seasonloop.settings import AblationConfig, EvaluateConfig, ReportConfig
+from seasonloop.reporting.report import ReportFiles, study_report
+from seasonloop.reporting.results import load_evaluations
+from seasonloop.params.settings import AblationConfig, EvaluateConfig, ReportConfig
 
 FILES = ReportFiles(
     params=PARAMS_FILE,

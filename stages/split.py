@@ -12,12 +12,13 @@ from pathlib import Path
 
 import numpy as np
 
-from _common import SPLIT, data_seasons, load_params, param, stage_main
+from _common import data_seasons, load_params, param, stage_main
+from _datasets import SPLIT
 
 from seasonloop.data.layout import RouteLayout
 from seasonloop.io import read_json, staged_dir, write_json
-from seasonloop.settings import SplitConfig
-from seasonloop.split import detection_record, place_seconds, split_route, write_split_sets
+from seasonloop.params.settings import SplitConfig
+from seasonloop.data.split import detection_record, place_seconds, split_route, write_split_sets
 
 PREPROCESSED = Path("data/preprocessed")
 LAYOUT = Path("data/acquired/layout.json")

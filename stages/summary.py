@@ -1,6 +1,6 @@
 """Stage summary: the study's tables and comparison figures from every learner's pair metrics.
 
-Rows are labelled <learner><suffix> (seasonloop.evaluation.result_suffix: "pca", "pca+seq",
+Rows are labelled <learner><suffix> (seasonloop.evaluation.matchers.result_suffix: "pca", "pca+seq",
 "pca@cityblock", ...). Writes metrics/summary.json (fraction correct per label and pair, its mean,
 and the study's PR landmarks beside ours), metrics/runtime.json (fit seconds, the study's Table 6;
 feature milliseconds per image, Table 7), plots/summary/fraction_correct.{md,csv} (ours beside the
@@ -10,7 +10,7 @@ plots/summary/runtime.md, and the PNG figures of fraction correct per pair (stud
 metric) and overlaid PR curves per pair under evaluate.metric (Figures 9, 14, 15, 17); for
 `dvc plots show`, plots/summary/pr/<pair>.csv (every learner's curve under evaluate.metric, a
 `learner` column) and plots/summary/training_loss.csv (the dvclive loss curves of the learners
-that train in epochs). What each file holds: seasonloop.summary_files.
+that train in epochs). What each file holds: seasonloop.reporting.summary_files.
 """
 
 from __future__ import annotations
@@ -19,13 +19,13 @@ from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main
 
-from seasonloop.config import available_pairs, pair_name
-from seasonloop.dvcplots import training_curves
-from seasonloop.evaluation import evaluations
+from seasonloop.params.schema import available_pairs, pair_name
+from seasonloop.reporting.dvcplots import training_curves
+from seasonloop.evaluation.matchers import evaluations
 from seasonloop.io import staged_dir, write_json
-from seasonloop.results import load_evaluations, load_runtime
-from seasonloop.settings import EvaluateConfig
-from seasonloop.summary_files import summary_record, write_summary_files
+from seasonloop.reporting.results import load_evaluations, load_runtime
+from seasonloop.params.settings import EvaluateConfig
+from seasonloop.reporting.summary_files import summary_record, write_summary_files
 
 
 @stage_main

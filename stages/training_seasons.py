@@ -3,7 +3,7 @@
 For each learner of ablation.methods and each list of ablation.training_seasons, fit the learner
 on those seasons' training images and evaluate single-image matching on the fixed pair
 ablation.pair. Writes metrics/training_seasons.json and plots/training_seasons.png. On a subset of
-seasons the pair and lists adapt to the seasons present (seasonloop.ablation says how); with fewer
+seasons the pair and lists adapt to the seasons present (seasonloop.ablations.training_seasons says how); with fewer
 than two seasons the ablation is skipped and both files say why.
 """
 
@@ -12,12 +12,12 @@ from __future__ import annotations
 import functools
 from pathlib import Path
 
-from _common import (data_seasons, load_params, param, stage_main, test_images, test_places, training_images,
-                     training_places)
+from _common import data_seasons, load_params, param, stage_main
+from _datasets import test_images, test_places, training_images, training_places
 
-from seasonloop.ablation import plan_ablation, run_ablation, write_ablation
+from seasonloop.ablations.training_seasons import plan_ablation, run_ablation, write_ablation
 from seasonloop.models.registry import get_learner
-from seasonloop.settings import AblationConfig, EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import AblationConfig, EvaluateConfig, SequenceConfig
 
 RECORD = Path("metrics/training_seasons.json")
 FIGURE = Path("plots/training_seasons.png")

@@ -3,8 +3,8 @@ import json
 import numpy as np
 import pytest
 
-from seasonloop.ablation import plan_ablation, run_ablation, write_ablation
-from seasonloop.settings import EvaluateConfig, SequenceConfig
+from seasonloop.ablations.training_seasons import plan_ablation, run_ablation, write_ablation
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 STUDY_SETS = [["summer"], ["summer", "winter"], ["summer", "winter", "spring"], ["summer", "winter", "spring", "fall"]]
 PAIRS = ["summer-fall", "summer-spring", "spring-fall", "winter-summer", "winter-fall", "winter-spring"]

@@ -1,9 +1,9 @@
 import numpy as np
 import pytest
 
-from seasonloop.alignment import apply_offsets, check_alignment, measure_offset
+from seasonloop.data.alignment import apply_offsets, check_alignment, measure_offset
 from seasonloop.data.synthetic import SyntheticRoute
-from seasonloop.preprocess import to_gray
+from seasonloop.data.preprocess import to_gray
 
 
 def route_frames(season, seconds=160, seed=1):

@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from seasonloop.cae_widths import (
+from seasonloop.ablations.cae_widths import (
     agreement,
     mean_cosine,
     run_width_sweep,
@@ -16,7 +16,7 @@ from seasonloop.cae_widths import (
 )
 from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.raw_patchnorm import RawPatchNorm
-from seasonloop.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 
 def test_widths_are_fractions_of_table_5():

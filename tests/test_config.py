@@ -10,10 +10,12 @@ from pathlib import Path
 import pytest
 import yaml
 
-from seasonloop import config, matching, preprocess
-from seasonloop.config import SCHEMA, TOP_LEVEL, check_params
+from seasonloop.data import preprocess
+from seasonloop.evaluation import matching
+from seasonloop.params import schema as config
+from seasonloop.params.schema import SCHEMA, TOP_LEVEL, check_params
 from seasonloop.data import sources
-from seasonloop.evaluation import MATCHER_REGISTRY, MATCHERS
+from seasonloop.evaluation.matchers import MATCHER_REGISTRY, MATCHERS
 from seasonloop.models.registry import LEARNERS
 
 REPO = Path(__file__).resolve().parents[1]
@@ -133,6 +135,6 @@ def test_choices_match_the_library():
 
 def test_config_imports_no_heavy_module():
     # every stage imports config.py: it must stay cheap (the registries live beside their code)
-    code = "import sys, seasonloop.config, seasonloop.settings; print(sorted({'torch', 'cv2', 'sklearn'} & set(sys.modules)))"
+    code = "import sys, seasonloop.params.schema, seasonloop.params.settings; print(sorted({'torch', 'cv2', 'sklearn'} & set(sys.modules)))"
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert result.stdout.strip() == "[]"

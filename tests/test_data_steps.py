@@ -9,8 +9,8 @@ import cv2
 import numpy as np
 import pytest
 
-from seasonloop.augment import augment_images, augment_training_set
-from seasonloop.config import available_pairs, check_seasons
+from seasonloop.data.augment import augment_images, augment_training_set
+from seasonloop.params.schema import available_pairs, check_seasons
 from seasonloop.data.frames import align_frame_files, list_frame_files, natural_key, read_frame_folder, sample_video
 from seasonloop.data.sources import (
     FRAME_KINDS,
@@ -22,9 +22,9 @@ from seasonloop.data.sources import (
     read_season,
     real_sources,
 )
-from seasonloop.preprocess import CONTRASTS, enhance_image_contrast, frame_statistics, to_gray
-from seasonloop.settings import DataConfig
-from seasonloop.split import detect_stops, detect_tunnels, make_split, section_blocks
+from seasonloop.data.preprocess import CONTRASTS, enhance_image_contrast, frame_statistics, to_gray
+from seasonloop.params.settings import DataConfig
+from seasonloop.data.split import detect_stops, detect_tunnels, make_split, section_blocks
 
 DATA = DataConfig(source="frames", seasons=("summer",), videos_dir="videos", video_files={}, frames_dir="frames",
                   frame_step=1, offsets={})

@@ -1,4 +1,4 @@
-"""Tests for seasonloop.datasets (the split and augmented sets on disk) and augment's row layout."""
+"""Tests for seasonloop.data.datasets (the split and augmented sets on disk) and augment's row layout."""
 
 from __future__ import annotations
 
@@ -7,11 +7,11 @@ import json
 import numpy as np
 import pytest
 
-from seasonloop.augment import augment_training_set, augmented_places
-from seasonloop import datasets  # its test_places / test_images, called through the module (pytest collects test_*)
-from seasonloop.datasets import dataset_record, read_split, training_images, training_places, write_augmented_sets
+from seasonloop.data.augment import augment_training_set, augmented_places
+from seasonloop.data import datasets  # its test_places / test_images, called through the module (pytest collects test_*)
+from seasonloop.data.datasets import dataset_record, read_split, training_images, training_places, write_augmented_sets
 from seasonloop.io import save_array, write_json
-from seasonloop.settings import AugmentConfig
+from seasonloop.params.settings import AugmentConfig
 
 SEASONS = ["summer", "winter"]
 TRAIN, TEST = [0, 1, 2, 5], [8, 9]

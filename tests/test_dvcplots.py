@@ -2,7 +2,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from seasonloop.dvcplots import pr_long, training_curves
+from seasonloop.reporting.dvcplots import pr_long, training_curves
 
 
 def test_pr_long_has_one_row_per_point_and_a_learner_column():

@@ -1,4 +1,4 @@
-"""Tests for seasonloop.evaluation (metric x matcher variants, the matcher registry) and the PR landmarks."""
+"""Tests for seasonloop.evaluation.matchers (metric x matcher variants, the matcher registry) and the PR landmarks."""
 
 from dataclasses import replace
 from pathlib import Path
@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 import yaml
 
-from seasonloop.evaluation import MATCHER_REGISTRY, MATCHERS, evaluations, get_matcher, match_distances, match_pair, result_suffix
-from seasonloop.sequence import sequence_distances
-from seasonloop.settings import EvaluateConfig, SequenceConfig
-from seasonloop.summary import pr_landmarks, pr_landmarks_table
+from seasonloop.evaluation.matchers import MATCHER_REGISTRY, MATCHERS, evaluations, get_matcher, match_distances, match_pair, result_suffix
+from seasonloop.evaluation.sequence import sequence_distances
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.reporting.summary import pr_landmarks, pr_landmarks_table
 
 PARAMS = yaml.safe_load((Path(__file__).resolve().parents[1] / "params.yaml").read_text())
 EVALUATE = replace(EvaluateConfig.from_params(PARAMS), metric="cosine", extra_metrics=("cityblock",),

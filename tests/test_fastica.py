@@ -3,8 +3,8 @@ import pytest
 import torch
 from sklearn.decomposition import FastICA
 
-from seasonloop.fastica import WHITEN_SOLVERS, TorchFastICA, amari_distance
-from seasonloop.models.base import to_float
+from seasonloop.models.core.fastica import WHITEN_SOLVERS, TorchFastICA, amari_distance
+from seasonloop.models.core.learner import to_float
 from seasonloop.models.ica import ICA_SOLVERS
 from seasonloop.models.registry import get_learner, load_learner
 

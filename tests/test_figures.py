@@ -1,13 +1,13 @@
-"""Tests for seasonloop.figures (the figures stage's logic) and the learners' patch-normalised output."""
+"""Tests for seasonloop.reporting.figures (the figures stage's logic) and the learners' patch-normalised output."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from seasonloop.figures import AE_DESCRIPTORS, autoencoder_descriptors, draw_figures
+from seasonloop.reporting.figures import AE_DESCRIPTORS, autoencoder_descriptors, draw_figures
 from seasonloop.models.registry import get_learner
-from seasonloop.patchnorm import patch_normalise
-from seasonloop.settings import EvaluateConfig, SequenceConfig
+from seasonloop.data.patchnorm import patch_normalise
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 EVALUATE = EvaluateConfig(pairs=("summer-fall",), metric="cosine", extra_metrics=(), confidence="ratio",
                           ratio_exclusion=0, tolerance_frames=1, matchers=("single",))

@@ -1,10 +1,10 @@
-"""Tests for seasonloop.matching."""
+"""Tests for seasonloop.evaluation.matching."""
 
 import numpy as np
 import pytest
 from scipy.spatial.distance import cdist
 
-from seasonloop.matching import CONFIDENCES, DISTANCES, best_matches, distance_matrix
+from seasonloop.evaluation.matching import CONFIDENCES, DISTANCES, best_matches, distance_matrix
 
 
 @pytest.fixture

@@ -1,9 +1,9 @@
-"""Tests for seasonloop.metrics on hand-worked examples."""
+"""Tests for seasonloop.evaluation.metrics on hand-worked examples."""
 
 import numpy as np
 import pytest
 
-from seasonloop.metrics import (
+from seasonloop.evaluation.metrics import (
     METRIC_KEYS,
     auc_pr_vpr_tutorial,
     correct_matches,

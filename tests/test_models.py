@@ -1,3 +1,5 @@
+import subprocess
+import sys
 import json
 import warnings
 
@@ -7,7 +9,7 @@ import torch
 from sklearn.decomposition import PCA
 from sklearn.exceptions import ConvergenceWarning
 
-from seasonloop.models.base import FeatureLearner, to_float
+from seasonloop.models.core.learner import FeatureLearner, to_float
 from seasonloop.models.registry import LEARNERS, get_learner, load_learner
 
 N_PER_FAMILY = 100
@@ -71,9 +73,20 @@ def nearest_neighbour_same_family(descriptors: np.ndarray, labels: np.ndarray) -
 
 def test_registry_lists_every_learner():
     assert list(LEARNERS) == ["raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw", "fae", "cae"]
-    for name, learner_class in LEARNERS.items():
-        assert learner_class.name == name and get_learner(name) is learner_class
+    for name, class_name in LEARNERS.items():
+        learner_class = get_learner(name)
+        assert learner_class.name == name and learner_class.__name__ == class_name
+        assert learner_class.__module__ == f"seasonloop.models.{name}"
         learner_class(seed=0)  # defaults pass their own validation
+
+
+def test_the_registry_imports_only_the_learner_asked_for():
+    # a stage that fits pca must not run (or depend on) the auto-encoders' modules, nor import torch
+    code = ("import sys; from seasonloop.models.registry import get_learner; get_learner('pca'); "
+            "print(sorted(m for m in sys.modules if m.startswith('seasonloop.models.') or m == 'torch'))")
+    loaded = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout
+    assert "seasonloop.models.pca'" in loaded
+    assert "seasonloop.models.cae" not in loaded and "seasonloop.models.ica" not in loaded and "'torch'" not in loaded
 
 
 @pytest.mark.parametrize("name", list(TEST_PARAMS))
@@ -150,7 +163,7 @@ def independent_pattern_images(n: int, seed: int) -> np.ndarray:
 
 
 def test_whitened_pca_matches_ica_distances_under_cosine_and_euclidean_only():
-    from seasonloop.matching import distance_matrix
+    from seasonloop.evaluation.matching import distance_matrix
 
     train, database, queries = (independent_pattern_images(n, seed) for n, seed in ((3000, 0), (60, 1), (50, 2)))
     k = 6

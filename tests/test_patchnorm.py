@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from seasonloop.patchnorm import patch_normalise
+from seasonloop.data.patchnorm import patch_normalise
 
 
 def _patches(images: np.ndarray, size: int) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""Tests for seasonloop.report: one self-contained, escaped HTML file from small hand-made inputs."""
+"""Tests for seasonloop.reporting.report: one self-contained, escaped HTML file from small hand-made inputs."""
 
 import re
 
@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 from seasonloop.plots import plot_image_grid
-from seasonloop.report import (
+from seasonloop.reporting.report import (
     Image,
     Section,
     Table,
@@ -26,7 +26,7 @@ from seasonloop.report import (
     similarity_section,
     training_seasons_section,
 )
-from seasonloop.summary import pr_landmarks, pr_landmarks_table
+from seasonloop.reporting.summary import pr_landmarks, pr_landmarks_table
 
 PAIRS = ["summer-fall", "winter-fall"]
 

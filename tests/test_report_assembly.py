@@ -1,4 +1,4 @@
-"""Tests for seasonloop.report.study_report: the whole report assembled from result files in tmp_path."""
+"""Tests for seasonloop.reporting.report.study_report: the whole report assembled from result files in tmp_path."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ import pytest
 
 from seasonloop.io import save_array, write_json
 from seasonloop.plots import plot_image_grid
-from seasonloop.report import ReportFiles, study_report
-from seasonloop.results import load_evaluations
-from seasonloop.settings import EvaluateConfig
+from seasonloop.reporting.report import ReportFiles, study_report
+from seasonloop.reporting.results import load_evaluations
+from seasonloop.params.settings import EvaluateConfig
 
 # the fake metrics/eval folder of test_results
 from test_results import METHODS, PAIRS, VARIANTS, write_evaluations

@@ -1,4 +1,4 @@
-"""Tests for seasonloop.results: the other stages' result files read back in table order."""
+"""Tests for seasonloop.reporting.results: the other stages' result files read back in table order."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 from seasonloop.io import write_json
-from seasonloop.results import (
+from seasonloop.reporting.results import (
     load_autoencoder_descriptors,
     load_dataset,
     load_evaluations,
@@ -19,7 +19,7 @@ from seasonloop.results import (
 
 METHODS = ["pca", "ica"]
 PAIRS = ["summer-fall", "winter-fall"]
-# (metric, matcher, suffix) as seasonloop.evaluation.evaluations gives them
+# (metric, matcher, suffix) as seasonloop.evaluation.matchers.evaluations gives them
 VARIANTS = [("cosine", "single", ""), ("cosine", "sequence", "+seq"), ("cityblock", "single", "@cityblock")]
 
 

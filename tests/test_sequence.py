@@ -1,9 +1,9 @@
-"""Tests for seasonloop.sequence (SeqSLAM)."""
+"""Tests for seasonloop.evaluation.sequence (SeqSLAM)."""
 
 import numpy as np
 import pytest
 
-from seasonloop.sequence import enhance_distance_contrast, sequence_distances
+from seasonloop.evaluation.sequence import enhance_distance_contrast, sequence_distances
 
 
 def reference_enhance(distances: np.ndarray, window: int) -> np.ndarray:

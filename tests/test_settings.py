@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from seasonloop.config import SCHEMA
-from seasonloop.settings import SECTIONS, _frozen, AblationConfig, EvaluateConfig, SplitConfig
+from seasonloop.params.schema import SCHEMA
+from seasonloop.params.settings import SECTIONS, _frozen, AblationConfig, EvaluateConfig, SplitConfig
 
 REPO = Path(__file__).resolve().parents[1]
 

@@ -1,4 +1,4 @@
-"""Tests for the split's stage logic in seasonloop.split: the split from frame statistics, the
+"""Tests for the split's stage logic in seasonloop.data.split: the split from frame statistics, the
 split folder written, and tunnel / stop detection scored against the truth."""
 
 from __future__ import annotations
@@ -8,8 +8,8 @@ import json
 import numpy as np
 import pytest
 
-from seasonloop.split import detection_record, detection_scores, make_split, place_seconds, split_route, write_split_sets
-from seasonloop.settings import SplitConfig
+from seasonloop.data.split import detection_record, detection_scores, make_split, place_seconds, split_route, write_split_sets
+from seasonloop.params.settings import SplitConfig
 
 CONFIG = SplitConfig(section_length=10, test_fraction=0.3, gap=1, dark_threshold=40, stop_threshold=1.0)
 

@@ -2,11 +2,12 @@
 
 For every stage DVC resolves from dvc.yaml (matrix stages expanded for every learner and season
 of params.yaml), the stage script's source is read (never run) to find:
-- the library modules it imports, transitively: seasonloop.* and stages/_common.py. A stage that
-  imports seasonloop.models.registry can build any learner, so it depends on all of
-  src/seasonloop/models (and what those modules import);
+- the library modules it imports, transitively: seasonloop.* and the stage helpers stages/_*.py.
+  The learner registry (seasonloop.models.registry) imports a learner's module only when asked
+  for it, so a stage that uses the registry depends on the modules of the learners it can ask
+  for (LEARNERS_ASKED_FOR: fit@pca asks for pca only) and on what those import;
 - the params it reads: literal keys of param(params, "a.b"), load_params("a", ...) and
-  params["a"], and the section "x" of XConfig.from_params(params) (a seasonloop.settings class
+  params["a"], and the section "x" of XConfig.from_params(params) (a seasonloop.params.settings class
   whose NAME is "x"), in the script and in the stages/_common.py helpers it calls; each must also
   be among the keys its load_params call checks before work starts.
 Each must be covered by a declared dep (a file, or a folder above it) or a declared param (the
@@ -25,11 +26,14 @@ from typing import Any
 import pytest
 import yaml
 
-from seasonloop.settings import SECTIONS
+from seasonloop.params.settings import SECTIONS
+from seasonloop.reporting.figures import FIGURE_LEARNERS
 
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src"
-COMMON = ROOT / "stages" / "_common.py"
+STAGES = ROOT / "stages"
+# the stage helpers a stage script imports as `from _common import ...`
+HELPERS = {path.stem: path for path in STAGES.glob("_*.py")}
 REGISTRY = SRC / "seasonloop" / "models" / "registry.py"
 MODELS = SRC / "seasonloop" / "models"
 
@@ -46,10 +50,22 @@ DYNAMIC_READS: dict[tuple[str, str], Callable[[list[str], dict[str, Any]], list[
     ("stages/training_seasons.py", "param(params, method)"): lambda argv, params: list(params["ablation"]["methods"]),
 }
 
+# The learners whose modules a stage script can import through the registry, from its arguments and
+# params.yaml. A stage that reaches the registry without an entry here fails the test.
+LEARNERS_ASKED_FOR: dict[str, Callable[[list[str], dict[str, Any]], list[str]]] = {
+    "stages/fit.py": lambda argv, params: [argv[0]],
+    "stages/features.py": lambda argv, params: [argv[0]],
+    "stages/training_seasons.py": lambda argv, params: list(params["ablation"]["methods"]),
+    # the pipeline's own CAE, loaded from models/cae
+    "stages/cae_widths.py": lambda argv, params: ["cae"],
+    # seasonloop.reporting.figures loads the models of those of its learners the run has
+    "stages/figures.py": lambda argv, params: [m for m in params["learners"] if m in FIGURE_LEARNERS],
+}
+
 
 @cache
 def config_sections() -> dict[str, str]:
-    """seasonloop.settings class name -> the params section it reads (its NAME)."""
+    """seasonloop.params.settings class name -> the params section it reads (its NAME)."""
     return {section.__name__: section.NAME for section in SECTIONS}
 
 
@@ -75,13 +91,13 @@ def package_of(path: Path) -> str:
 
 @cache
 def direct_imports(path: Path) -> frozenset[Path]:
-    """The seasonloop modules and stages/_common.py that `path` imports (anywhere in the file)."""
+    """The seasonloop modules and stage helpers (stages/_*.py) that `path` imports (anywhere in the file)."""
     tree = ast.parse(path.read_text(), filename=str(path))
     found: set[Path] = set()
 
     def add(dotted: str) -> None:
-        if dotted == "_common":
-            found.add(COMMON)
+        if dotted in HELPERS:
+            found.add(HELPERS[dotted])
         elif dotted.split(".")[0] == "seasonloop":
             target = module_path(dotted)
             assert target is not None, f"{rel(path)}: cannot resolve import of {dotted}"
@@ -97,11 +113,11 @@ def direct_imports(path: Path) -> frozenset[Path]:
                 base = ".".join(package[:len(package) - node.level + 1] + ([node.module] if node.module else []))
             else:
                 base = node.module or ""
-            if base == "_common" or base.split(".")[0] == "seasonloop":
+            if base in HELPERS or base.split(".")[0] == "seasonloop":
                 add(base)
                 # `from seasonloop.models import pca` imports a module, not a name
                 for alias in node.names:
-                    if base != "_common" and module_path(f"{base}.{alias.name}") is not None:
+                    if base not in HELPERS and module_path(f"{base}.{alias.name}") is not None:
                         add(f"{base}.{alias.name}")
     return frozenset(found)
 
@@ -119,8 +135,9 @@ def runs_code(init: Path) -> bool:
     return any(isinstance(node, ast.ImportFrom) for node in ast.parse(init.read_text()).body)
 
 
-def module_closure(script: Path) -> set[Path]:
-    """Every module `script` imports, transitively, plus the script itself."""
+def module_closure(script: Path, learners: Iterable[str] = ()) -> set[Path]:
+    """Every module `script` imports, transitively, plus the script itself; `learners`: the learner
+    modules the registry may import for it."""
     seen: set[Path] = set()
     todo = [script]
     while todo:
@@ -132,8 +149,8 @@ def module_closure(script: Path) -> set[Path]:
         # `import a.b.c` runs a/__init__.py and a/b/__init__.py, and whatever they import
         todo.extend(enclosing_inits(path))
         if path == REGISTRY:
-            # the registry builds learners by name: any learner module may run
-            todo.extend(MODELS.glob("*.py"))
+            # the registry imports a learner's module by name, when asked for it
+            todo.extend(MODELS / f"{name}.py" for name in learners)
     # an __init__ holding only a docstring runs nothing (test_package_inits_hold_no_code checks it)
     return {path for path in seen if path.name != "__init__.py" or runs_code(path)}
 
@@ -155,7 +172,7 @@ def _reads_in(tree: ast.AST, file: str) -> tuple[set[str], set[str], set[str]]:
                 and isinstance(node.func.value, ast.Name)):
             # SplitConfig.from_params(params) reads (and checks) section "split"
             section = config_sections().get(node.func.value.id)
-            assert section is not None, f"{file}: {ast.unparse(node)}: not a seasonloop.settings section"
+            assert section is not None, f"{file}: {ast.unparse(node)}: not a seasonloop.params.settings section"
             keys.add(section)
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
             calls.add(node.func.id)
@@ -175,10 +192,10 @@ def _reads_in(tree: ast.AST, file: str) -> tuple[set[str], set[str], set[str]]:
 
 @cache
 def common_reads() -> dict[str, tuple[frozenset[str], frozenset[str]]]:
-    """function name in stages/_common.py -> (param keys, dynamic reads) it reads, transitively."""
-    tree = ast.parse(COMMON.read_text())
-    functions = {node.name: node for node in tree.body if isinstance(node, ast.FunctionDef)}
-    direct = {name: _reads_in(node, rel(COMMON)) for name, node in functions.items()}
+    """function name in the stage helpers (stages/_*.py) -> (param keys, dynamic reads) it reads, transitively."""
+    functions = {node.name: (node, helper) for helper in HELPERS.values()
+                 for node in ast.parse(helper.read_text()).body if isinstance(node, ast.FunctionDef)}
+    direct = {name: _reads_in(node, rel(helper)) for name, (node, helper) in functions.items()}
     result = {}
     for name in functions:
         keys: set[str] = set()
@@ -245,6 +262,16 @@ def params_yaml() -> dict[str, Any]:
     return yaml.safe_load((ROOT / "params.yaml").read_text())
 
 
+def learners_asked_for(stage: dict[str, Any]) -> list[str]:
+    """The learners whose modules the stage can import through the registry (none if it never reaches it)."""
+    if REGISTRY not in module_closure(ROOT / stage["script"]):
+        return []
+    resolver = LEARNERS_ASKED_FOR.get(stage["script"])
+    assert resolver is not None, (f"{stage['script']} imports the learner registry; add which learners it asks "
+                                  "for to LEARNERS_ASKED_FOR in tests/test_stage_deps.py")
+    return resolver(stage["argv"], params_yaml())
+
+
 def stage_ids() -> list[str]:
     return [stage["name"] for stage in resolved_stages()]
 
@@ -252,7 +279,7 @@ def stage_ids() -> list[str]:
 @pytest.mark.parametrize("name", stage_ids())
 def test_stage_declares_every_module_it_imports(name: str) -> None:
     stage = next(s for s in resolved_stages() if s["name"] == name)
-    required = {rel(path) for path in module_closure(ROOT / stage["script"])}
+    required = {rel(path) for path in module_closure(ROOT / stage["script"], learners_asked_for(stage))}
     missing = uncovered_modules(required, stage["deps"])
     assert not missing, f"dvc.yaml stage {name}: imports {', '.join(missing)} not listed in its deps"
 
@@ -294,9 +321,11 @@ def test_package_inits_hold_no_code() -> None:
 
 def test_the_checks_see_what_they_should() -> None:
     # the derivation itself: known imports and reads are found
-    fit = {rel(p) for p in module_closure(ROOT / "stages/fit.py")}
-    assert {"stages/_common.py", "src/seasonloop/models/pca.py", "src/seasonloop/fastica.py",
-            "src/seasonloop/models/registry.py", "src/seasonloop/io.py"} <= fit
+    fit = {rel(p) for p in module_closure(ROOT / "stages/fit.py", ["ica"])}
+    assert {"stages/_common.py", "stages/_datasets.py", "src/seasonloop/models/ica.py",
+            "src/seasonloop/models/core/fastica.py", "src/seasonloop/models/registry.py", "src/seasonloop/io.py"} <= fit
+    # the registry imports only the learner asked for
+    assert "src/seasonloop/models/pca.py" not in fit and "src/seasonloop/models/cae.py" not in fit
     # importing a module inside a package runs the package's __init__ and what it re-exports
     inner = {rel(p) for p in module_closure(SRC / "seasonloop/data/synthetic/layout.py")}
     assert {"src/seasonloop/data/synthetic/__init__.py", "src/seasonloop/data/synthetic/video.py"} <= inner

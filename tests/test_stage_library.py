@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
-from seasonloop.pair_evaluation import evaluate_learner
-from seasonloop.settings import EvaluateConfig, ExtractConfig, SequenceConfig
+from seasonloop.evaluation.pair_evaluation import evaluate_learner
+from seasonloop.params.settings import EvaluateConfig, ExtractConfig, SequenceConfig
 
 EXTRACT = ExtractConfig(fps=1.0, height=6, width=8, trim_to_shortest=False, max_offset=0)
 

@@ -1,4 +1,4 @@
-"""Tests for seasonloop.summary_files: the summary's record, tables, figures and dvc plots tables."""
+"""Tests for seasonloop.reporting.summary_files: the summary's record, tables, figures and dvc plots tables."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from seasonloop.results import load_evaluations
-from seasonloop.summary_files import summary_record, write_dvc_plots, write_summary_files, write_tables
+from seasonloop.reporting.results import load_evaluations
+from seasonloop.reporting.summary_files import summary_record, write_dvc_plots, write_summary_files, write_tables
 
 # the fake metrics/eval and plots/pr folders of test_results
 from test_results import METHODS, PAIRS, VARIANTS, write_evaluations

@@ -20,7 +20,7 @@ from seasonloop.data.synthetic import (
     render_route,
 )
 
-from seasonloop.settings import SyntheticConfig
+from seasonloop.params.settings import SyntheticConfig
 
 W, H = 128, 72
 

@@ -6,8 +6,8 @@ import pytest
 import torch
 from torch import nn
 
-from seasonloop.models import _training
-from seasonloop.models._training import (
+from seasonloop.models.core import training as _training
+from seasonloop.models.core.training import (
     TrainingConfig,
     mean_loss,
     resolve_precision,

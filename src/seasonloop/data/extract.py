@@ -2,7 +2,7 @@
 seasons have one length, drop known offsets, measure the alignment, and the record of it all.
 
 The seasons' files are given as data/acquired/sources.json describes them (season -> kind and
-path); seasonloop.data.sources reads them, seasonloop.alignment measures and applies offsets.
+path); seasonloop.data.sources reads them, seasonloop.data.alignment measures and applies offsets.
 """
 
 from __future__ import annotations
@@ -13,10 +13,10 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.alignment import apply_offsets, check_alignment
+from seasonloop.data.alignment import apply_offsets, check_alignment
 from seasonloop.data.sources import check_aligned, pair_season_files, place_description, read_season
 from seasonloop.io import load_array, save_array
-from seasonloop.settings import ExtractConfig
+from seasonloop.params.settings import ExtractConfig
 
 
 def check_sources(sources: Mapping[str, Any], seasons: Sequence[str], sources_file: Path) -> None:

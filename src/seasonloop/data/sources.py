@@ -19,7 +19,7 @@ import numpy as np
 
 from seasonloop.data.frames import align_frame_files, list_frame_files, read_frame_files, sample_video
 from seasonloop.data.synthetic import RouteDifficulty, render_route
-from seasonloop.settings import DataConfig, SyntheticConfig
+from seasonloop.params.settings import DataConfig, SyntheticConfig
 
 
 def check_aligned(counts: Mapping[str, int], trim_to_shortest: bool, sources: Mapping[str, Path]) -> int:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from torch import nn
 
-from seasonloop.models._torch import AutoEncoder, TorchAutoEncoderLearner
+from seasonloop.models.core.torch_learner import AutoEncoder, TorchAutoEncoderLearner
 
 
 def _conv_relu(in_channels: int, out_channels: int, kernel: int) -> list[nn.Module]:

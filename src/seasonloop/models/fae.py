@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from torch import nn
 
-from seasonloop.models._torch import AutoEncoder, TorchAutoEncoderLearner
+from seasonloop.models.core.torch_learner import AutoEncoder, TorchAutoEncoderLearner
 
 ACTIVATIONS = {"sigmoid": nn.Sigmoid, "relu": nn.ReLU}
 

@@ -1,10 +1,10 @@
 """Global ICA: FastICA on whole training images; descriptor = projection on the unmixing matrix.
 
 ICA_SOLVERS is the registry of ica.solver values, two solvers of the same algorithm: "torch"
-(default; seasonloop.fastica.TorchFastICA, float32, CUDA when present, parallel algorithm only;
+(default; seasonloop.models.core.fastica.TorchFastICA, float32, CUDA when present, parallel algorithm only;
 benchmarks/bench_ica.py compares them) or "sklearn" (scikit-learn's FastICA, which also offers the
 deflation algorithm). Each says what it implements, fits, saves and loads; ICALearner only
-dispatches. Both take the whitening solvers of seasonloop.fastica.WHITEN_SOLVERS (eigh, svd).
+dispatches. Both take the whitening solvers of seasonloop.models.core.fastica.WHITEN_SOLVERS (eigh, svd).
 """
 
 from __future__ import annotations
@@ -21,9 +21,10 @@ import torch
 from sklearn.decomposition import FastICA
 from sklearn.exceptions import ConvergenceWarning
 
-from seasonloop.fastica import WHITEN_SOLVERS, TorchFastICA
-from seasonloop.models._torch import DEVICES, resolve_device
-from seasonloop.models.base import (
+from seasonloop.models.core.fastica import WHITEN_SOLVERS, TorchFastICA
+from seasonloop.models.core.fastica_sklearn import fit_fastica
+from seasonloop.models.core.torch_learner import DEVICES, resolve_device
+from seasonloop.models.core.learner import (
     EpochCallback,
     FeatureLearner,
     select_training_subset,
@@ -35,51 +36,6 @@ ESTIMATOR_FILE = "fastica.joblib"
 TORCH_STATE_FILE = "fastica.npz"
 ICA_ALGORITHMS = ("parallel", "deflation")
 ICA_FUNCTIONS = ("logcosh", "exp", "cube")
-
-
-def fit_fastica(
-    data: np.ndarray,
-    n_components: int,
-    max_iter: int,
-    tol: float,
-    seed: int,
-    algorithm: str = "parallel",
-    fun: str = "logcosh",
-    whiten_solver: str = "eigh",
-) -> tuple[FastICA, dict[str, Any]]:
-    """Fit sklearn FastICA (centering, unit-variance whitening, fixed-point iteration) on
-    (n_samples, n_features) data.
-
-    ConvergenceWarnings are captured into the returned convergence record instead of being
-    printed; any other warning is passed on.
-    """
-    estimator = FastICA(
-        n_components=n_components,
-        algorithm=algorithm,
-        whiten="unit-variance",
-        fun=fun,
-        max_iter=max_iter,
-        tol=tol,
-        whiten_solver=whiten_solver,
-        random_state=seed,
-    )
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        estimator.fit(data)
-    convergence_messages = []
-    for warning in caught:
-        if issubclass(warning.category, ConvergenceWarning):
-            convergence_messages.append(str(warning.message))
-        else:
-            warnings.warn_explicit(warning.message, warning.category, warning.filename, warning.lineno)
-    # sklearn warns exactly when the fixed-point iteration hits max_iter without meeting tol.
-    record = {
-        "n_iter": int(estimator.n_iter_),
-        "max_iter": int(max_iter),
-        "converged": not convergence_messages,
-        "convergence_warnings": convergence_messages,
-    }
-    return with_contiguous_arrays(estimator), record
 
 
 @dataclass(frozen=True)

@@ -12,8 +12,8 @@ from numpy.lib.stride_tricks import sliding_window_view
 from sklearn.cluster import KMeans, MiniBatchKMeans
 from sklearn.decomposition import FastICA
 
-from seasonloop.models.base import EpochCallback, FeatureLearner, to_float, with_contiguous_arrays
-from seasonloop.models.ica import fit_fastica
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, to_float, with_contiguous_arrays
+from seasonloop.models.core.fastica_sklearn import fit_fastica
 
 ESTIMATORS_FILE = "ica_bovw.joblib"
 KMEANS_KINDS = ("minibatch", "full")

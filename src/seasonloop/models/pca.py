@@ -2,85 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from pathlib import Path
-from typing import Any
-
-import joblib
-import numpy as np
-from sklearn.decomposition import PCA
-
-from seasonloop.models.base import EpochCallback, FeatureLearner, to_float, with_contiguous_arrays
-
-ESTIMATOR_FILE = "pca.joblib"
-SVD_SOLVERS = ("auto", "full", "covariance_eigh", "arpack", "randomized")
+from seasonloop.models.core.projection import PrincipalComponentLearner
 
 
-class PCALearner(FeatureLearner):
-    """Descriptor = projections on principal components [n_discard, n_discard + n_keep)."""
+class PCALearner(PrincipalComponentLearner):
+    """Descriptor = projections on principal components [n_discard, n_discard + n_keep): the first
+    n_discard, which carry most of the change of light and season, are dropped."""
 
     name = "pca"
     defaults = {"n_discard": 100, "n_keep": 100, "svd_solver": "covariance_eigh"}
-
-    def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
-        super().__init__(params, seed)
-        self.estimator: PCA | None = None
-
-    def _validate_params(self) -> None:
-        self._check_int("n_discard", 0)
-        self._check_int("n_keep", 1)
-        self._check_choice("svd_solver", SVD_SOLVERS)
-
-    @property
-    def n_components(self) -> int:
-        return self.params["n_discard"] + self.params["n_keep"]
-
-    def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
-        flat = to_float(images).reshape(len(images), -1)
-        # arpack cannot compute all min(n_samples, n_features) components.
-        limit = min(flat.shape) - (1 if self.params["svd_solver"] == "arpack" else 0)
-        if self.n_components > limit:
-            raise ValueError(
-                f"{self._key('n_discard')} + {self._key('n_keep')} = {self.n_components} exceeds "
-                f"{limit}, the most components {len(flat)} images of {flat.shape[1]} pixels allow "
-                f"with svd_solver {self.params['svd_solver']!r}"
-            )
-        self.estimator = with_contiguous_arrays(
-            PCA(
-                n_components=self.n_components,
-                svd_solver=self.params["svd_solver"],
-                random_state=self.seed,
-            ).fit(flat)
-        )
-        ratios = self.estimator.explained_variance_ratio_
-        n_discard = self.params["n_discard"]
-        return {
-            "n_train_images": len(flat),
-            "n_components": self.n_components,
-            "explained_variance_ratio_discarded": float(ratios[:n_discard].sum()),
-            "explained_variance_ratio_kept": float(ratios[n_discard:].sum()),
-        }
-
-    def _describe_batch(self, images: np.ndarray) -> np.ndarray:
-        flat = to_float(images).reshape(len(images), -1)
-        return self.estimator.transform(flat)[:, self.params["n_discard"] :]
-
-    def reconstruct(self, images: np.ndarray, start: int, stop: int) -> np.ndarray:
-        """(N, H, W) float32 images rebuilt from components [start, stop) only (plus the mean if start == 0)."""
-        images = self._check_describe_input(images, "reconstruct")
-        if not 0 <= start < stop <= self.n_components:
-            raise ValueError(
-                f"component range [{start}, {stop}) must satisfy 0 <= start < stop <= {self.n_components}"
-            )
-        flat = to_float(images).reshape(len(images), -1)
-        projections = self.estimator.transform(flat)[:, start:stop]
-        rebuilt = projections @ self.estimator.components_[start:stop]
-        if start == 0:
-            rebuilt = rebuilt + self.estimator.mean_
-        return rebuilt.reshape(images.shape).astype(np.float32)
-
-    def _save_state(self, directory: Path) -> None:
-        joblib.dump(self.estimator, directory / ESTIMATOR_FILE)
-
-    def _load_state(self, directory: Path) -> None:
-        self.estimator = joblib.load(directory / ESTIMATOR_FILE)

@@ -13,15 +13,15 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.models.base import EpochCallback, select_training_subset
-from seasonloop.models.pca import PCALearner
+from seasonloop.models.core.learner import EpochCallback, select_training_subset
+from seasonloop.models.core.projection import PrincipalComponentLearner
 
 # A kept component below this many float32 roundings of the scale its solver works at cannot be
 # told from zero: scaling it to unit variance would blow up rounding noise.
 RESOLVED_ROUNDINGS = 10
 
 
-class WhitenedPCALearner(PCALearner):
+class WhitenedPCALearner(PrincipalComponentLearner):
     """Descriptor = projections on principal components [n_discard, n_discard + n_keep), each divided
     by its standard deviation on the training images (population, as FastICA's whitening)."""
 

@@ -1,34 +1,40 @@
-"""Name -> learner class, and loading a saved learner by the name in its learner.json."""
+"""Name -> learner, imported on demand, and loading a saved learner by the name in its learner.json.
+
+Each learner is one module `seasonloop.models.<name>` holding one FeatureLearner subclass; adding
+one is that module plus one line here. Only the module a stage asks for is imported, so a stage
+that fits `pca` runs (and, in dvc.yaml, depends on) `models/pca.py` and `models/core/` only.
+"""
 
 from __future__ import annotations
 
+import importlib
 from pathlib import Path
 
-from seasonloop.models.base import FeatureLearner, read_learner_record
-from seasonloop.models.cae import ConvolutionalAutoEncoder
-from seasonloop.models.fae import FullyConnectedAutoEncoder
-from seasonloop.models.ica import ICALearner
-from seasonloop.models.ica_bovw import ICABoVW
-from seasonloop.models.pca import PCALearner
-from seasonloop.models.pca_whiten import WhitenedPCALearner
-from seasonloop.models.raw_patchnorm import RawPatchNorm
+from seasonloop.models.core.learner import FeatureLearner, read_learner_record
 
-LEARNERS: dict[str, type[FeatureLearner]] = {
-    RawPatchNorm.name: RawPatchNorm,
-    PCALearner.name: PCALearner,
-    WhitenedPCALearner.name: WhitenedPCALearner,
-    ICALearner.name: ICALearner,
-    ICABoVW.name: ICABoVW,
-    FullyConnectedAutoEncoder.name: FullyConnectedAutoEncoder,
-    ConvolutionalAutoEncoder.name: ConvolutionalAutoEncoder,
+# learner name (= its params section and its module under seasonloop.models) -> its class name
+LEARNERS: dict[str, str] = {
+    "raw_patchnorm": "RawPatchNorm",
+    "pca": "PCALearner",
+    "pca_whiten": "WhitenedPCALearner",
+    "ica": "ICALearner",
+    "ica_bovw": "ICABoVW",
+    "fae": "FullyConnectedAutoEncoder",
+    "cae": "ConvolutionalAutoEncoder",
 }
 
 
+def learner_module(name: str) -> str:
+    """The dotted module that defines learner `name`."""
+    return f"seasonloop.models.{name}"
+
+
 def get_learner(name: str) -> type[FeatureLearner]:
-    """The learner class registered under `name`."""
+    """The learner class registered under `name`, importing its module (and only it)."""
     if name not in LEARNERS:
         raise ValueError(f"unknown method '{name}' (known: {', '.join(LEARNERS)})")
-    return LEARNERS[name]
+    learner: type[FeatureLearner] = getattr(importlib.import_module(learner_module(name)), LEARNERS[name])
+    return learner
 
 
 def load_learner(directory: Path) -> FeatureLearner:

@@ -30,7 +30,7 @@ Where things are (one concern per module):
     video        render_route, render_preview
 """
 
-from ...seasons import SEASONS
+from ...params.seasons import SEASONS
 from ..layout import RouteLayout
 from .difficulty import RouteDifficulty
 from .layout import make_layout

@@ -5,7 +5,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ...seasons import SEASONS
+from ...params.seasons import SEASONS
 from .camera import View
 from .difficulty import RouteDifficulty
 from .noise import mix

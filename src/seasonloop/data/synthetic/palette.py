@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...seasons import SEASONS
+from ...params.seasons import SEASONS
 from .difficulty import RouteDifficulty
 
 LEVELS = 32  # shade levels per material; code = material * LEVELS + level

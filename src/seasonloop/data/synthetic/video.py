@@ -11,7 +11,7 @@ import cv2
 import numpy as np
 from tqdm import tqdm
 
-from ...seasons import SEASONS
+from ...params.seasons import SEASONS
 from ..layout import RouteLayout
 from .difficulty import DEFAULT_DIFFICULTY, RouteDifficulty
 from .world import SyntheticRoute

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...seasons import SEASONS
+from ...params.seasons import SEASONS
 from .camera import View
 from .compose import render_codes
 from .difficulty import DEFAULT_DIFFICULTY, RouteDifficulty

@@ -1,8 +1,8 @@
 """The on-disk layout of the split and of the augmented training set, read back for the learners.
 
-A split folder holds split.json (the place ids of every part, seasonloop.split.Split.to_json) and
+A split folder holds split.json (the place ids of every part, seasonloop.data.split.Split.to_json) and
 <season>_train.npy / <season>_test.npy, the (N, H, W) images of those places in split.json's
-order. An augmented folder holds <season>.npy: the rows seasonloop.augment.augmented_places
+order. An augmented folder holds <season>.npy: the rows seasonloop.data.augment.augmented_places
 describes. The callers pass the folders; which folders the pipeline uses is theirs to say.
 """
 
@@ -14,9 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.augment import augment_training_set, augmented_places
+from seasonloop.data.augment import augment_training_set, augmented_places
 from seasonloop.io import load_array, read_json, save_array
-from seasonloop.settings import AugmentConfig
+from seasonloop.params.settings import AugmentConfig
 
 SPLIT_FILE = "split.json"
 
@@ -103,7 +103,7 @@ def dataset_record(split: Mapping[str, Any], per_season: Mapping[str, dict], fra
         "place": frames["place"],
         "frame_step": frames["frame_step"],
         "pairing": frames["pairing"],
-        # the measured offset of each season against the first (seasonloop.alignment)
+        # the measured offset of each season against the first (seasonloop.data.alignment)
         "alignment": frames["alignment"],
         "offsets": frames["offsets"],
         **({"detection": detection} if detection else {}),

@@ -12,11 +12,11 @@ from pathlib import Path
 import numpy as np
 
 from seasonloop.io import load_array
-from seasonloop.matching import best_matches, distance_matrix
-from seasonloop.metrics import correct_matches
+from seasonloop.evaluation.matching import best_matches, distance_matrix
+from seasonloop.evaluation.metrics import correct_matches
 from seasonloop.plots import plot_image_grid
-from seasonloop.report_html import Image, Png, Section, Text
-from seasonloop.settings import EvaluateConfig
+from seasonloop.reporting.html import Image, Png, Section, Text
+from seasonloop.params.settings import EvaluateConfig
 
 @dataclass(frozen=True)
 class Example:

@@ -3,7 +3,7 @@ feature timings, and the JSON records the report shows, each in the order its ta
 
 The layout read here is the evaluate, fit and features stages' (metrics/eval/<method>/<pair><suffix>.json,
 plots/pr/<method>/<pair><suffix>.csv, <fit>/<method>.json, <features>/<method>/<season>.json);
-callers pass the folders. Rows are labelled <learner><suffix> (seasonloop.evaluation.result_suffix).
+callers pass the folders. Rows are labelled <learner><suffix> (seasonloop.evaluation.matchers.result_suffix).
 """
 
 from __future__ import annotations
@@ -50,7 +50,7 @@ def load_evaluations(
     pr_dir: Path | None = None,
 ) -> EvaluationResults:
     """The metrics of every learner, pair and (metric, matcher, suffix) of `variants`
-    (seasonloop.evaluation.evaluations), and the main metric's PR curves when `pr_dir` is given."""
+    (seasonloop.evaluation.matchers.evaluations), and the main metric's PR curves when `pr_dir` is given."""
     metrics: dict[str, dict[str, dict[str, Any]]] = {}
     metric_of: dict[str, str] = {}
     curves: dict[str, dict[str, Curve]] = {pair: {} for pair in pairs} if pr_dir is not None else {}
@@ -93,7 +93,7 @@ def ordered(mapping: Mapping[str, Any], keys: Sequence[str], source: str) -> dic
 
 
 def load_dataset(path: Path, seasons: Sequence[str]) -> dict[str, Any]:
-    """The dataset record (seasonloop.datasets.dataset_record) with its seasons in `seasons`' order."""
+    """The dataset record (seasonloop.data.datasets.dataset_record) with its seasons in `seasons`' order."""
     dataset = read_json(path)
     dataset["seasons"] = ordered(dataset["seasons"], seasons, str(path))
     return dataset

@@ -1,5 +1,5 @@
 """The summary's files: the study's tables as markdown and CSV, its comparison figures, and the
-long tables `dvc plots show` reads, all from one run's EvaluationResults (seasonloop.results).
+long tables `dvc plots show` reads, all from one run's EvaluationResults (seasonloop.reporting.results).
 
 Which folder they go to is the caller's; the file names inside it are fixed here (the report and
 dvc.yaml's plots name them).
@@ -14,10 +14,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from seasonloop.dvcplots import pr_long
+from seasonloop.reporting.dvcplots import pr_long
 from seasonloop.plots import plot_fraction_correct, plot_pr_curves
-from seasonloop.results import EvaluationResults
-from seasonloop.summary import (
+from seasonloop.reporting.results import EvaluationResults
+from seasonloop.reporting.summary import (
     fraction_correct_table,
     markdown_table,
     pr_landmarks,
@@ -75,7 +75,7 @@ def write_figures(out: Path, results: EvaluationResults) -> None:
 
 def write_dvc_plots(out: Path, results: EvaluationResults, training_curves: pd.DataFrame) -> None:
     """pr/<pair>.csv (every learner's curve, a `learner` column) and training_loss.csv (the loss
-    curves only of seasonloop.dvcplots.training_curves: the learning rate is on another scale).
+    curves only of seasonloop.reporting.dvcplots.training_curves: the learning rate is on another scale).
 
     One file per pair with every learner, so dvc.yaml names no file that a subset of learners or
     seasons lacks."""

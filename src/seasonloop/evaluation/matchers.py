@@ -7,7 +7,7 @@ then the matcher's ("+seq" for sequence matching), e.g. "pca", "pca+seq", "pca@c
 
 MATCHER_REGISTRY holds the matchers (name -> suffix and the function that turns descriptor
 distances into the distances matched on); MATCHERS is its name -> suffix view. The params are
-checked once, by seasonloop.config's schema when EvaluateConfig / SequenceConfig are built: this
+checked once, by seasonloop.params.schema's schema when EvaluateConfig / SequenceConfig are built: this
 module only computes.
 """
 
@@ -20,10 +20,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from seasonloop.matching import distance_matrix
-from seasonloop.metrics import evaluate_pair
-from seasonloop.sequence import sequence_distances
-from seasonloop.settings import EvaluateConfig, SequenceConfig
+from seasonloop.evaluation.matching import distance_matrix
+from seasonloop.evaluation.metrics import evaluate_pair
+from seasonloop.evaluation.sequence import sequence_distances
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 # (distances (N, M), database_places (M,), query_places (N,), sequence) -> the distances to match on
 MatchDistances = Callable[[np.ndarray, np.ndarray, np.ndarray, SequenceConfig], np.ndarray]
@@ -44,7 +44,7 @@ def _single_image(distances: np.ndarray, database_places: np.ndarray, query_plac
 
 def _sequence(distances: np.ndarray, database_places: np.ndarray, query_places: np.ndarray,
               sequence: SequenceConfig) -> np.ndarray:
-    # Sequence matching restarts at every break in the place ids (seasonloop.sequence).
+    # Sequence matching restarts at every break in the place ids (seasonloop.evaluation.sequence).
     return sequence_distances(
         distances, length=int(sequence.length), v_min=float(sequence.v_min), v_max=float(sequence.v_max),
         v_steps=int(sequence.v_steps), window=int(sequence.window),

@@ -3,7 +3,7 @@
 Places are frame indices along the route. The route is cut into contiguous sections; the last
 `test_fraction` of each section is a test block, and `gap` places on either side of every test
 block are used for nothing, so no training image shows a test place or its immediate neighbours.
-Tunnels and stops are detected from per-frame statistics (seasonloop.preprocess.frame_statistics);
+Tunnels and stops are detected from per-frame statistics (seasonloop.data.preprocess.frame_statistics);
 where the true ones are known (the synthetic route), detection_record scores the detection.
 """
 
@@ -15,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
-from seasonloop.datasets import SPLIT_FILE, split_images_file
+from seasonloop.data.datasets import SPLIT_FILE, split_images_file
 from seasonloop.io import load_array, save_array, write_json
-from seasonloop.settings import SplitConfig
+from seasonloop.params.settings import SplitConfig
 
 
 @dataclass(frozen=True)

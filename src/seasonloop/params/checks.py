@@ -1,6 +1,6 @@
 """The building blocks of the params schema: checks of one value, each naming its dotted key in the error.
 
-seasonloop.config composes them into the schema of every section of params.yaml.
+seasonloop.params.schema composes them into the schema of every section of params.yaml.
 """
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-from seasonloop.seasons import SEASONS, check_seasons, parse_pair
+from seasonloop.params.seasons import SEASONS, check_seasons, parse_pair
 
 Check = Callable[[str, Any], None]   # (dotted key, value) -> None, or a ValueError naming the key
 

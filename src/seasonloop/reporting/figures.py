@@ -15,14 +15,16 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.config import pair_name
-from seasonloop.evaluation import match_pair
+from seasonloop.params.schema import pair_name
+from seasonloop.evaluation.matchers import match_pair
 from seasonloop.models.registry import load_learner
 from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
-from seasonloop.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 AE_DESCRIPTORS = ("code", "output", "output_patchnorm")
 AUTOENCODERS = ("fae", "cae")
+# the learners whose models draw_figures loads (dvc.yaml's figures stage depends on their modules)
+FIGURE_LEARNERS = ("pca", "ica_bovw", *AUTOENCODERS)
 N_WORDS_SHOWN, N_EXAMPLES_SHOWN = 12, 10
 FILTERS_PER_ROW = 16
 N_RECONSTRUCTIONS = 2  # test places shown per season

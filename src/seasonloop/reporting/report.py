@@ -2,9 +2,9 @@
 other stages wrote.
 
 Which files those are is the caller's (ReportFiles); this module reads them in the order the
-tables list them (seasonloop.results), builds the sections (seasonloop.report_sections, the
-example grids of seasonloop.report_examples) and renders the page (seasonloop.report_html).
-The building blocks are re-exported here, so `from seasonloop.report import Table` keeps working.
+tables list them (seasonloop.reporting.results), builds the sections (seasonloop.reporting.sections, the
+example grids of seasonloop.reporting.examples) and renders the page (seasonloop.reporting.html).
+The building blocks are re-exported here, so `from seasonloop.reporting.report import Table` keeps working.
 """
 
 from __future__ import annotations
@@ -15,11 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
-from seasonloop.config import pair_name
+from seasonloop.params.schema import pair_name
 from seasonloop.io import read_json
-from seasonloop.report_examples import Example, example_grid_png, example_grids, examples_section, select_examples
-from seasonloop.report_html import Block, Image, Png, Section, Table, Text, Thumbnails, build_report
-from seasonloop.report_sections import (
+from seasonloop.reporting.examples import Example, example_grid_png, example_grids, examples_section, select_examples
+from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text, Thumbnails, build_report
+from seasonloop.reporting.sections import (
     autoencoder_training_section,
     cae_widths_section,
     dataset_section,
@@ -31,15 +31,15 @@ from seasonloop.report_sections import (
     similarity_section,
     training_seasons_section,
 )
-from seasonloop.results import (
+from seasonloop.reporting.results import (
     EvaluationResults,
     load_autoencoder_descriptors,
     load_dataset,
     load_runtime_record,
     load_training_seasons,
 )
-from seasonloop.settings import EvaluateConfig
-from seasonloop.summary import pr_landmarks, pr_landmarks_table
+from seasonloop.params.settings import EvaluateConfig
+from seasonloop.reporting.summary import pr_landmarks, pr_landmarks_table
 
 __all__ = [
     "Block", "Example", "Image", "Png", "ReportFiles", "Section", "Table", "Text", "Thumbnails",
@@ -57,8 +57,8 @@ class ReportFiles:
     """Where the report's inputs are: the other stages' JSON records, descriptors and figures."""
 
     params: Path                   # the parameter file, embedded verbatim
-    dataset: Path                  # seasonloop.datasets.dataset_record
-    runtime: Path                  # seasonloop.results.load_runtime, as written
+    dataset: Path                  # seasonloop.data.datasets.dataset_record
+    runtime: Path                  # seasonloop.reporting.results.load_runtime, as written
     training_seasons: Path         # the training-season ablation's record
     autoencoder_descriptors: Path  # fraction correct per auto-encoder descriptor
     autoencoder_training: Path     # how each auto-encoder's training ended
@@ -67,7 +67,7 @@ class ReportFiles:
     summary: Path                  # fraction_correct[@<metric>].png, pr_<pair>.png
     similarity: Path               # <method>/<pair>.png
     training_seasons_figure: Path  # a PNG
-    cae_widths: Path               # the CAE width sweep's record (seasonloop.cae_widths)
+    cae_widths: Path               # the CAE width sweep's record (seasonloop.ablations.cae_widths)
     cae_widths_figure: Path        # a PNG
     figures: Path                  # a folder of the study's other figures, *.png
 
@@ -90,7 +90,7 @@ def study_report(
     test_images: Mapping[str, np.ndarray],
     test_places: np.ndarray,
 ) -> str:
-    """The report's HTML. results: every evaluation of `methods` (seasonloop.results.load_evaluations);
+    """The report's HTML. results: every evaluation of `methods` (seasonloop.reporting.results.load_evaluations);
     example_pair: the (database, query) seasons of the example matches, both in test_images."""
     database, query = example_pair
     pairs = results.pairs

@@ -1,7 +1,7 @@
 """Every evaluation of one learner: each season pair of the test set under each metric and matcher,
 written as metrics JSON, a PR-curve CSV and a picture of the distances matched on.
 
-seasonloop.evaluation defines the evaluations (metric x matcher) and computes one;
+seasonloop.evaluation.matchers defines the evaluations (metric x matcher) and computes one;
 this module runs them over the pairs and writes what they give.
 """
 
@@ -12,12 +12,12 @@ from pathlib import Path
 
 import numpy as np
 
-from seasonloop.config import pair_name
-from seasonloop.evaluation import evaluations, match_distances
+from seasonloop.params.schema import pair_name
+from seasonloop.evaluation.matchers import evaluations, match_distances
 from seasonloop.io import load_array, write_json
-from seasonloop.matching import distance_matrix
+from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.plots import plot_distance_matrix
-from seasonloop.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 
 def evaluate_learner(method: str, features: Path, pairs: Sequence[tuple[str, str]], places: np.ndarray,

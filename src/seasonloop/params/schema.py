@@ -1,7 +1,7 @@
 """The schema of params.yaml: every key of every section with its check, and check_params, which runs it.
 
-The checks of one value live in seasonloop.param_checks, seasons and pairs in seasonloop.seasons
-(both re-exported here); the typed sections built after the check in seasonloop.settings.
+The checks of one value live in seasonloop.params.checks, seasons and pairs in seasonloop.params.seasons
+(both re-exported here); the typed sections built after the check in seasonloop.params.settings.
 """
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-# re-exported, so that `from seasonloop.config import SEASONS, parse_pair, ...` keeps working
-from seasonloop.param_checks import (  # noqa: F401
+# re-exported, so that `from seasonloop.params.schema import SEASONS, parse_pair, ...` keeps working
+from seasonloop.params.checks import (  # noqa: F401
     Check,
     boolean,
     integer,
@@ -22,7 +22,7 @@ from seasonloop.param_checks import (  # noqa: F401
     seasons,
     text,
 )
-from seasonloop.seasons import (  # noqa: F401
+from seasonloop.params.seasons import (  # noqa: F401
     SEASONS,
     STUDY_PAIRS,
     available_pairs,
@@ -138,7 +138,7 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "example_pair": pair,
     },
     "cae_widths": {
-        # fractions of Table 5's channels [96, 256, 384] (seasonloop.cae_widths)
+        # fractions of Table 5's channels [96, 256, 384] (seasonloop.ablations.cae_widths)
         "widths": list_of(number(0, 1, low_open=True)),
         "pairs": list_of(pair),
     },

@@ -14,7 +14,7 @@ import numpy as np
 import torch
 from torch import nn
 
-from seasonloop.models._training import (
+from seasonloop.models.core.training import (
     PRECISIONS,
     TrainingConfig,
     autocast,
@@ -23,8 +23,8 @@ from seasonloop.models._training import (
     train_until_plateau,
     validation_places,
 )
-from seasonloop.models.base import EpochCallback, FeatureLearner, select_training_subset, to_float
-from seasonloop.patchnorm import patch_normalise
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
+from seasonloop.data.patchnorm import patch_normalise
 
 DEVICES = ("auto", "cpu", "cuda")
 AE_DESCRIPTORS = ("code", "output", "output_patchnorm")

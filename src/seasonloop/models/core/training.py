@@ -20,7 +20,7 @@ import torch
 from torch import nn
 from tqdm.auto import tqdm
 
-from seasonloop.models.base import EpochCallback
+from seasonloop.models.core.learner import EpochCallback
 
 PRECISIONS = ("auto", "float32", "bfloat16")
 # Why training stopped; only a plateau means the model has learned what it can from this data.

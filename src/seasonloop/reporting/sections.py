@@ -1,8 +1,8 @@
 """The study's report sections, each built from the pipeline's result data as read from its JSON
-files (seasonloop.results) and the PNG figures the other stages drew.
+files (seasonloop.reporting.results) and the PNG figures the other stages drew.
 
 Knows nothing of DVC or params.yaml: every builder takes plain Python data and PNG paths or bytes
-and returns a seasonloop.report_html.Section.
+and returns a seasonloop.reporting.html.Section.
 """
 
 from __future__ import annotations
@@ -13,9 +13,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from seasonloop.evaluation import MATCHERS
-from seasonloop.report_html import Block, Image, Png, Section, Table, Text, Thumbnails
-from seasonloop.summary import fraction_correct_table, study_table
+from seasonloop.evaluation.matchers import MATCHERS
+from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text, Thumbnails
+from seasonloop.reporting.summary import fraction_correct_table, study_table
 
 MATCHER_NAMES = {"single": "single-image matching", "sequence": "sequence matching (SeqSLAM)"}
 RECALL_COLUMNS = {
@@ -128,7 +128,7 @@ def fraction_correct_section(
 
 def pr_section(curves: Mapping[str, Png], landmarks: pd.DataFrame | None = None) -> Section:
     """One PR figure per pair (pair -> PNG), and the study's PR landmarks beside ours
-    (seasonloop.summary.pr_landmarks_table) when given."""
+    (seasonloop.reporting.summary.pr_landmarks_table) when given."""
     blocks: list[Block] = [
         Text("Queries sorted by the confidence of their best match; at each distinct confidence the queries "
              "at least that confident are accepted (tied queries together): at full recall, precision equals "
@@ -168,7 +168,7 @@ def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -
 
 
 def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:
-    """The CAE width sweep (metrics/cae_widths.json, seasonloop.cae_widths): one row per width."""
+    """The CAE width sweep (metrics/cae_widths.json, seasonloop.ablations.cae_widths): one row per width."""
     pairs = record["pairs"]
     rows = {}
     for label, row in sorted(record["widths"].items(), key=lambda item: item[1]["width"]):

@@ -1,6 +1,6 @@
 """Typed views of params.yaml: one frozen dataclass per section, built once, after checking.
 
-`seasonloop.config` owns the schema (which keys a section has and what each may hold) and names a
+`seasonloop.params.schema` owns the schema (which keys a section has and what each may hold) and names a
 bad key in its error; a dataclass here is what the library receives instead of a raw dict, so a
 typo in a key is caught once, at the edge, and the library's signatures say what they read.
 Field names are the section's keys (tests/test_settings.py keeps both in step); lists become
@@ -16,7 +16,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, fields
 from typing import Any, ClassVar, TypeVar
 
-from seasonloop.config import check_params
+from seasonloop.params.schema import check_params
 
 SectionT = TypeVar("SectionT", bound="Section")
 

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from seasonloop.patchnorm import patch_normalise
-from seasonloop.preprocess import to_gray
+from seasonloop.data.patchnorm import patch_normalise
+from seasonloop.data.preprocess import to_gray
 
 PATCH_SIZE = 4
 # an offset counts as clear when at least this share of sampled places has its best match within

@@ -14,7 +14,7 @@ STUDY_FRACTION_CORRECT: dict[str, dict[str, float]] = {
 }
 
 # The study's precision-recall landmarks (study.md), as fractions: pair -> method -> metric key of
-# seasonloop.metrics.evaluate_pair -> value. Summer-fall, single-image matching: "precision 100%
+# seasonloop.evaluation.metrics.evaluate_pair -> value. Summer-fall, single-image matching: "precision 100%
 # up to 67% recall for PCA and ICA; at 100% recall ICA 91.05%, PCA 84%". It states none for the
 # auto-encoders. In the study's convention precision at 100% recall equals the fraction correct,
 # yet its PCA numbers differ (84% here, 88% in its fraction-correct table); both are quoted as given.

@@ -26,12 +26,12 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.evaluation import match_pair
-from seasonloop.figures import autoencoder_descriptors
+from seasonloop.evaluation.matchers import match_pair
+from seasonloop.reporting.figures import autoencoder_descriptors
 from seasonloop.io import staged_file, write_json
-from seasonloop.matching import best_matches, distance_matrix
+from seasonloop.evaluation.matching import best_matches, distance_matrix
 from seasonloop.plots import plot_series
-from seasonloop.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 TABLE5_CHANNELS = (96, 256, 384)
 DESCRIPTORS = ("output_patchnorm", "code")

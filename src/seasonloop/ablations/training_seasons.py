@@ -16,11 +16,11 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.config import check_seasons, pair_name, pair_present, parse_pair
-from seasonloop.evaluation import match_pair
+from seasonloop.params.schema import check_seasons, pair_name, pair_present, parse_pair
+from seasonloop.evaluation.matchers import match_pair
 from seasonloop.io import write_json
 from seasonloop.plots import plot_message, plot_series
-from seasonloop.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 
 @dataclass(frozen=True)

@@ -7,7 +7,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import pandas as pd
 
-from seasonloop.study import STUDY_FRACTION_CORRECT, STUDY_PR_LANDMARKS
+from seasonloop.reporting.study import STUDY_FRACTION_CORRECT, STUDY_PR_LANDMARKS
 
 
 def fraction_correct_table(results: Mapping[str, Mapping[str, Mapping[str, float]]], pairs: Sequence[str]) -> pd.DataFrame:

@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 from sklearn.metrics import auc
 
-from seasonloop.matching import best_matches
+from seasonloop.evaluation.matching import best_matches
 
 METRIC_KEYS = (
     "fraction_correct",
@@ -182,7 +182,7 @@ def evaluate_pair(
     threshold; auc_pr_vpr_tutorial, the same area in VPR_Tutorial's convention (recall = TP / N,
     ending at the fraction correct; see auc_pr_vpr_tutorial), so at most fraction_correct;
     recall_at_1/5/10; n_queries; n_database. confidence and ratio_exclusion (in place ids) are
-    passed to seasonloop.matching.best_matches. The PR DataFrame has columns recall, precision (one
+    passed to seasonloop.evaluation.matching.best_matches. The PR DataFrame has columns recall, precision (one
     row per distinct confidence).
     """
     database_places = _as_places(database_places, "database_places")

@@ -1,0 +1,67 @@
+"""The library's packages import in one direction only (the order in seasonloop/__init__.py), and
+nothing imports the stage scripts."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+SRC = Path(__file__).resolve().parents[1] / "src" / "seasonloop"
+
+# Lowest first: a module may import its own package and those before it. The foundation modules
+# (seasonloop/io.py, plots.py, machine.py) import nothing of seasonloop.
+LAYERS = ("foundation", "params", "data", "models", "evaluation", "reporting", "ablations")
+
+
+def layer_of(dotted: str) -> str:
+    """The layer of a seasonloop module: its package under seasonloop, or foundation for a top-level module."""
+    parts = dotted.split(".")
+    return parts[1] if len(parts) > 2 or (SRC / parts[1]).is_dir() else "foundation"
+
+
+def module_name(path: Path) -> str:
+    return ".".join(("seasonloop", *path.relative_to(SRC).with_suffix("").parts)).removesuffix(".__init__")
+
+
+def imports_of(path: Path) -> list[str]:
+    """The seasonloop modules a file imports, resolved to dotted names (relative imports included)."""
+    found = []
+    package = module_name(path).split(".")[:-1] if path.name != "__init__.py" else module_name(path).split(".")
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            found += [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                base = ".".join(package[:len(package) - node.level + 1] + ([base] if base else []))
+            found.append(base)
+    return [name for name in found if name.split(".")[0] in ("seasonloop", "_common", "_datasets", "stages")]
+
+
+MODULES = sorted(SRC.rglob("*.py"))
+
+
+def test_every_package_is_a_layer() -> None:
+    packages = {path.name for path in SRC.iterdir() if (path / "__init__.py").is_file()}
+    assert packages == set(LAYERS) - {"foundation"}
+
+
+@pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(SRC)))
+def test_imports_point_down(path: Path) -> None:
+    own = layer_of(module_name(path)) if path.parent != SRC else "foundation"
+    for name in imports_of(path):
+        assert name.split(".")[0] == "seasonloop", f"{path.name} imports the stage helper {name}"
+        target = layer_of(name)
+        if own == "foundation":
+            assert False, f"{module_name(path)} is a foundation module but imports {name}"
+        assert LAYERS.index(target) <= LAYERS.index(own), \
+            f"{module_name(path)} ({own}) imports {name} ({target}): packages import only those below them"
+
+
+def test_the_check_catches_an_upward_import(tmp_path: Path) -> None:
+    # the derivation itself: an evaluation module importing reporting is found and rejected
+    assert layer_of("seasonloop.reporting.summary") == "reporting"
+    assert layer_of("seasonloop.io") == "foundation" and layer_of("seasonloop.data") == "data"
+    assert LAYERS.index(layer_of("seasonloop.reporting.summary")) > LAYERS.index(layer_of("seasonloop.evaluation.metrics"))

@@ -17,11 +17,11 @@ import numpy as np
 import torch
 
 from seasonloop.data.augment import augment_training_set
+from seasonloop.data.preprocess import enhance_image_contrast, to_gray
 from seasonloop.data.synthetic import SyntheticRoute
 from seasonloop.io import read_json, write_json
 from seasonloop.machine import cpu_model
 from seasonloop.models.core.learner import to_json_value
-from seasonloop.data.preprocess import enhance_image_contrast, to_gray
 from seasonloop.params.seasons import SEASONS
 
 SPLIT_DIR = Path("data/split")
@@ -87,6 +87,7 @@ def timed(function: Callable[[], Any]) -> tuple[Any, float]:
 def cpu_busy_fraction(seconds: float = 1.0) -> float | None:
     """Fraction of all cores busy over `seconds` while this process sleeps, i.e. other work
     (from /proc/stat; None where it does not exist)."""
+
     def snapshot() -> tuple[int, int] | None:
         try:
             fields = [int(value) for value in Path("/proc/stat").read_text().split("\n")[0].split()[1:]]

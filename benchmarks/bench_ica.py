@@ -16,12 +16,12 @@ import numpy as np
 import torch
 
 from _common import load_note, machine, pair_images, timed, training_images, write_result
-from seasonloop.params.schema import parse_pair
-from seasonloop.models.core.fastica import TorchFastICA, amari_distance
 from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
+from seasonloop.models.core.fastica import TorchFastICA, amari_distance
 from seasonloop.models.core.learner import to_float
 from seasonloop.models.ica import fit_fastica
+from seasonloop.params.schema import parse_pair
 
 
 def parse_args() -> argparse.Namespace:
@@ -48,8 +48,12 @@ def fit_both(data: np.ndarray, n_components: int, args: argparse.Namespace) -> d
         lambda: TorchFastICA(whiten_solver=args.whiten_solver, device="cpu", **settings).fit(data)
     )
     fits = {
-        "sklearn": {"model": sklearn_model, "seconds": sklearn_seconds,
-                    "n_iter": sklearn_record["n_iter"], "converged": sklearn_record["converged"]},
+        "sklearn": {
+            "model": sklearn_model,
+            "seconds": sklearn_seconds,
+            "n_iter": sklearn_record["n_iter"],
+            "converged": sklearn_record["converged"],
+        },
         "torch_cpu": {"model": ours, "seconds": ours_seconds, "n_iter": ours.n_iter_, "converged": ours.converged_},
     }
     if torch.cuda.is_available():
@@ -77,27 +81,33 @@ def main() -> None:
     images, source = training_images(args.n_samples, args.seed)
     data = to_float(images).reshape(len(images), -1)
     print(f"training data: {data.shape[0]} x {data.shape[1]} float32 from {source}")
-    print(f"FastICA: n_components {args.n_components}, max_iter {args.max_iter}, tol {args.tol}, "
-          f"whiten_solver {args.whiten_solver}, parallel, logcosh; torch threads {torch.get_num_threads()}")
+    print(
+        f"FastICA: n_components {args.n_components}, max_iter {args.max_iter}, tol {args.tol}, "
+        f"whiten_solver {args.whiten_solver}, parallel, logcosh; torch threads {torch.get_num_threads()}"
+    )
     if not torch.cuda.is_available():
         print("CUDA not available: torch timed on the CPU only")
 
     fits = fit_both(data, args.n_components, args)
     sklearn_seconds = fits["sklearn"]["seconds"]
     for name, fit in fits.items():
-        print(f"  fit {name:9s}: {fit['seconds']:8.2f} s, {fit['n_iter']:4d} iterations, converged {fit['converged']}, "
-              f"speed-up vs sklearn {sklearn_seconds / fit['seconds']:.2f}x")
+        print(
+            f"  fit {name:9s}: {fit['seconds']:8.2f} s, {fit['n_iter']:4d} iterations, converged {fit['converged']}, "
+            f"speed-up vs sklearn {sklearn_seconds / fit['seconds']:.2f}x"
+        )
 
     # The same pair, described by each model.
     database_images, query_images, places, pair_source = pair_images(database, query, args.seed)
     quality = {}
     for name, fit in fits.items():
-        describe = lambda batch: fit["model"].transform(to_float(batch).reshape(len(batch), -1))  # noqa: E731
+        describe = lambda batch: fit["model"].transform(to_float(batch).reshape(len(batch), -1))  # noqa: E731, B023 (called at once)
         distances = distance_matrix(describe(database_images), describe(query_images), args.metric)
         metrics, _ = evaluate_pair(distances, places, places, tolerance=0)
         quality[name] = {key: metrics[key] for key in ("fraction_correct", "auc_pr", "recall_at_100_precision")}
-        print(f"  {args.pair} ({len(places)} places, {pair_source}) {name:9s}: fraction correct "
-              f"{metrics['fraction_correct']:.4f}, AUC-PR {metrics['auc_pr']:.4f}")
+        print(
+            f"  {args.pair} ({len(places)} places, {pair_source}) {name:9s}: fraction correct "
+            f"{metrics['fraction_correct']:.4f}, AUC-PR {metrics['auc_pr']:.4f}"
+        )
     # Ours vs scikit-learn's unmixing: 0 when one is a scaled permutation of the other.
     cross_amari = amari_distance(fits["torch_cpu"]["model"].components_, fits["sklearn"]["model"].mixing_)
     print(f"  Amari distance between the torch and sklearn unmixing on these images: {cross_amari:.4f}")
@@ -106,16 +116,19 @@ def main() -> None:
     mixture_fits = fit_both(mixture, args.amari_sources, args)
     amari = {name: amari_distance(fit["model"].components_, mixing) for name, fit in mixture_fits.items()}
     for name, fit in mixture_fits.items():
-        print(f"  known sources ({args.n_samples} x {data.shape[1]}, {args.amari_sources} Laplace sources) {name:9s}: "
-              f"Amari distance {amari[name]:.4f}, {fit['seconds']:.2f} s, {fit['n_iter']} iterations")
+        print(
+            f"  known sources ({args.n_samples} x {data.shape[1]}, {args.amari_sources} Laplace sources) {name:9s}: "
+            f"Amari distance {amari[name]:.4f}, {fit['seconds']:.2f} s, {fit['n_iter']} iterations"
+        )
 
     speedup = sklearn_seconds / fits["torch_cpu"]["seconds"]
     # A speed ratio means something only when both stopped for the same reason: tol reached.
     equal_convergence = fits["sklearn"]["converged"] and fits["torch_cpu"]["converged"]
     convergence = (
         f"both converged to tol {args.tol} (sklearn {fits['sklearn']['n_iter']}, torch "
-        f"{fits['torch_cpu']['n_iter']} iterations)" if equal_convergence else
-        f"NOT at equal convergence: sklearn converged {fits['sklearn']['converged']} in {fits['sklearn']['n_iter']}, "
+        f"{fits['torch_cpu']['n_iter']} iterations)"
+        if equal_convergence
+        else f"NOT at equal convergence: sklearn converged {fits['sklearn']['converged']} in {fits['sklearn']['n_iter']}, "
         f"torch converged {fits['torch_cpu']['converged']} in {fits['torch_cpu']['n_iter']} iterations"
     )
     print(f"  convergence: {convergence}")

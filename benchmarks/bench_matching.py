@@ -26,8 +26,9 @@ def parse_args() -> argparse.Namespace:
     parser.add_argument("--n-places", type=int, default=3569)
     parser.add_argument("--dim", type=int, default=200)
     parser.add_argument("--metric", default="cosine", choices=METRICS)
-    parser.add_argument("--noise", type=float, default=3.0,
-                        help="query noise, in units of the descriptor spread (3: ~85%% correct)")
+    parser.add_argument(
+        "--noise", type=float, default=3.0, help="query noise, in units of the descriptor spread (3: ~85%% correct)"
+    )
     parser.add_argument("--repeats", type=int, default=3, help="the fastest of this many runs is reported")
     parser.add_argument("--seed", type=int, default=0)
     return parser.parse_args()
@@ -66,15 +67,21 @@ def main() -> None:
 
     distances, distance_seconds = fastest(lambda: distance_matrix(database, queries, args.metric), args.repeats)
     (best, _), best_seconds = fastest(lambda: best_matches(distances), args.repeats)
-    (metrics, _), evaluate_seconds = fastest(lambda: evaluate_pair(distances, places, places, tolerance=0), args.repeats)
+    (metrics, _), evaluate_seconds = fastest(
+        lambda: evaluate_pair(distances, places, places, tolerance=0), args.repeats
+    )
     vectorised_seconds = distance_seconds + best_seconds + evaluate_seconds
     loop_best, loop_seconds = fastest(lambda: loop_best_matches(database, queries, args.metric), args.repeats)
     identical = bool(np.array_equal(best, loop_best))
     loop_total = loop_seconds + evaluate_seconds  # the loop still needs the PR arithmetic
-    print(f"  distance_matrix {distance_seconds:.3f} s, best_matches {best_seconds:.3f} s, "
-          f"evaluate_pair {evaluate_seconds:.3f} s (its own best matches, PR curve, recall@N)")
-    print(f"  vectorised total {vectorised_seconds:.3f} s; per-query loop best matches {loop_seconds:.3f} s "
-          f"(+ evaluate_pair {loop_total:.3f} s); loop / vectorised {loop_total / vectorised_seconds:.1f}x")
+    print(
+        f"  distance_matrix {distance_seconds:.3f} s, best_matches {best_seconds:.3f} s, "
+        f"evaluate_pair {evaluate_seconds:.3f} s (its own best matches, PR curve, recall@N)"
+    )
+    print(
+        f"  vectorised total {vectorised_seconds:.3f} s; per-query loop best matches {loop_seconds:.3f} s "
+        f"(+ evaluate_pair {loop_total:.3f} s); loop / vectorised {loop_total / vectorised_seconds:.1f}x"
+    )
     print(f"  best matches identical: {identical}; fraction correct {metrics['fraction_correct']:.4f}")
 
     note = load_note(measured_on)
@@ -95,9 +102,11 @@ def main() -> None:
     print(f"wrote {path}")
     if note:
         print(note)
-    print(f"HEADLINE: matching a {args.n_places} x {args.n_places} pair (D={args.dim}) takes {vectorised_seconds:.3f} s "
-          f"(distances + best matches + evaluation), {loop_total / vectorised_seconds:.1f}x faster than a per-query "
-          f"loop; best matches identical: {identical}")
+    print(
+        f"HEADLINE: matching a {args.n_places} x {args.n_places} pair (D={args.dim}) takes {vectorised_seconds:.3f} s "
+        f"(distances + best matches + evaluation), {loop_total / vectorised_seconds:.1f}x faster than a per-query "
+        f"loop; best matches identical: {identical}"
+    )
     if not identical:
         raise SystemExit("best matches differ between the vectorised and the loop implementation")
 

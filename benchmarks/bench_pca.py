@@ -30,9 +30,13 @@ EXACT_SOLVERS = ("full", "covariance_eigh")
 def parse_args() -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n-samples", type=int, default=128000, help="training images (2048 pixels each)")
-    parser.add_argument("--solvers", nargs="+", default=["full", "covariance_eigh", "auto"],
-                        choices=[solver for solver in SVD_SOLVERS if solver != "arpack"],
-                        help="scikit-learn svd_solver values to time beside the learner")
+    parser.add_argument(
+        "--solvers",
+        nargs="+",
+        default=["full", "covariance_eigh", "auto"],
+        choices=[solver for solver in SVD_SOLVERS if solver != "arpack"],
+        help="scikit-learn svd_solver values to time beside the learner",
+    )
     parser.add_argument("--params", default="params.yaml", help="where the pca learner's section is read")
     parser.add_argument("--repeats", type=int, default=2, help="fits per solver; the fastest counts")
     parser.add_argument("--seed", type=int, default=0)
@@ -88,22 +92,29 @@ def main() -> None:
     components, resolved, info = {}, {}, None
     for round_index in range(args.repeats):
         for name in names if round_index % 2 == 0 else reversed(names):
-            (components[name], fit_info), elapsed = timed(lambda: fit(name))
+            (components[name], fit_info), elapsed = timed(lambda: fit(name))  # noqa: B023 (called at once)
             seconds[name].append(elapsed)
             info = fit_info or info
     fastest = {name: min(values) for name, values in seconds.items()}
     ours_seconds = fastest["ours"]
     ours = kept_components(components["ours"], n_discard)
-    print(f"  ours (learner, svd_solver {learner.params['svd_solver']}): {ours_seconds:8.2f} s "
-          f"(runs: {', '.join(f'{value:.2f}' for value in seconds['ours'])})")
+    print(
+        f"  ours (learner, svd_solver {learner.params['svd_solver']}): {ours_seconds:8.2f} s "
+        f"(runs: {', '.join(f'{value:.2f}' for value in seconds['ours'])})"
+    )
     results = {}
     for solver in args.solvers:
-        results[solver] = {"seconds": fastest[solver], "runs_seconds": seconds[solver],
-                           "resolved_solver": resolved[solver],
-                           "components": kept_components(components[solver], n_discard)}
-        print(f"  sklearn svd_solver {solver:15s} (runs {resolved[solver]}): {fastest[solver]:8.2f} s "
-              f"(runs: {', '.join(f'{value:.2f}' for value in seconds[solver])}), "
-              f"ours is {fastest[solver] / ours_seconds:.2f}x faster")
+        results[solver] = {
+            "seconds": fastest[solver],
+            "runs_seconds": seconds[solver],
+            "resolved_solver": resolved[solver],
+            "components": kept_components(components[solver], n_discard),
+        }
+        print(
+            f"  sklearn svd_solver {solver:15s} (runs {resolved[solver]}): {fastest[solver]:8.2f} s "
+            f"(runs: {', '.join(f'{value:.2f}' for value in seconds[solver])}), "
+            f"ours is {fastest[solver] / ours_seconds:.2f}x faster"
+        )
 
     exact = [solver for solver in EXACT_SOLVERS if solver in results]
     reference_name = exact[0] if exact else None
@@ -112,15 +123,19 @@ def main() -> None:
         print("no exact solver (full, covariance_eigh) timed: agreement not measured")
     else:
         reference = results[reference_name]["components"]
-        candidates = {"ours": ours, **{name: result["components"] for name, result in results.items()
-                                       if name != reference_name}}
+        candidates = {
+            "ours": ours,
+            **{name: result["components"] for name, result in results.items() if name != reference_name},
+        }
         for name, components in candidates.items():
             agreements[name] = agreement(components, reference)
             figures = agreements[name]
-            print(f"  kept subspace, {name} vs {reference_name}: max principal angle "
-                  f"{figures['max_principal_angle_deg']:.3f} deg (median {figures['median_principal_angle_deg']:.3f}), "
-                  f"component |cos| min {figures['min_component_abs_cosine']:.4f} "
-                  f"median {figures['median_component_abs_cosine']:.4f}")
+            print(
+                f"  kept subspace, {name} vs {reference_name}: max principal angle "
+                f"{figures['max_principal_angle_deg']:.3f} deg (median {figures['median_principal_angle_deg']:.3f}), "
+                f"component |cos| min {figures['min_component_abs_cosine']:.4f} "
+                f"median {figures['median_component_abs_cosine']:.4f}"
+            )
 
     note = load_note(measured_on)
     record = {
@@ -130,8 +145,10 @@ def main() -> None:
         "ours_seconds": ours_seconds,
         "ours_runs_seconds": seconds["ours"],
         "explained_variance_ratio_kept": info["explained_variance_ratio_kept"],
-        "sklearn": {name: {key: value for key, value in result.items() if key != "components"}
-                    for name, result in results.items()},
+        "sklearn": {
+            name: {key: value for key, value in result.items() if key != "components"}
+            for name, result in results.items()
+        },
         "speedup": {name: result["seconds"] / ours_seconds for name, result in results.items()},
         "agreement_reference": reference_name,
         "agreement": agreements,
@@ -148,8 +165,10 @@ def main() -> None:
         f"on {images.shape[0]} x {images.shape[1] * images.shape[2]}"
     )
     if "ours" in agreements:
-        headline += (f"; kept components {n_discard}-{n_discard + n_keep} vs {reference_name}: max principal angle "
-                     f"{agreements['ours']['max_principal_angle_deg']:.2f} deg")
+        headline += (
+            f"; kept components {n_discard}-{n_discard + n_keep} vs {reference_name}: max principal angle "
+            f"{agreements['ours']['max_principal_angle_deg']:.2f} deg"
+        )
     print(headline)
 
 

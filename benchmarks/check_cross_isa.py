@@ -42,15 +42,27 @@ def fit_once(name: str, precision: str, images: int, epochs: int, out: Path) -> 
     from seasonloop.models.registry import get_learner
 
     data, _ = training_images(images, seed=0)
-    params = {**LEARNERS[name], "precision": precision, "max_epochs": epochs, "patience": epochs + 1,
-              "max_validation_images": 0, "device": "cpu"}
+    params = {
+        **LEARNERS[name],
+        "precision": precision,
+        "max_epochs": epochs,
+        "patience": epochs + 1,
+        "max_validation_images": 0,
+        "device": "cpu",
+    }
     learner = get_learner(name)(params, seed=0)
     info = learner.fit(data, progress=False, places=np.arange(len(data)) // 2)
     weights = {key: value.detach().float().numpy() for key, value in learner.model.state_dict().items()}
     np.savez(out, **weights)
-    out.with_suffix(".json").write_text(json.dumps({
-        "validation_loss": info["validation_loss_per_epoch"], "precision": info["precision"],
-        "cpu_capability": torch.backends.cpu.get_cpu_capability()}))
+    out.with_suffix(".json").write_text(
+        json.dumps(
+            {
+                "validation_loss": info["validation_loss_per_epoch"],
+                "precision": info["precision"],
+                "cpu_capability": torch.backends.cpu.get_cpu_capability(),
+            }
+        )
+    )
 
 
 def run_child(name: str, precision: str, capped: bool, args: argparse.Namespace, folder: Path) -> dict:
@@ -58,8 +70,22 @@ def run_child(name: str, precision: str, capped: bool, args: argparse.Namespace,
     env = {key: value for key, value in os.environ.items() if key not in CAPPED}
     if capped:
         env.update(CAPPED)
-    subprocess.run([sys.executable, __file__, "--child", name, precision, str(out), "--images", str(args.images),
-                    "--epochs", str(args.epochs)], env=env, check=True)
+    subprocess.run(
+        [
+            sys.executable,
+            __file__,
+            "--child",
+            name,
+            precision,
+            str(out),
+            "--images",
+            str(args.images),
+            "--epochs",
+            str(args.epochs),
+        ],
+        env=env,
+        check=True,
+    )
     weights = dict(np.load(out))
     digest = hashlib.sha256(b"".join(weights[key].tobytes() for key in sorted(weights))).hexdigest()
     return {"weights": weights, "sha256": digest, **json.loads(out.with_suffix(".json").read_text())}
@@ -85,24 +111,32 @@ def main() -> None:
             for precision in PRECISIONS:
                 native = run_child(name, precision, False, args, Path(folder))
                 capped = run_child(name, precision, True, args, Path(folder))
-                largest = max(float(np.max(np.abs(native["weights"][key] - capped["weights"][key])))
-                              for key in native["weights"])
+                largest = max(
+                    float(np.max(np.abs(native["weights"][key] - capped["weights"][key]))) for key in native["weights"]
+                )
                 same = native["sha256"] == capped["sha256"]
                 identical[f"{name} {precision}"] = same
                 results[f"{name} {precision}"] = {
-                    "identical": same, "largest_weight_difference": largest,
+                    "identical": same,
+                    "largest_weight_difference": largest,
                     "validation_loss": {"native": native["validation_loss"], "capped": capped["validation_loss"]},
                     "cpu_capability": {"native": native["cpu_capability"], "capped": capped["cpu_capability"]},
-                    "precision_run": {"native": native["precision"], "capped": capped["precision"]}}
-                print(f"  {name} {precision:8s}: kernels {native['cpu_capability']} vs {capped['cpu_capability']}: "
-                      f"weights {'byte-identical' if same else 'differ'} (largest difference {largest:.3g}); "
-                      f"final validation loss {native['validation_loss'][-1]:.6f} vs {capped['validation_loss'][-1]:.6f}",
-                      flush=True)
-    path = write_result("check_cross_isa", {"args": {"images": args.images, "epochs": args.epochs},
-                                            "results": results}, measured_on)
+                    "precision_run": {"native": native["precision"], "capped": capped["precision"]},
+                }
+                print(
+                    f"  {name} {precision:8s}: kernels {native['cpu_capability']} vs {capped['cpu_capability']}: "
+                    f"weights {'byte-identical' if same else 'differ'} (largest difference {largest:.3g}); "
+                    f"final validation loss {native['validation_loss'][-1]:.6f} vs {capped['validation_loss'][-1]:.6f}",
+                    flush=True,
+                )
+    path = write_result(
+        "check_cross_isa", {"args": {"images": args.images, "epochs": args.epochs}, "results": results}, measured_on
+    )
     print(f"wrote {path}")
-    print("HEADLINE: same bytes across the instruction sets of this CPU: "
-          + ", ".join(f"{key} {'yes' if same else 'no'}" for key, same in identical.items()))
+    print(
+        "HEADLINE: same bytes across the instruction sets of this CPU: "
+        + ", ".join(f"{key} {'yes' if same else 'no'}" for key, same in identical.items())
+    )
 
 
 if __name__ == "__main__":

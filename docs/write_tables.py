@@ -40,12 +40,30 @@ def _fraction_correct(path: Path) -> str:
 
 def _autoencoder_training(path: Path) -> str:
     record = json.loads(path.read_text())
-    columns = ["stop_reason", "converged", "epochs_run", "best_epoch", "best_validation_loss", "n_train_images",
-               "n_validation_images", "images_seen", "precision", "training_seconds"]
+    columns = [
+        "stop_reason",
+        "converged",
+        "epochs_run",
+        "best_epoch",
+        "best_validation_loss",
+        "n_train_images",
+        "n_validation_images",
+        "images_seen",
+        "precision",
+        "training_seconds",
+    ]
     lines = ["| learner | " + " | ".join(columns) + " |", "|---|" + "---|" * len(columns)]
     for learner, row in record.items():
-        cells = [f"{row[key]:.5f}" if key == "best_validation_loss" else f"{row[key]:.0f}" if key == "training_seconds"
-                 else str(row[key]).lower() if isinstance(row[key], bool) else str(row[key]) for key in columns]
+        cells = [
+            f"{row[key]:.5f}"
+            if key == "best_validation_loss"
+            else f"{row[key]:.0f}"
+            if key == "training_seconds"
+            else str(row[key]).lower()
+            if isinstance(row[key], bool)
+            else str(row[key])
+            for key in columns
+        ]
         lines.append(f"| {learner} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
@@ -59,15 +77,19 @@ def _bench_autoencoders(path: Path) -> str:
     to-the-plateau comparison where the run made it."""
     record = json.loads(path.read_text())
     args = record["args"]
-    lines = [f"`python benchmarks/bench_autoencoders.py --fae-images {args['fae_images']} --cae-images "
-             f"{args['cae_images']} --cae-widths {args['cae_widths']} --quality-images {args['quality_images']} "
-             f"--quality-epochs {args['quality_epochs']} --pair-places {args['pair_places']}"
-             + (f" --plateau-images {args['plateau_images']}" if args.get("plateau_images") else "")
-             + f"` on {record['machine']['cpu']}, {record['machine']['torch_threads']} threads"
-             + (f" ({record['load_note']})" if record.get("load_note") else "") + ":", "",
-             "| network | variant | train images/s | describe images/s | train / describe vs float32 | "
-             f"validation loss after {args['quality_epochs']} epoch(s) (vs float32) | summer-fall % |",
-             "|---|---|---|---|---|---|---|"]
+    lines = [
+        f"`python benchmarks/bench_autoencoders.py --fae-images {args['fae_images']} --cae-images "
+        f"{args['cae_images']} --cae-widths {args['cae_widths']} --quality-images {args['quality_images']} "
+        f"--quality-epochs {args['quality_epochs']} --pair-places {args['pair_places']}"
+        + (f" --plateau-images {args['plateau_images']}" if args.get("plateau_images") else "")
+        + f"` on {record['machine']['cpu']}, {record['machine']['torch_threads']} threads"
+        + (f" ({record['load_note']})" if record.get("load_note") else "")
+        + ":",
+        "",
+        "| network | variant | train images/s | describe images/s | train / describe vs float32 | "
+        f"validation loss after {args['quality_epochs']} epoch(s) (vs float32) | summer-fall % |",
+        "|---|---|---|---|---|---|---|",
+    ]
     # the FAE first, and in each network the float32 reference first (the JSON's keys are sorted)
     for network, devices in sorted(record["results"].items(), key=lambda item: (item[0] != "fae", item[0])):
         for device, runs in devices.items():
@@ -75,38 +97,58 @@ def _bench_autoencoders(path: Path) -> str:
                 continue
             for variant, run in sorted(runs.items(), key=lambda item: (not item[0].startswith("float32"), item[0])):
                 quality = run["quality"]
-                checked = "not checked (emulated)" if quality is None else (
-                    f"{quality['final_validation_loss']:.5f} ({quality['validation_loss_change']:+.1%})")
+                checked = (
+                    "not checked (emulated)"
+                    if quality is None
+                    else (f"{quality['final_validation_loss']:.5f} ({quality['validation_loss_change']:+.1%})")
+                )
                 correct = "" if quality is None else f"{100 * quality['fraction_correct']:.1f}"
-                lines.append(f"| {network} ({device}) | {variant} | {run['train_images_per_s']:.1f} | "
-                             f"{run['describe_images_per_s']:.1f} | {run['speedup_vs_float32']['train']:.2f}x / "
-                             f"{run['speedup_vs_float32']['describe']:.2f}x | {checked} | {correct} |")
-    plateau = {network: devices["cpu_to_plateau"] for network, devices in record["results"].items()
-               if "cpu_to_plateau" in devices}
+                lines.append(
+                    f"| {network} ({device}) | {variant} | {run['train_images_per_s']:.1f} | "
+                    f"{run['describe_images_per_s']:.1f} | {run['speedup_vs_float32']['train']:.2f}x / "
+                    f"{run['speedup_vs_float32']['describe']:.2f}x | {checked} | {correct} |"
+                )
+    plateau = {
+        network: devices["cpu_to_plateau"]
+        for network, devices in record["results"].items()
+        if "cpu_to_plateau" in devices
+    }
     if plateau:
-        lines += ["", f"Each trained to its validation plateau on {args['plateau_images']} images (the pipeline's "
-                  "stopping rule), channels_last:", "",
-                  "| network | precision | seconds | epochs | converged | best validation loss | summer-fall % |",
-                  "|---|---|---|---|---|---|---|"]
+        lines += [
+            "",
+            f"Each trained to its validation plateau on {args['plateau_images']} images (the pipeline's "
+            "stopping rule), channels_last:",
+            "",
+            "| network | precision | seconds | epochs | converged | best validation loss | summer-fall % |",
+            "|---|---|---|---|---|---|---|",
+        ]
         for network, runs in plateau.items():
             for precision, run in sorted(runs.items(), key=lambda item: item[0] != "float32"):
-                lines.append(f"| {network} | {precision} | {run['training_seconds']:.0f} | {run['epochs_run']} | "
-                             f"{str(run['converged']).lower()} | {run['best_validation_loss']:.5f} | "
-                             f"{100 * run['fraction_correct']:.1f} |")
+                lines.append(
+                    f"| {network} | {precision} | {run['training_seconds']:.0f} | {run['epochs_run']} | "
+                    f"{str(run['converged']).lower()} | {run['best_validation_loss']:.5f} | "
+                    f"{100 * run['fraction_correct']:.1f} |"
+                )
     return "\n".join(lines) + "\n"
 
 
 def _check_cross_isa(path: Path) -> str:
     record = json.loads(path.read_text())
-    lines = [f"`python benchmarks/check_cross_isa.py --images {record['args']['images']} --epochs "
-             f"{record['args']['epochs']}` on {record['machine']['cpu']}:", "",
-             "| learner and precision | kernels (uncapped / capped) | weights byte-identical | largest weight "
-             "difference | final validation loss (uncapped / capped) |", "|---|---|---|---|---|"]
+    lines = [
+        f"`python benchmarks/check_cross_isa.py --images {record['args']['images']} --epochs "
+        f"{record['args']['epochs']}` on {record['machine']['cpu']}:",
+        "",
+        "| learner and precision | kernels (uncapped / capped) | weights byte-identical | largest weight "
+        "difference | final validation loss (uncapped / capped) |",
+        "|---|---|---|---|---|",
+    ]
     for name, row in record["results"].items():
         loss = row["validation_loss"]
-        lines.append(f"| {name} | {row['cpu_capability']['native']} / {row['cpu_capability']['capped']} | "
-                     f"{'yes' if row['identical'] else 'no'} | {row['largest_weight_difference']:.2g} | "
-                     f"{loss['native'][-1]:.6f} / {loss['capped'][-1]:.6f} |")
+        lines.append(
+            f"| {name} | {row['cpu_capability']['native']} / {row['cpu_capability']['capped']} | "
+            f"{'yes' if row['identical'] else 'no'} | {row['largest_weight_difference']:.2g} | "
+            f"{loss['native'][-1]:.6f} / {loss['capped'][-1]:.6f} |"
+        )
     return "\n".join(lines) + "\n"
 
 
@@ -117,12 +159,21 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "cae_widths": ("metrics/cae_widths.json", "cae_widths_sweep.json", _cae_widths),
     # three runs of the benchmark (its file is rewritten by each): Table 5's width, the default
     # width, and the default width trained to its plateau in float32 and bfloat16
-    "bench_autoencoders_table5": ("benchmarks/results/bench_autoencoders.json", "bench_autoencoders_table5.json",
-                                  _bench_autoencoders),
-    "bench_autoencoders_width16": ("benchmarks/results/bench_autoencoders.json", "bench_autoencoders_width16.json",
-                                   _bench_autoencoders),
-    "bench_autoencoders_plateau": ("benchmarks/results/bench_autoencoders.json", "bench_autoencoders_plateau.json",
-                                   _bench_autoencoders),
+    "bench_autoencoders_table5": (
+        "benchmarks/results/bench_autoencoders.json",
+        "bench_autoencoders_table5.json",
+        _bench_autoencoders,
+    ),
+    "bench_autoencoders_width16": (
+        "benchmarks/results/bench_autoencoders.json",
+        "bench_autoencoders_width16.json",
+        _bench_autoencoders,
+    ),
+    "bench_autoencoders_plateau": (
+        "benchmarks/results/bench_autoencoders.json",
+        "bench_autoencoders_plateau.json",
+        _bench_autoencoders,
+    ),
     "check_cross_isa": ("benchmarks/results/check_cross_isa.json", "check_cross_isa.json", _check_cross_isa),
 }
 
@@ -135,11 +186,15 @@ def provenance_line(name: str, provenance: dict) -> str:
     source, snapshot, _ = TABLES[name]
     run = provenance.get(name, {})
     if source.startswith("benchmarks/"):
-        return (f"_Written by `docs/write_tables.py` from `{source}` (copy: `docs/results/{snapshot}`), measured at "
-                f"commit {run.get('commit', '?')}{' + uncommitted changes' if run.get('dirty') else ''}._\n")
-    return (f"_Written by `docs/write_tables.py` from `{source}` (copy: `docs/results/{snapshot}`), produced at "
-            f"commit {run.get('commit', '?')}{' + uncommitted changes' if run.get('dirty') else ''} "
-            f"by `{run.get('command', 'dvc repro')}` on {run.get('cpu', '?')}._\n")
+        return (
+            f"_Written by `docs/write_tables.py` from `{source}` (copy: `docs/results/{snapshot}`), measured at "
+            f"commit {run.get('commit', '?')}{' + uncommitted changes' if run.get('dirty') else ''}._\n"
+        )
+    return (
+        f"_Written by `docs/write_tables.py` from `{source}` (copy: `docs/results/{snapshot}`), produced at "
+        f"commit {run.get('commit', '?')}{' + uncommitted changes' if run.get('dirty') else ''} "
+        f"by `{run.get('command', 'dvc repro')}` on {run.get('cpu', '?')}._\n"
+    )
 
 
 def table_block(name: str, provenance: dict) -> str:
@@ -150,6 +205,7 @@ def table_block(name: str, provenance: dict) -> str:
 
 def rewrite(text: str, provenance: dict) -> str:
     """README text with every table block rewritten."""
+
     def replace(match: re.Match) -> str:
         name = match.group(1)
         if name not in TABLES:
@@ -162,9 +218,14 @@ def rewrite(text: str, provenance: dict) -> str:
 def snapshot(names: list[str], command: str) -> None:
     """Copy the named tables' output files into docs/results/ and record where they came from."""
     git = ["git", "-C", str(ROOT)]
-    commit = subprocess.run([*git, "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True).stdout.strip()
-    dirty = bool(subprocess.run([*git, "status", "--porcelain", "--untracked-files=no"], capture_output=True, text=True,
-                                check=True).stdout.strip())
+    commit = subprocess.run(
+        [*git, "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
+    ).stdout.strip()
+    dirty = bool(
+        subprocess.run(
+            [*git, "status", "--porcelain", "--untracked-files=no"], capture_output=True, text=True, check=True
+        ).stdout.strip()
+    )
     provenance = json.loads(PROVENANCE.read_text()) if PROVENANCE.is_file() else {}
     RESULTS.mkdir(parents=True, exist_ok=True)
     for name in names:
@@ -180,8 +241,12 @@ def snapshot(names: list[str], command: str) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--snapshot", nargs="*", metavar="TABLE",
-                        help=f"copy these tables' output files first (none named: all of {', '.join(TABLES)})")
+    parser.add_argument(
+        "--snapshot",
+        nargs="*",
+        metavar="TABLE",
+        help=f"copy these tables' output files first (none named: all of {', '.join(TABLES)})",
+    )
     parser.add_argument("--command", default="dvc repro", help="the command that produced the outputs (recorded)")
     args = parser.parse_args()
     if args.snapshot is not None:

@@ -14,18 +14,20 @@ from typing import Any
 
 import yaml
 
-from seasonloop.params.schema import check_params, check_seasons
+from seasonloop.params.schema import check_params, check_seasons, check_whole
 
 PARAMS_FILE = Path("params.yaml")
 
 
 def load_params(*keys: str, path: Path = PARAMS_FILE) -> dict[str, Any]:
-    """params.yaml, with `keys` (the sections or dotted keys the stage reads) checked before any work."""
+    """params.yaml, checked whole before any work (a typo anywhere stops the first stage that runs);
+    `keys` are the sections or dotted keys the stage reads (tests/test_stage_deps.py holds them to it)."""
     if not path.is_file():
         raise FileNotFoundError(f"{path}: parameter file not found (run from the repository root)")
     params = yaml.safe_load(path.read_text()) or {}
     if not isinstance(params, dict):
         raise ValueError(f"{path}: expected a mapping of sections")
+    check_whole(params)
     check_params(params, keys)
     return params
 

@@ -9,7 +9,6 @@ from __future__ import annotations
 from pathlib import Path
 
 from _common import data_seasons, load_params, stage_main
-
 from seasonloop.data.sources import SOURCES, acquire_sources
 from seasonloop.io import staged_dir, write_json
 from seasonloop.params.settings import DataConfig, SyntheticConfig
@@ -25,9 +24,13 @@ def main() -> None:
     with staged_dir(OUT) as out:
         paths = acquire_sources(out, seasons, data, synthetic)
         # a rendered file is named by where it will be: the staged folder is renamed to OUT
-        sources = {season: {"kind": SOURCES[data.source].kind,
-                            "path": str(OUT / path.relative_to(out) if path.is_relative_to(out) else path)}
-                   for season, path in paths.items()}
+        sources = {
+            season: {
+                "kind": SOURCES[data.source].kind,
+                "path": str(OUT / path.relative_to(out) if path.is_relative_to(out) else path),
+            }
+            for season, path in paths.items()
+        }
         write_json(out / "sources.json", {"source": data.source, "seasons": sources})
 
 

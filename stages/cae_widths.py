@@ -15,19 +15,29 @@ from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main, train_seasons
 from _datasets import test_images, test_places, training_images, training_places
-
 from seasonloop.ablations.cae_widths import run_width_sweep, width_channels, write_width_sweep
-from seasonloop.params.schema import available_pairs
 from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.raw_patchnorm import RawPatchNorm
 from seasonloop.models.registry import load_learner
+from seasonloop.params.schema import available_pairs
 from seasonloop.params.settings import CaeWidthsConfig, EvaluateConfig, FeaturesConfig, SequenceConfig
 
 
 @stage_main
 def main() -> None:
-    params = load_params("seed", "learners", "data.seasons", "train", "augment.copies", "evaluate", "sequence",
-                         "features", "cae_widths", "cae", "raw_patchnorm")
+    params = load_params(
+        "seed",
+        "learners",
+        "data.seasons",
+        "train",
+        "augment.copies",
+        "evaluate",
+        "sequence",
+        "features",
+        "cae_widths",
+        "cae",
+        "raw_patchnorm",
+    )
     sweep = CaeWidthsConfig.from_params(params)
     evaluate = EvaluateConfig.from_params(params)
     seed = int(param(params, "seed"))
@@ -49,13 +59,29 @@ def main() -> None:
     fitted = {}
     if "cae" in param(params, "learners"):
         pipeline_cae = load_learner(Path("models/cae"))
-        fitted = {width: pipeline_cae for width in sweep.widths
-                  if width_channels(width) == list(pipeline_cae.params["channels"]) and pipeline_cae.params == new_cae(
-                      width_channels(width)).params and pipeline_cae.seed == seed}
-    record = run_width_sweep(sweep.widths, new_cae, raw, (training_images(params, chosen), training_places(params, chosen)),
-                             test, test_places(), pairs, evaluate, SequenceConfig.from_params(params),
-                             FeaturesConfig.from_params(params).batch_size, fitted)
-    write_width_sweep(record, Path("metrics/cae_widths.json"), Path("plots/cae_widths.png"), Path("plots/cae_widths.md"))
+        fitted = {
+            width: pipeline_cae
+            for width in sweep.widths
+            if width_channels(width) == list(pipeline_cae.params["channels"])
+            and pipeline_cae.params == new_cae(width_channels(width)).params
+            and pipeline_cae.seed == seed
+        }
+    record = run_width_sweep(
+        sweep.widths,
+        new_cae,
+        raw,
+        (training_images(params, chosen), training_places(params, chosen)),
+        test,
+        test_places(),
+        pairs,
+        evaluate,
+        SequenceConfig.from_params(params),
+        FeaturesConfig.from_params(params).batch_size,
+        fitted,
+    )
+    write_width_sweep(
+        record, Path("metrics/cae_widths.json"), Path("plots/cae_widths.png"), Path("plots/cae_widths.md")
+    )
 
 
 if __name__ == "__main__":

@@ -16,10 +16,9 @@ from pathlib import Path
 
 from _common import data_seasons, load_params, stage_main
 from _datasets import test_places
-
-from seasonloop.params.schema import available_pairs
-from seasonloop.io import staged_dir
 from seasonloop.evaluation.pair_evaluation import evaluate_learner
+from seasonloop.io import staged_dir
+from seasonloop.params.schema import available_pairs
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 
@@ -32,11 +31,22 @@ def main() -> None:
     evaluate, sequence = EvaluateConfig.from_params(params), SequenceConfig.from_params(params)
     pairs = available_pairs(data_seasons(params), evaluate.pairs)
     places = test_places()
-    with staged_dir(Path("metrics/eval") / method) as metrics_dir, \
-            staged_dir(Path("plots/pr") / method) as pr_dir, \
-            staged_dir(Path("plots/similarity") / method) as similarity_dir:
-        evaluate_learner(method, Path("data/features") / method, pairs, places, evaluate, sequence,
-                         metrics_dir, pr_dir, similarity_dir)
+    with (
+        staged_dir(Path("metrics/eval") / method) as metrics_dir,
+        staged_dir(Path("plots/pr") / method) as pr_dir,
+        staged_dir(Path("plots/similarity") / method) as similarity_dir,
+    ):
+        evaluate_learner(
+            method,
+            Path("data/features") / method,
+            pairs,
+            places,
+            evaluate,
+            sequence,
+            metrics_dir,
+            pr_dir,
+            similarity_dir,
+        )
 
 
 if __name__ == "__main__":

@@ -13,11 +13,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main
-
 from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
 from seasonloop.io import read_json, staged_dir, write_json
-from seasonloop.plots import plot_image_grid
 from seasonloop.params.settings import ExtractConfig
+from seasonloop.plots import plot_image_grid
 
 SOURCES = Path("data/acquired/sources.json")
 OUT = Path("data/frames")
@@ -33,12 +32,14 @@ def main() -> None:
     check_sources(sources, seasons, SOURCES)
     extract = ExtractConfig.from_params(params)
     with staged_dir(OUT) as out:
-        record = extract_seasons(sources, seasons, extract, int(param(params, "data.frame_step")),
-                                 param(params, "data.offsets"), out)
+        record = extract_seasons(
+            sources, seasons, extract, int(param(params, "data.frame_step")), param(params, "data.offsets"), out
+        )
         write_json(out / "frames.json", record)
         grid, row_labels = preview_grid(out, seasons, record["n_places"], PREVIEW_PLACES)
-        plot_image_grid(grid, PREVIEW, row_labels=row_labels, col_labels=seasons,
-                        title="The same places in every season")
+        plot_image_grid(
+            grid, PREVIEW, row_labels=row_labels, col_labels=seasons, title="The same places in every season"
+        )
 
 
 if __name__ == "__main__":

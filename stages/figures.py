@@ -16,11 +16,10 @@ from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main
 from _datasets import test_images, test_places
-
-from seasonloop.params.schema import available_pairs
-from seasonloop.reporting.figures import draw_figures
 from seasonloop.io import staged_dir, write_json
+from seasonloop.params.schema import available_pairs
 from seasonloop.params.settings import EvaluateConfig, FeaturesConfig, SequenceConfig
+from seasonloop.reporting.figures import draw_figures
 
 
 @stage_main
@@ -29,9 +28,17 @@ def main() -> None:
     seasons = data_seasons(params)
     evaluate = EvaluateConfig.from_params(params)
     with staged_dir(Path("plots/figures")) as out:
-        records = draw_figures(Path("models"), out, list(param(params, "learners")), test_images(seasons), test_places(),
-                               available_pairs(seasons, evaluate.pairs), FeaturesConfig.from_params(params).batch_size,
-                               evaluate, SequenceConfig.from_params(params))
+        records = draw_figures(
+            Path("models"),
+            out,
+            list(param(params, "learners")),
+            test_images(seasons),
+            test_places(),
+            available_pairs(seasons, evaluate.pairs),
+            FeaturesConfig.from_params(params).batch_size,
+            evaluate,
+            SequenceConfig.from_params(params),
+        )
     for note in records.notes:
         print(f"figures: {note}")
     write_json(Path("metrics/autoencoder_descriptors.json"), records.autoencoder_descriptors)

@@ -19,7 +19,6 @@ from dvclive import Live
 
 from _common import load_params, param, stage_main, train_seasons
 from _datasets import training_images, training_places
-
 from seasonloop.io import staged_dir, write_json
 from seasonloop.models.registry import get_learner
 
@@ -50,17 +49,23 @@ def main() -> None:
         fit_seconds = time.perf_counter() - start
     with staged_dir(Path("models") / method) as out:
         learner.save(out)
-    write_json(Path("metrics/fit") / f"{method}.json", {
-        "fit_seconds": fit_seconds,
-        "n_train_images": len(images),
-        "train_seasons": seasons,
-        "info": info,
-        "environment": {
-            "torch_threads": torch.get_num_threads(),
-            "python": platform.python_version(),
-            **{package: version(package) for package in ("numpy", "scikit-learn", "torch", "opencv-python-headless")},
+    write_json(
+        Path("metrics/fit") / f"{method}.json",
+        {
+            "fit_seconds": fit_seconds,
+            "n_train_images": len(images),
+            "train_seasons": seasons,
+            "info": info,
+            "environment": {
+                "torch_threads": torch.get_num_threads(),
+                "python": platform.python_version(),
+                **{
+                    package: version(package)
+                    for package in ("numpy", "scikit-learn", "torch", "opencv-python-headless")
+                },
+            },
         },
-    })
+    )
 
 
 if __name__ == "__main__":

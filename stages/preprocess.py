@@ -12,9 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from _common import data_seasons, load_params, stage_main
-
-from seasonloop.io import load_array, save_array, staged_dir
 from seasonloop.data.preprocess import enhance_image_contrast, frame_statistics, to_gray
+from seasonloop.io import load_array, save_array, staged_dir
 from seasonloop.params.settings import PreprocessConfig
 
 FRAMES = Path("data/frames")
@@ -30,7 +29,9 @@ def main() -> None:
         for season in data_seasons(params):
             gray = to_gray(load_array(FRAMES / f"{season}.npy", mmap=True), pre.height, pre.width)
             stats[f"{season}_brightness"], stats[f"{season}_change"] = frame_statistics(gray)
-            save_array(out / f"{season}.npy", enhance_image_contrast(gray, pre.contrast, pre.clahe_clip, pre.clahe_grid))
+            save_array(
+                out / f"{season}.npy", enhance_image_contrast(gray, pre.contrast, pre.clahe_clip, pre.clahe_grid)
+            )
         np.savez(out / "stats.npz", **stats)
 
 

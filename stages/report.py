@@ -11,13 +11,12 @@ from pathlib import Path
 
 from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main
 from _datasets import test_images, test_places
-
-from seasonloop.params.schema import available_pairs, pair_name, pair_present
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.io import staged_file
+from seasonloop.params.schema import available_pairs, pair_name, pair_present
+from seasonloop.params.settings import AblationConfig, EvaluateConfig, ReportConfig
 from seasonloop.reporting.report import ReportFiles, study_report
 from seasonloop.reporting.results import load_evaluations
-from seasonloop.params.settings import AblationConfig, EvaluateConfig, ReportConfig
 
 FILES = ReportFiles(
     params=PARAMS_FILE,
@@ -44,13 +43,23 @@ def main() -> None:
     seasons = data_seasons(params)
     evaluate = EvaluateConfig.from_params(params)
     pairs = [pair_name(a, b) for a, b in available_pairs(seasons, evaluate.pairs)]
-    example_pair, note = pair_present(ReportConfig.from_params(params).example_pair, seasons, evaluate.pairs,
-                                      "report.example_pair")
+    example_pair, note = pair_present(
+        ReportConfig.from_params(params).example_pair, seasons, evaluate.pairs, "report.example_pair"
+    )
     if note:
         print(f"report: {note}")
     results = load_evaluations(Path("metrics/eval"), methods, pairs, evaluations(evaluate), evaluate.metric)
-    html = study_report(FILES, results, methods, seasons, evaluate, AblationConfig.from_params(params).methods,
-                        example_pair, test_images(list(example_pair)), test_places())
+    html = study_report(
+        FILES,
+        results,
+        methods,
+        seasons,
+        evaluate,
+        AblationConfig.from_params(params).methods,
+        example_pair,
+        test_images(list(example_pair)),
+        test_places(),
+    )
     with staged_file(Path("plots/report.html")) as tmp:
         tmp.write_text(html, encoding="utf-8")
 

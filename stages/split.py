@@ -14,11 +14,10 @@ import numpy as np
 
 from _common import data_seasons, load_params, param, stage_main
 from _datasets import SPLIT
-
 from seasonloop.data.layout import RouteLayout
+from seasonloop.data.split import detection_record, place_seconds, split_route, write_split_sets
 from seasonloop.io import read_json, staged_dir, write_json
 from seasonloop.params.settings import SplitConfig
-from seasonloop.data.split import detection_record, place_seconds, split_route, write_split_sets
 
 PREPROCESSED = Path("data/preprocessed")
 LAYOUT = Path("data/acquired/layout.json")
@@ -34,7 +33,9 @@ def main() -> None:
     if param(params, "data.source") == "synthetic" and LAYOUT.is_file():
         # the renderer knows where its tunnels and stops are: score the image-based detection
         layout = RouteLayout.from_json(read_json(LAYOUT))
-        seconds = place_seconds(split.n_places, int(param(params, "data.frame_step")), float(param(params, "extract.fps")))
+        seconds = place_seconds(
+            split.n_places, int(param(params, "data.frame_step")), float(param(params, "extract.fps"))
+        )
         detection = detection_record(tunnel, stop, layout.in_tunnel(), layout.stopped(), seconds)
     with staged_dir(SPLIT) as out:
         write_split_sets(PREPROCESSED, out, seasons, split)

@@ -18,13 +18,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main
-
-from seasonloop.params.schema import available_pairs, pair_name
-from seasonloop.reporting.dvcplots import training_curves
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.io import staged_dir, write_json
-from seasonloop.reporting.results import load_evaluations, load_runtime
+from seasonloop.params.schema import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig
+from seasonloop.reporting.dvcplots import training_curves
+from seasonloop.reporting.results import load_evaluations, load_runtime
 from seasonloop.reporting.summary_files import summary_record, write_summary_files
 
 
@@ -35,8 +34,9 @@ def main() -> None:
     seasons = data_seasons(params)
     evaluate = EvaluateConfig.from_params(params)
     pairs = [pair_name(a, b) for a, b in available_pairs(seasons, evaluate.pairs)]
-    results = load_evaluations(Path("metrics/eval"), methods, pairs, evaluations(evaluate), evaluate.metric,
-                               pr_dir=Path("plots/pr"))
+    results = load_evaluations(
+        Path("metrics/eval"), methods, pairs, evaluations(evaluate), evaluate.metric, pr_dir=Path("plots/pr")
+    )
     runtime = load_runtime(Path("metrics/fit"), Path("metrics/features"), methods, seasons)
     write_json(Path("metrics/summary.json"), summary_record(results))
     write_json(Path("metrics/runtime.json"), runtime)

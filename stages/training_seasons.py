@@ -14,7 +14,6 @@ from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main
 from _datasets import test_images, test_places, training_images, training_places
-
 from seasonloop.ablations.training_seasons import plan_ablation, run_ablation, write_ablation
 from seasonloop.models.registry import get_learner
 from seasonloop.params.settings import AblationConfig, EvaluateConfig, SequenceConfig
@@ -25,7 +24,9 @@ FIGURE = Path("plots/training_seasons.png")
 
 @stage_main
 def main() -> None:
-    params = load_params("seed", "data.seasons", "train.augmented", "augment.copies", "ablation", "evaluate", "sequence")
+    params = load_params(
+        "seed", "data.seasons", "train.augmented", "augment.copies", "ablation", "evaluate", "sequence"
+    )
     ablation = AblationConfig.from_params(params)
     evaluate = EvaluateConfig.from_params(params)
     plan = plan_ablation(data_seasons(params), ablation.pair, ablation.training_seasons, evaluate.pairs)
@@ -36,15 +37,22 @@ def main() -> None:
         write_ablation(plan, None, RECORD, FIGURE)
         return
     # a fresh, unfitted learner per fit, built from the learner's own section
-    new_learners = {method: functools.partial(get_learner(method), param(params, method), seed=int(param(params, "seed")))
-                    for method in ablation.methods}
+    new_learners = {
+        method: functools.partial(get_learner(method), param(params, method), seed=int(param(params, "seed")))
+        for method in ablation.methods
+    }
     # every learner checks its section before the first (possibly long) fit
     for new_learner in new_learners.values():
         new_learner()
-    fraction_correct = run_ablation(plan, new_learners,
-                                    lambda seasons: (training_images(params, seasons), training_places(params, seasons)),
-                                    test_images(list(plan.pair)), test_places(), evaluate,
-                                    SequenceConfig.from_params(params))
+    fraction_correct = run_ablation(
+        plan,
+        new_learners,
+        lambda seasons: (training_images(params, seasons), training_places(params, seasons)),
+        test_images(list(plan.pair)),
+        test_places(),
+        evaluate,
+        SequenceConfig.from_params(params),
+    )
     write_ablation(plan, fraction_correct, RECORD, FIGURE)
 
 

@@ -18,7 +18,7 @@ def test_all_seasons_keep_the_study_plan():
 
 def test_a_summer_winter_subset_adapts_pair_and_lists():
     plan = plan_ablation(["summer", "winter"], "summer-fall", STUDY_SETS, PAIRS)
-    assert plan.pair == ("winter", "summer")          # the first of evaluate.pairs present
+    assert plan.pair == ("winter", "summer")  # the first of evaluate.pairs present
     assert plan.season_sets == [["summer"], ["summer", "winter"]]
     assert plan.skipped is None
     assert any("using winter-summer" in note for note in plan.notes)
@@ -62,12 +62,21 @@ class MeanLearner:
 
 
 def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
-    plan = plan_ablation(["summer", "fall", "winter"], "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"])
+    plan = plan_ablation(
+        ["summer", "fall", "winter"], "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"]
+    )
     rng = np.random.default_rng(0)
     test = {"summer": rng.random((6, 4, 8))}
     test["fall"] = test["summer"] + rng.normal(0, 0.01, (6, 4, 8))
-    evaluate = EvaluateConfig(pairs=("summer-fall",), metric="euclidean", extra_metrics=(), confidence="ratio",
-                              ratio_exclusion=0, tolerance_frames=0, matchers=("single",))
+    evaluate = EvaluateConfig(
+        pairs=("summer-fall",),
+        metric="euclidean",
+        extra_metrics=(),
+        confidence="ratio",
+        ratio_exclusion=0,
+        tolerance_frames=0,
+        matchers=("single",),
+    )
     sequence = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
     made = []
 
@@ -84,13 +93,19 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
     assert len(made) == 2 and MeanLearner.fitted_on == [10, 20]
     # the place ids reach fit: an auto-encoder then validates on places it never trains on
     assert [None if places is None else list(places) for places in MeanLearner.places] == [
-        list(training_set(["summer"])[1]), list(training_set(["summer", "winter"])[1])]
+        list(training_set(["summer"])[1]),
+        list(training_set(["summer", "winter"])[1]),
+    ]
     assert list(fraction_correct["mean"]) == ["summer", "summer+winter"]
     assert fraction_correct["mean"]["summer"] == 1.0
     write_ablation(plan, fraction_correct, tmp_path / "record.json", tmp_path / "figure.png")
     record = json.loads((tmp_path / "record.json").read_text())
-    assert record == {"fraction_correct": fraction_correct, "notes": [], "pair": "summer-fall",
-                      "season_sets": ["summer", "summer+winter"]}
+    assert record == {
+        "fraction_correct": fraction_correct,
+        "notes": [],
+        "pair": "summer-fall",
+        "season_sets": ["summer", "summer+winter"],
+    }
     assert (tmp_path / "figure.png").read_bytes().startswith(b"\x89PNG")
 
 

@@ -2,8 +2,8 @@ import numpy as np
 import pytest
 
 from seasonloop.data.alignment import apply_offsets, check_alignment, measure_offset
-from seasonloop.data.synthetic import SyntheticRoute
 from seasonloop.data.preprocess import to_gray
+from seasonloop.data.synthetic import SyntheticRoute
 
 
 def route_frames(season, seconds=160, seed=1):
@@ -41,10 +41,15 @@ def test_offsets_drop_leading_places_and_cut_to_one_length():
 
 def test_the_check_stops_on_a_clear_offset_with_one_line():
     route = SyntheticRoute(160, 2)
-    colour = {season: np.stack([route.frame(season, float(t), 64, 36) for t in range(160)]) for season in ("summer", "winter")}
+    colour = {
+        season: np.stack([route.frame(season, float(t), 64, 36) for t in range(160)]) for season in ("summer", "winter")
+    }
     result = check_alignment(colour, max_offset=8)
     assert set(result) == {"summer-winter"} and result["summer-winter"]["clear"] is False
     late = {"summer": colour["summer"][:-6], "winter": colour["winter"][6:]}
-    with pytest.raises(ValueError, match=r"winter vs summer: the frames match best at an offset of -6 places .*data\.offsets\.summer: 6"):
+    with pytest.raises(
+        ValueError,
+        match=r"winter vs summer: the frames match best at an offset of -6 places .*data\.offsets\.summer: 6",
+    ):
         check_alignment(late, max_offset=8)
     assert check_alignment(late, max_offset=0) == {}

@@ -52,8 +52,15 @@ def test_sweep_record_table_and_figure(tmp_path):
     places = np.arange(12)
     summer = textured_images(12, 1)
     test = {"summer": summer, "fall": np.clip(summer.astype(int) + 5, 0, 255).astype(np.uint8)}
-    evaluate = EvaluateConfig(pairs=("summer-fall",), metric="cosine", extra_metrics=(), confidence="distance",
-                              ratio_exclusion=0, tolerance_frames=0, matchers=("single",))
+    evaluate = EvaluateConfig(
+        pairs=("summer-fall",),
+        metric="cosine",
+        extra_metrics=(),
+        confidence="distance",
+        ratio_exclusion=0,
+        tolerance_frames=0,
+        matchers=("single",),
+    )
     sequence = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
     raw = RawPatchNorm({"patch_size": 4}, seed=0)
     raw.fit(summer, progress=False)
@@ -61,12 +68,23 @@ def test_sweep_record_table_and_figure(tmp_path):
 
     def new_cae(channels):
         fitted_channels.append(channels)
-        return ConvolutionalAutoEncoder({"channels": channels, "kernels": [3, 3, 3], "max_epochs": 2, "batch_size": 8,
-                                         "patch_size": 4, "validation_block": 3, "precision": "float32"}, seed=0)
+        return ConvolutionalAutoEncoder(
+            {
+                "channels": channels,
+                "kernels": [3, 3, 3],
+                "max_epochs": 2,
+                "batch_size": 8,
+                "patch_size": 4,
+                "validation_block": 3,
+                "precision": "float32",
+            },
+            seed=0,
+        )
 
     training = textured_images(60, 2), np.tile(np.arange(30), 2)
-    record = run_width_sweep([1 / 32, 1 / 48], new_cae, raw, training, test, places, [("summer", "fall")], evaluate,
-                             sequence, batch_size=16)
+    record = run_width_sweep(
+        [1 / 32, 1 / 48], new_cae, raw, training, test, places, [("summer", "fall")], evaluate, sequence, batch_size=16
+    )
     assert fitted_channels == [[3, 8, 12], [2, 5, 8]]
     assert list(record["widths"]) == ["1/32", "1/48"]
     row = record["widths"]["1/32"]
@@ -86,5 +104,6 @@ def test_sweep_record_table_and_figure(tmp_path):
     # read back from JSON (keys sorted as text: "1/32" < "1/48"), the rows still go narrowest first
     reread = width_table(json.loads((tmp_path / "sweep.json").read_text()))
     assert reread.index("| 1/48 |") < reread.index("| 1/32 |") and reread == width_table(
-        {**record, "widths": dict(reversed(record["widths"].items()))})
+        {**record, "widths": dict(reversed(record["widths"].items()))}
+    )
     assert (tmp_path / "sweep.png").read_bytes().startswith(b"\x89PNG")

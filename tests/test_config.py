@@ -7,16 +7,17 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
-from seasonloop.data import preprocess
+from seasonloop.data import preprocess, sources
 from seasonloop.evaluation import matching
+from seasonloop.evaluation.matchers import MATCHER_REGISTRY, MATCHERS
+from seasonloop.evaluation.sequence import enhance_distance_contrast
+from seasonloop.models.registry import LEARNERS, get_learner
 from seasonloop.params import schema as config
 from seasonloop.params.schema import SCHEMA, TOP_LEVEL, check_params
-from seasonloop.data import sources
-from seasonloop.evaluation.matchers import MATCHER_REGISTRY, MATCHERS
-from seasonloop.models.registry import LEARNERS
 
 REPO = Path(__file__).resolve().parents[1]
 ALL_KEYS = [*SCHEMA, *TOP_LEVEL]
@@ -40,37 +41,43 @@ def test_every_section_of_params_yaml_has_a_schema(params):
         assert set(params[name]) == set(section), name
 
 
-@pytest.mark.parametrize("section, key, value, message", [
-    ("split", "tets_fraction", 0.1, "split.tets_fraction: unknown key"),
-    ("evaluate", "metirc", "cosine", "evaluate.metirc: unknown key"),
-])
+@pytest.mark.parametrize(
+    "section, key, value, message",
+    [
+        ("split", "tets_fraction", 0.1, "split.tets_fraction: unknown key"),
+        ("evaluate", "metirc", "cosine", "evaluate.metirc: unknown key"),
+    ],
+)
 def test_a_typo_is_an_error_naming_the_key(params, section, key, value, message):
     params[section][key] = value
     with pytest.raises(ValueError, match=message.replace(".", r"\.")):
         check_params(params, [section])
 
 
-@pytest.mark.parametrize("key, value, message", [
-    ("split.test_fraction", 0.9, r"split\.test_fraction: expected a number in \(0, 0.5\]"),
-    ("split.gap", -1, r"split\.gap: expected an integer >= 0"),
-    ("evaluate.metric", "manhattan", r"evaluate\.metric: unknown value 'manhattan'"),
-    ("evaluate.tolerance_frames", 1.5, r"evaluate\.tolerance_frames: expected an integer"),
-    ("evaluate.matchers", ["single", "seq"], r"evaluate\.matchers: unknown value 'seq'"),
-    ("evaluate.pairs", ["summer-autumn"], r"evaluate\.pairs: unknown season 'autumn'"),
-    ("data.frame_step", 0, r"data\.frame_step: expected an integer >= 1"),
-    ("data.source", "vidoes", r"data\.source: unknown value 'vidoes'"),
-    ("extract.trim_to_shortest", "yes", r"extract\.trim_to_shortest: expected true or false"),
-    ("augment.width_shift", 1.0, r"augment\.width_shift"),
-    ("ablation.methods", ["pca", "sift"], r"ablation\.methods: unknown value 'sift'"),
-    ("ablation.training_seasons", [["summer"], ["autumn"]], r"ablation\.training_seasons: unknown season 'autumn'"),
-    ("report.example_pair", "summer_fall", r"report\.example_pair"),
-    ("data.video_files", {"autumn": "a.mp4"}, r"data\.video_files: unknown season 'autumn'"),
-    ("synthetic.cruise_speed", 5.0, r"synthetic\.cruise_speed: expected a number in \[10, 70\]"),
-    ("synthetic.tunnel_every_s", 0, r"synthetic\.tunnel_every_s: expected a number in \(0, inf\)"),
-    ("synthetic.stop_min_s", 0, r"synthetic\.stop_min_s: expected an integer >= 1"),
-    ("synthetic.event_gap_s", 2.5, r"synthetic\.event_gap_s: expected an integer"),
-    ("synthetic.winter_contrast", 0.0, r"synthetic\.winter_contrast: expected a number in \(0, 2\]"),
-])
+@pytest.mark.parametrize(
+    "key, value, message",
+    [
+        ("split.test_fraction", 0.9, r"split\.test_fraction: expected a number in \(0, 0.5\]"),
+        ("split.gap", -1, r"split\.gap: expected an integer >= 0"),
+        ("evaluate.metric", "manhattan", r"evaluate\.metric: unknown value 'manhattan'"),
+        ("evaluate.tolerance_frames", 1.5, r"evaluate\.tolerance_frames: expected an integer"),
+        ("evaluate.matchers", ["single", "seq"], r"evaluate\.matchers: unknown value 'seq'"),
+        ("evaluate.pairs", ["summer-autumn"], r"evaluate\.pairs: unknown season 'autumn'"),
+        ("data.frame_step", 0, r"data\.frame_step: expected an integer >= 1"),
+        ("data.source", "vidoes", r"data\.source: unknown value 'vidoes'"),
+        ("extract.trim_to_shortest", "yes", r"extract\.trim_to_shortest: expected true or false"),
+        ("augment.width_shift", 1.0, r"augment\.width_shift"),
+        ("ablation.methods", ["pca", "sift"], r"ablation\.methods: unknown value 'sift'"),
+        ("ablation.training_seasons", [["summer"], ["autumn"]], r"ablation\.training_seasons: unknown season 'autumn'"),
+        ("report.example_pair", "summer_fall", r"report\.example_pair"),
+        ("data.video_files", {"autumn": "a.mp4"}, r"data\.video_files: unknown season 'autumn'"),
+        ("synthetic.cruise_speed", 5.0, r"synthetic\.cruise_speed: expected a number in \[10, 70\]"),
+        ("synthetic.tunnel_every_s", 0, r"synthetic\.tunnel_every_s: expected a number in \(0, inf\)"),
+        ("synthetic.stop_min_s", 0, r"synthetic\.stop_min_s: expected an integer >= 1"),
+        ("synthetic.event_gap_s", 2.5, r"synthetic\.event_gap_s: expected an integer"),
+        ("synthetic.winter_contrast", 0.0, r"synthetic\.winter_contrast: expected a number in \(0, 2\]"),
+    ],
+)
 def test_a_bad_value_is_an_error_naming_the_key(params, key, value, message):
     section, name = key.split(".")
     params[section][name] = value
@@ -126,10 +133,10 @@ def test_choices_match_the_library():
     # the schema repeats the registries' names so that config.py imports no heavy module (torch,
     # cv2): this test is what keeps the two one list, in the same order (the order of "known: ...")
     assert config.DISTANCE_METRICS == tuple(matching.DISTANCES) == matching.METRICS
-    assert config.CONFIDENCES == tuple(matching.CONFIDENCES)
+    assert tuple(matching.CONFIDENCES) == config.CONFIDENCES
     assert config.CONTRAST_METHODS == tuple(preprocess.CONTRASTS) == preprocess.CONTRAST_METHODS
     assert config.MATCHER_NAMES == tuple(MATCHER_REGISTRY) == tuple(MATCHERS)
-    assert config.SOURCES == tuple(sources.SOURCES)
+    assert tuple(sources.SOURCES) == config.SOURCES
     assert set(config.LEARNER_SECTIONS) == set(LEARNERS)
 
 
@@ -138,3 +145,31 @@ def test_config_imports_no_heavy_module():
     code = "import sys, seasonloop.params.schema, seasonloop.params.settings; print(sorted({'torch', 'cv2', 'sklearn'} & set(sys.modules)))"
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert result.stdout.strip() == "[]"
+
+
+def test_the_whole_file_is_checked_before_any_stage_works():
+    # a typo in a section the first stages never read still stops them (stages/_common.load_params)
+    params = yaml.safe_load((REPO / "params.yaml").read_text())
+    config.check_whole(params)
+    params["evaluate"]["metirc"] = params["evaluate"].pop("metric")
+    with pytest.raises(ValueError, match=r"^evaluate.metirc: unknown key"):
+        config.check_whole(params)
+    params = yaml.safe_load((REPO / "params.yaml").read_text())
+    params["cae"]["chanels"] = [6, 16, 24]
+    with pytest.raises(ValueError, match=r"^cae.chanels: unknown key"):
+        config.check_whole(params)
+
+
+def test_learner_keys_are_the_learners_defaults():
+    for name in LEARNERS:
+        assert set(config.LEARNER_KEYS[name]) == set(get_learner(name).defaults), name
+
+
+def test_the_schema_accepts_only_what_the_code_accepts():
+    # sequence.window: the schema's lowest value runs, the one below it fails in both
+    distances = np.random.default_rng(0).random((6, 8))
+    enhance_distance_contrast(distances, window=config.MIN_SEQUENCE_WINDOW)
+    with pytest.raises(ValueError):
+        enhance_distance_contrast(distances, window=config.MIN_SEQUENCE_WINDOW - 1)
+    with pytest.raises(ValueError, match="sequence.window"):
+        config.SCHEMA["sequence"]["window"]("sequence.window", config.MIN_SEQUENCE_WINDOW - 1)

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from seasonloop.data.augment import augment_images, augment_training_set
-from seasonloop.params.schema import available_pairs, check_seasons
 from seasonloop.data.frames import align_frame_files, list_frame_files, natural_key, read_frame_folder, sample_video
+from seasonloop.data.preprocess import CONTRASTS, enhance_image_contrast, frame_statistics, to_gray
 from seasonloop.data.sources import (
     FRAME_KINDS,
     SOURCES,
@@ -22,12 +22,19 @@ from seasonloop.data.sources import (
     read_season,
     real_sources,
 )
-from seasonloop.data.preprocess import CONTRASTS, enhance_image_contrast, frame_statistics, to_gray
-from seasonloop.params.settings import DataConfig
 from seasonloop.data.split import detect_stops, detect_tunnels, make_split, section_blocks
+from seasonloop.params.schema import available_pairs, check_seasons
+from seasonloop.params.settings import DataConfig
 
-DATA = DataConfig(source="frames", seasons=("summer",), videos_dir="videos", video_files={}, frames_dir="frames",
-                  frame_step=1, offsets={})
+DATA = DataConfig(
+    source="frames",
+    seasons=("summer",),
+    videos_dir="videos",
+    video_files={},
+    frames_dir="frames",
+    frame_step=1,
+    offsets={},
+)
 
 
 def write_video(path, n_frames, fps=4, size=(48, 32)):
@@ -116,7 +123,7 @@ def test_frame_files_sort_naturally_and_skip_hidden_files(tmp_path):
     files = list_frame_files(tmp_path / "summer")
     assert [f.name for f in files] == [f"{i}.png" for i in range(1, 13)]
     frames = read_frame_folder(tmp_path / "summer", 4, 6, progress=False)
-    assert list(frames[:, 0, 0, 0]) == [20 * i for i in range(1, 13)]   # route order, 10.png after 9.png
+    assert list(frames[:, 0, 0, 0]) == [20 * i for i in range(1, 13)]  # route order, 10.png after 9.png
     assert sorted(["b10", "b2", "a1"], key=natural_key) == ["a1", "b2", "b10"]
 
 
@@ -145,7 +152,10 @@ def test_seasons_sharing_names_are_paired_by_name(tmp_path):
     assert "by position" in line and files["fall"][9].name == "fall_10.png"
     # some names shared, one missing: every later place would shift
     write_frames(tmp_path / "spring", names[:4] + names[5:] + ["12.png"])
-    with pytest.raises(ValueError, match=r"(summer/5\.png: no frame of that name in spring|spring/12\.png: no frame of that name in summer)"):
+    with pytest.raises(
+        ValueError,
+        match=r"(summer/5\.png: no frame of that name in spring|spring/12\.png: no frame of that name in summer)",
+    ):
         align_frame_files({s: list_frame_files(tmp_path / s) for s in ("summer", "spring")})
 
 
@@ -264,7 +274,7 @@ def test_detection_finds_the_renderers_tunnels_and_stops():
     stop = detect_stops(change, stop_threshold=1.0)
     true_tunnel, true_stop = layout.in_tunnel(), layout.stopped()
     assert (tunnel & true_tunnel).sum() >= 0.9 * true_tunnel.sum()
-    assert (tunnel & ~true_tunnel).sum() <= 0.1 * true_tunnel.sum() + 4   # tunnel mouths are dark too
+    assert (tunnel & ~true_tunnel).sum() <= 0.1 * true_tunnel.sum() + 4  # tunnel mouths are dark too
     assert (stop & true_stop).sum() >= 0.9 * true_stop.sum()
     # the train slows down before a stop and speeds up after it, so the seconds just around a
     # stop look still too; a dark tunnel looks still as well, and the split counts it as a tunnel.
@@ -279,5 +289,7 @@ def test_a_queued_experiment_missing_relative_data_says_why(tmp_path):
     queued = tmp_path / ".dvc/tmp/exps/tmp1"
     with pytest.raises(FileNotFoundError, match="data.frames_dir as an absolute path"):
         _check_outside_copy(Path("data/nordland/frames/summer"), "data.frames_dir", cwd=queued)
-    _check_outside_copy(Path("data/nordland/frames/summer"), "data.frames_dir", cwd=tmp_path)   # not queued: no error here
-    _check_outside_copy(tmp_path / "absent", "data.frames_dir", cwd=queued)                      # absolute: the normal error later
+    _check_outside_copy(
+        Path("data/nordland/frames/summer"), "data.frames_dir", cwd=tmp_path
+    )  # not queued: no error here
+    _check_outside_copy(tmp_path / "absent", "data.frames_dir", cwd=queued)  # absolute: the normal error later

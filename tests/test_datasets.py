@@ -7,8 +7,10 @@ import json
 import numpy as np
 import pytest
 
+from seasonloop.data import (
+    datasets,  # its test_places / test_images, called through the module (pytest collects test_*)
+)
 from seasonloop.data.augment import augment_training_set, augmented_places
-from seasonloop.data import datasets  # its test_places / test_images, called through the module (pytest collects test_*)
 from seasonloop.data.datasets import dataset_record, read_split, training_images, training_places, write_augmented_sets
 from seasonloop.io import save_array, write_json
 from seasonloop.params.settings import AugmentConfig
@@ -27,8 +29,10 @@ def constant_images(places, season_offset: int) -> np.ndarray:
 def split_dir(tmp_path):
     folder = tmp_path / "split"
     folder.mkdir()
-    write_json(folder / "split.json", {"n_places": 12, "train": TRAIN, "test": TEST, "gap": [3, 4, 6, 7],
-                                       "dropped_tunnel": [10], "dropped_stop": []})
+    write_json(
+        folder / "split.json",
+        {"n_places": 12, "train": TRAIN, "test": TEST, "gap": [3, 4, 6, 7], "dropped_tunnel": [10], "dropped_stop": []},
+    )
     for offset, season in enumerate(SEASONS):
         save_array(folder / f"{season}_train.npy", constant_images(TRAIN, offset))
         save_array(folder / f"{season}_test.npy", constant_images(TEST, offset))
@@ -81,8 +85,20 @@ def test_dataset_record():
     frames = {"place": "one frame", "frame_step": 1, "pairing": "by index", "alignment": {}, "offsets": {}}
     per_season = {season: {"frames": 12} for season in SEASONS}
     record = dataset_record(split, per_season, frames, {})
-    assert list(record) == ["seasons", "total_images", "total_train", "total_test", "dropped_tunnel", "dropped_stop",
-                            "gap", "place", "frame_step", "pairing", "alignment", "offsets"]
+    assert list(record) == [
+        "seasons",
+        "total_images",
+        "total_train",
+        "total_test",
+        "dropped_tunnel",
+        "dropped_stop",
+        "gap",
+        "place",
+        "frame_step",
+        "pairing",
+        "alignment",
+        "offsets",
+    ]
     assert (record["total_images"], record["total_train"], record["total_test"]) == (24, 8, 4)
     assert (record["dropped_tunnel"], record["dropped_stop"], record["gap"]) == (1, 0, 2)
     detection = {"tunnel": {"recall": 1.0}}

@@ -7,40 +7,71 @@ import numpy as np
 import pytest
 import yaml
 
-from seasonloop.evaluation.matchers import MATCHER_REGISTRY, MATCHERS, evaluations, get_matcher, match_distances, match_pair, result_suffix
+from seasonloop.evaluation.matchers import (
+    MATCHER_REGISTRY,
+    MATCHERS,
+    evaluations,
+    get_matcher,
+    match_distances,
+    match_pair,
+    result_suffix,
+)
 from seasonloop.evaluation.sequence import sequence_distances
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 from seasonloop.reporting.summary import pr_landmarks, pr_landmarks_table
 
 PARAMS = yaml.safe_load((Path(__file__).resolve().parents[1] / "params.yaml").read_text())
-EVALUATE = replace(EvaluateConfig.from_params(PARAMS), metric="cosine", extra_metrics=("cityblock",),
-                   matchers=("single", "sequence"), confidence="ratio", ratio_exclusion=2, tolerance_frames=0)
+EVALUATE = replace(
+    EvaluateConfig.from_params(PARAMS),
+    metric="cosine",
+    extra_metrics=("cityblock",),
+    matchers=("single", "sequence"),
+    confidence="ratio",
+    ratio_exclusion=2,
+    tolerance_frames=0,
+)
 SEQUENCE = SequenceConfig(length=3, v_min=1.0, v_max=1.0, v_steps=1, window=4)
 # the raw section, as params.yaml holds it
-EVALUATE_DICT = {**PARAMS["evaluate"], "metric": "cosine", "extra_metrics": ["cityblock"],
-                 "matchers": ["single", "sequence"], "confidence": "ratio", "ratio_exclusion": 2, "tolerance_frames": 0}
+EVALUATE_DICT = {
+    **PARAMS["evaluate"],
+    "metric": "cosine",
+    "extra_metrics": ["cityblock"],
+    "matchers": ["single", "sequence"],
+    "confidence": "ratio",
+    "ratio_exclusion": 2,
+    "tolerance_frames": 0,
+}
 
 
 def test_evaluations_name_every_metric_and_matcher():
     evaluate = EVALUATE
     assert EvaluateConfig.from_params({"evaluate": EVALUATE_DICT}) == EVALUATE
-    assert evaluations(evaluate) == [("cosine", "single", ""), ("cosine", "sequence", "+seq"),
-                                     ("cityblock", "single", "@cityblock"),
-                                     ("cityblock", "sequence", "@cityblock+seq")]
+    assert evaluations(evaluate) == [
+        ("cosine", "single", ""),
+        ("cosine", "sequence", "+seq"),
+        ("cityblock", "single", "@cityblock"),
+        ("cityblock", "sequence", "@cityblock+seq"),
+    ]
     assert result_suffix("cityblock", "sequence", evaluate) == "@cityblock+seq"
-    assert evaluations(replace(EVALUATE, extra_metrics=())) == [("cosine", "single", ""), ("cosine", "sequence", "+seq")]
+    assert evaluations(replace(EVALUATE, extra_metrics=())) == [
+        ("cosine", "single", ""),
+        ("cosine", "sequence", "+seq"),
+    ]
 
 
-@pytest.mark.parametrize("change, message", [
-    ({"metric": "x"}, "evaluate.metric: unknown value 'x' (known: cosine, euclidean, cityblock)"),
-    ({"extra_metrics": "cityblock"}, "evaluate.extra_metrics: expected a list"),
-    ({"extra_metrics": ["manhattan"]}, "evaluate.extra_metrics: unknown value 'manhattan'"),
-    ({"extra_metrics": ["cosine"]}, "evaluate.extra_metrics: 'cosine' is already evaluate.metric"),
-    ({"matchers": ["single", "single"]}, "evaluate.matchers: repeated entry"),
-    ({"confidence": "sharpness"}, "evaluate.confidence: unknown value 'sharpness' (known: distance, ratio)"),
-    ({"ratio_exclusion": -1}, "evaluate.ratio_exclusion: expected an integer >= 0"),
-    ({"ratio_exclusion": 2.5}, "evaluate.ratio_exclusion: expected an integer >= 0"),
-])
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        ({"metric": "x"}, "evaluate.metric: unknown value 'x' (known: cosine, euclidean, cityblock)"),
+        ({"extra_metrics": "cityblock"}, "evaluate.extra_metrics: expected a list"),
+        ({"extra_metrics": ["manhattan"]}, "evaluate.extra_metrics: unknown value 'manhattan'"),
+        ({"extra_metrics": ["cosine"]}, "evaluate.extra_metrics: 'cosine' is already evaluate.metric"),
+        ({"matchers": ["single", "single"]}, "evaluate.matchers: repeated entry"),
+        ({"confidence": "sharpness"}, "evaluate.confidence: unknown value 'sharpness' (known: distance, ratio)"),
+        ({"ratio_exclusion": -1}, "evaluate.ratio_exclusion: expected an integer >= 0"),
+        ({"ratio_exclusion": 2.5}, "evaluate.ratio_exclusion: expected an integer >= 0"),
+    ],
+)
 def test_a_bad_section_is_checked_by_the_schema_naming_the_key(change, message):
     # the schema is the one check, run when the typed section is built
     with pytest.raises(ValueError) as error:
@@ -86,8 +117,10 @@ def test_match_pair_uses_the_metric_asked_for():
 
 
 def test_pr_landmarks_set_ours_beside_the_study():
-    results = {"pca": {"summer-fall": {"recall_at_100_precision": 0.5, "precision_at_full_recall": 0.9}},
-               "pca+seq": {"summer-fall": {"recall_at_100_precision": 1.0, "precision_at_full_recall": 1.0}}}
+    results = {
+        "pca": {"summer-fall": {"recall_at_100_precision": 0.5, "precision_at_full_recall": 0.9}},
+        "pca+seq": {"summer-fall": {"recall_at_100_precision": 1.0, "precision_at_full_recall": 1.0}},
+    }
     landmarks = pr_landmarks(results)
     assert landmarks["summer-fall"]["pca"]["recall_at_100_precision"] == {"ours": 0.5, "study": 0.67}
     assert landmarks["summer-fall"]["ica"]["precision_at_full_recall"] == {"ours": None, "study": 0.9105}

@@ -126,7 +126,9 @@ def test_ica_learner_torch_solver_saves_and_loads_identically(tmp_path):
     descriptors = learner.describe(test)
     # The descriptor is the projection on the unmixing matrix (after centring and whitening).
     estimator = learner.estimator
-    expected = (to_float(test).reshape(len(test), -1) - estimator.mean_) @ (estimator.unmixing_ @ estimator.whitening_).T
+    expected = (to_float(test).reshape(len(test), -1) - estimator.mean_) @ (
+        estimator.unmixing_ @ estimator.whitening_
+    ).T
     np.testing.assert_allclose(descriptors, expected, rtol=1e-5, atol=1e-5)
 
     learner.save(tmp_path)
@@ -175,8 +177,9 @@ def test_whitening_is_white_for_ill_conditioned_data():
 @pytest.mark.parametrize("whiten_solver", list(WHITEN_SOLVERS))
 def test_every_registered_ica_solver_and_whitening_fits_saves_and_loads(tmp_path, solver, whiten_solver):
     train, test = images(300, 0), images(20, 1)
-    learner = get_learner("ica")({"n_components": 6, "solver": solver, "whiten_solver": whiten_solver,
-                                  "device": "cpu"}, seed=1)
+    learner = get_learner("ica")(
+        {"n_components": 6, "solver": solver, "whiten_solver": whiten_solver, "device": "cpu"}, seed=1
+    )
     info = learner.fit(train, progress=False)
     assert info["solver"] == solver and info["n_components"] == 6
     learner.save(tmp_path)
@@ -184,12 +187,16 @@ def test_every_registered_ica_solver_and_whitening_fits_saves_and_loads(tmp_path
 
 
 def test_unknown_solvers_are_one_line_errors_naming_the_key_and_the_choices():
-    for params, message in (({"solver": "jax"}, "ica.solver must be one of sklearn, torch, got 'jax'"),
-                            ({"whiten_solver": "qr"}, "ica.whiten_solver must be one of eigh, svd, got 'qr'"),
-                            ({"solver": "torch", "algorithm": "deflation"},
-                             "ica.algorithm = 'deflation' needs ica.solver = 'sklearn' "
-                             "(the torch solver implements the parallel algorithm)"),
-                            ({"solver": "sklearn", "device": "cuda"}, "ica.device = 'cuda' needs ica.solver = 'torch'")):
+    for params, message in (
+        ({"solver": "jax"}, "ica.solver must be one of sklearn, torch, got 'jax'"),
+        ({"whiten_solver": "qr"}, "ica.whiten_solver must be one of eigh, svd, got 'qr'"),
+        (
+            {"solver": "torch", "algorithm": "deflation"},
+            "ica.algorithm = 'deflation' needs ica.solver = 'sklearn' "
+            "(the torch solver implements the parallel algorithm)",
+        ),
+        ({"solver": "sklearn", "device": "cuda"}, "ica.device = 'cuda' needs ica.solver = 'torch'"),
+    ):
         with pytest.raises(ValueError) as error:
             get_learner("ica")(params)
         assert str(error.value) == message

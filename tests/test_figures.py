@@ -4,13 +4,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from seasonloop.reporting.figures import AE_DESCRIPTORS, autoencoder_descriptors, draw_figures
-from seasonloop.models.registry import get_learner
 from seasonloop.data.patchnorm import patch_normalise
+from seasonloop.models.registry import get_learner
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.reporting.figures import AE_DESCRIPTORS, autoencoder_descriptors, draw_figures
 
-EVALUATE = EvaluateConfig(pairs=("summer-fall",), metric="cosine", extra_metrics=(), confidence="ratio",
-                          ratio_exclusion=0, tolerance_frames=1, matchers=("single",))
+EVALUATE = EvaluateConfig(
+    pairs=("summer-fall",),
+    metric="cosine",
+    extra_metrics=(),
+    confidence="ratio",
+    ratio_exclusion=0,
+    tolerance_frames=1,
+    matchers=("single",),
+)
 SEQUENCE = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
 
 
@@ -39,16 +46,30 @@ def test_autoencoder_descriptors_one_pass_per_season():
     for season, images in test.items():
         assert list(described["code"]) == ["summer", "fall"]
         np.testing.assert_array_equal(described["output"][season], images.reshape(3, -1).astype(np.float32))
-        np.testing.assert_array_equal(described["output_patchnorm"][season],
-                                      patch_normalise(described["output"][season].reshape(3, 8, 8), 4).reshape(3, -1))
+        np.testing.assert_array_equal(
+            described["output_patchnorm"][season],
+            patch_normalise(described["output"][season].reshape(3, 8, 8), 4).reshape(3, -1),
+        )
 
 
 def test_draw_figures_without_their_learners_draws_nothing(tmp_path):
     test = {"summer": np.zeros((4, 8, 8)), "fall": np.zeros((4, 8, 8))}
-    records = draw_figures(tmp_path / "models", tmp_path, ["raw_patchnorm"], test, np.arange(4),
-                           [("summer", "fall")], 8, EVALUATE, SEQUENCE)
-    assert records.notes == ["pca is not in learners: no Figure 2", "ica_bovw is not in learners: no Figures 12 and 13",
-                             "neither fae nor cae is in learners: no Figures 19, 19b, 19c"]
+    records = draw_figures(
+        tmp_path / "models",
+        tmp_path,
+        ["raw_patchnorm"],
+        test,
+        np.arange(4),
+        [("summer", "fall")],
+        8,
+        EVALUATE,
+        SEQUENCE,
+    )
+    assert records.notes == [
+        "pca is not in learners: no Figure 2",
+        "ica_bovw is not in learners: no Figures 12 and 13",
+        "neither fae nor cae is in learners: no Figures 19, 19b, 19c",
+    ]
     assert records.autoencoder_descriptors == {} and records.autoencoder_training == {}
     assert list(tmp_path.iterdir()) == []
 
@@ -63,4 +84,5 @@ def test_patchnorm_output_is_the_learners_output_patchnorm_descriptor():
     np.testing.assert_array_equal(normalised, learner.describe_as(images[:6], "output_patchnorm", batch_size=4))
     # what the figures stage computed itself before the learner had this method
     np.testing.assert_array_equal(
-        normalised, patch_normalise(output.reshape(6, 16, 32), learner.params["patch_size"]).reshape(6, -1))
+        normalised, patch_normalise(output.reshape(6, 16, 32), learner.params["patch_size"]).reshape(6, -1)
+    )

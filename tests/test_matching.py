@@ -72,14 +72,7 @@ def test_bad_inputs_raise(descriptors):
 
 
 def test_best_matches_known_matrix():
-    distances = np.array(
-        [
-            [0.5, 0.1, 0.9],
-            [0.3, 0.6, 0.2],
-            [0.0, 0.4, 0.8],
-            [0.0, 0.0, 0.7],
-        ]
-    )
+    distances = np.array([[0.5, 0.1, 0.9], [0.3, 0.6, 0.2], [0.0, 0.4, 0.8], [0.0, 0.0, 0.7]])
     columns, confidence = best_matches(distances, confidence="distance")
     np.testing.assert_array_equal(columns, [1, 2, 0, 0])  # tie in the last row -> lowest column
     np.testing.assert_allclose(confidence, [-0.1, -0.2, -0.0, -0.0])
@@ -138,8 +131,10 @@ def test_every_registered_confidence_ranks_a_distinct_match_higher(confidence):
 
 
 def test_unknown_metric_and_confidence_are_one_line_listing_the_known_names():
-    for call, names in ((lambda: distance_matrix(np.ones((2, 2)), np.ones((2, 2)), metric="manhattan"), DISTANCES),
-                        (lambda: best_matches(np.ones((2, 2)), confidence="sharpness"), CONFIDENCES)):
+    for call, names in (
+        (lambda: distance_matrix(np.ones((2, 2)), np.ones((2, 2)), metric="manhattan"), DISTANCES),
+        (lambda: best_matches(np.ones((2, 2)), confidence="sharpness"), CONFIDENCES),
+    ):
         with pytest.raises(ValueError) as error:
             call()
         assert "\n" not in str(error.value) and all(name in str(error.value) for name in names)

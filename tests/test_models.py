@@ -1,6 +1,6 @@
+import json
 import subprocess
 import sys
-import json
 import warnings
 
 import numpy as np
@@ -25,8 +25,14 @@ TEST_PARAMS = {
     "ica_bovw": ({"patch_size": 4, "stride": 4, "n_train_patches": 5000, "n_components": 15, "n_words": 16}, 16),
     "fae": ({"hidden": 32, "max_epochs": 5, "batch_size": 32}, HEIGHT * WIDTH),
     "cae": (
-        {"channels": [8, 16, 16], "kernels": [5, 3, 3], "max_epochs": 5, "batch_size": 32, "max_train_images": 0,
-         "max_validation_images": 0},
+        {
+            "channels": [8, 16, 16],
+            "kernels": [5, 3, 3],
+            "max_epochs": 5,
+            "batch_size": 32,
+            "max_train_images": 0,
+            "max_validation_images": 0,
+        },
         HEIGHT * WIDTH,
     ),
 }
@@ -82,8 +88,10 @@ def test_registry_lists_every_learner():
 
 def test_the_registry_imports_only_the_learner_asked_for():
     # a stage that fits pca must not run (or depend on) the auto-encoders' modules, nor import torch
-    code = ("import sys; from seasonloop.models.registry import get_learner; get_learner('pca'); "
-            "print(sorted(m for m in sys.modules if m.startswith('seasonloop.models.') or m == 'torch'))")
+    code = (
+        "import sys; from seasonloop.models.registry import get_learner; get_learner('pca'); "
+        "print(sorted(m for m in sys.modules if m.startswith('seasonloop.models.') or m == 'torch'))"
+    )
     loaded = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout
     assert "seasonloop.models.pca'" in loaded
     assert "seasonloop.models.cae" not in loaded and "seasonloop.models.ica" not in loaded and "'torch'" not in loaded
@@ -173,8 +181,10 @@ def test_whitened_pca_matches_ica_distances_under_cosine_and_euclidean_only():
     whitened.fit(train, progress=False)
     # Unit variance on the training images, as FastICA's sources.
     np.testing.assert_allclose(whitened.describe(train).std(axis=0), 1.0, atol=1e-4)
-    described = {name: (learner.describe(database), learner.describe(queries))
-                 for name, learner in (("ica", ica), ("pca_whiten", whitened))}
+    described = {
+        name: (learner.describe(database), learner.describe(queries))
+        for name, learner in (("ica", ica), ("pca_whiten", whitened))
+    }
     deviation = {}
     for metric in ("cosine", "euclidean", "cityblock"):
         ica_distances, pca_distances = (distance_matrix(*described[name], metric) for name in ("ica", "pca_whiten"))
@@ -235,7 +245,7 @@ def test_autoencoder_descriptors_and_epoch_callback(name, code_length, fitted, f
     learner = fitted(name)
     assert learner.describe_as(images, "code").shape == (12, code_length)
     output = learner.describe_as(images, "output")
-    assert output.shape == (12, HEIGHT * WIDTH) and 0 <= output.min() and output.max() <= 1
+    assert output.shape == (12, HEIGHT * WIDTH) and output.min() >= 0 and output.max() <= 1
     np.testing.assert_array_equal(learner.describe_as(images, "output_patchnorm"), learner.describe(images))
     with pytest.raises(ValueError, match="descriptor"):
         learner.describe_as(images, "bottleneck")
@@ -274,7 +284,7 @@ def test_cae_layers_match_table_5():
         code = model.encoder(torch.rand(2, 1, 32, 64))
         output = model.decoder(code)
     assert code.shape == (2, 384, 8, 16) and output.shape == (2, 1, 32, 64)
-    assert 0 <= output.min() and output.max() <= 1
+    assert output.min() >= 0 and output.max() <= 1
 
 
 def test_cae_rejects_size_not_divisible_by_4():

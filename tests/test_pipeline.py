@@ -28,8 +28,13 @@ TINY = {
     "ica": {"n_components": 16, "max_iter": 200},
     "ica_bovw": {"n_train_patches": 3000, "n_components": 15, "n_words": 20},
     "fae": {"hidden": 32, "max_epochs": 2},
-    "cae": {"channels": [3, 8, 12], "kernels": [5, 3, 3], "max_epochs": 1, "max_train_images": 64,
-            "max_validation_images": 16},
+    "cae": {
+        "channels": [3, 8, 12],
+        "kernels": [5, 3, 3],
+        "max_epochs": 1,
+        "max_train_images": 64,
+        "max_validation_images": 16,
+    },
     # 1/32 is the CAE's own width (reused from fit@cae), 1/16 is trained by the sweep
     "cae_widths": {"widths": [0.03125, 0.0625]},
     "ablation": {"training_seasons": [["summer"], ["summer", "winter"]], "pair": "summer-fall"},
@@ -48,11 +53,19 @@ PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock
 
 def source_files() -> list[str]:
     """The repository as a fresh clone would have it, plus uncommitted source changes."""
-    listed = subprocess.run(["git", "ls-files", "--cached", "--others", "--exclude-standard"],
-                            cwd=REPO, check=True, capture_output=True, text=True).stdout.split()
+    listed = subprocess.run(
+        ["git", "ls-files", "--cached", "--others", "--exclude-standard"],
+        cwd=REPO,
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout.split()
     # data/nordland/ holds the tracked placeholders of the real-data folders
-    return [name for name in listed if (REPO / name).is_file()
-            and (not name.startswith(PIPELINE_OUTPUTS) or name.startswith("data/nordland/"))]
+    return [
+        name
+        for name in listed
+        if (REPO / name).is_file() and (not name.startswith(PIPELINE_OUTPUTS) or name.startswith("data/nordland/"))
+    ]
 
 
 def make_workspace(root: Path, overrides: dict) -> Path:
@@ -62,8 +75,11 @@ def make_workspace(root: Path, overrides: dict) -> Path:
         shutil.copy2(REPO / name, root / name)
     params = merge(yaml.safe_load((root / "params.yaml").read_text()), overrides)
     (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
-    for command in (["git", "init", "-q"], ["git", "add", "-A"],
-                    ["git", "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "tiny"]):
+    for command in (
+        ["git", "init", "-q"],
+        ["git", "add", "-A"],
+        ["git", "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "tiny"],
+    ):
         subprocess.run(command, cwd=root, check=True)
     return root
 
@@ -93,8 +109,9 @@ def restore_params(request):
 
 def dvc(root: Path, *args: str) -> subprocess.CompletedProcess:
     env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
-    return subprocess.run([str(Path(sys.executable).parent / "dvc"), *args], cwd=root, env=env,
-                          capture_output=True, text=True)
+    return subprocess.run(
+        [str(Path(sys.executable).parent / "dvc"), *args], cwd=root, env=env, capture_output=True, text=True
+    )
 
 
 @pytest.mark.e2e
@@ -111,7 +128,7 @@ def test_repro_writes_every_result(workspace):
 @pytest.mark.e2e
 def test_learners_metrics_and_plots_exist(workspace):
     learners = ["raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw", "fae", "cae"]
-    pairs = ["summer-fall", "winter-summer", "winter-fall"]   # the study's pairs among 3 seasons
+    pairs = ["summer-fall", "winter-summer", "winter-fall"]  # the study's pairs among 3 seasons
     suffixes = ("", "+seq", "@cityblock", "@cityblock+seq")  # evaluate.extra_metrics: [cityblock]
     for learner in learners:
         assert (workspace / f"models/{learner}/learner.json").is_file()
@@ -129,14 +146,21 @@ def test_learners_metrics_and_plots_exist(workspace):
     assert summary["pr_landmarks"]["summer-fall"]["ica"]["recall_at_100_precision"]["study"] == 0.67
     ablation = json.loads((workspace / "metrics/training_seasons.json").read_text())
     assert set(ablation["fraction_correct"]["pca"]) == {"summer", "summer+winter"}
-    for figure in ("fig02_pca_projection", "fig12_patch_ica_filters", "fig13_visual_words",
-                   "fig19_autoencoder_descriptors"):
+    for figure in (
+        "fig02_pca_projection",
+        "fig12_patch_ica_filters",
+        "fig13_visual_words",
+        "fig19_autoencoder_descriptors",
+    ):
         assert (workspace / f"plots/figures/{figure}.png").stat().st_size > 0
     # fae and cae train in epochs: dvclive logs the training and validation loss of each, and the
     # fit metrics say how training ended
     for method, epochs in (("fae", 2), ("cae", 1)):
         for curve in ("train", "validation"):
-            assert len((workspace / f"logs/{method}/plots/metrics/loss/{curve}.tsv").read_text().splitlines()) == epochs + 1
+            assert (
+                len((workspace / f"logs/{method}/plots/metrics/loss/{curve}.tsv").read_text().splitlines())
+                == epochs + 1
+            )
         info = json.loads((workspace / f"metrics/fit/{method}.json").read_text())["info"]
         assert info["stop_reason"] == "max_epochs" and info["converged"] is False and info["epochs_run"] == epochs
     training = json.loads((workspace / "metrics/autoencoder_training.json").read_text())
@@ -145,7 +169,9 @@ def test_learners_metrics_and_plots_exist(workspace):
     sweep = json.loads((workspace / "metrics/cae_widths.json").read_text())
     assert sweep["pairs"] == ["summer-fall", "winter-summer"]  # spring-fall has no spring here
     assert {label: (row["channels"], row["reused"]) for label, row in sweep["widths"].items()} == {
-        "1/32": ([3, 8, 12], True), "1/16": ([6, 16, 24], False)}
+        "1/32": ([3, 8, 12], True),
+        "1/16": ([6, 16, 24], False),
+    }
     assert sweep["widths"]["1/32"]["best_validation_loss"] == training["cae"]["best_validation_loss"]
     assert (workspace / "plots/cae_widths.md").read_text().count("\n| 1/") == 2
     shown = dvc(workspace, "plots", "show", "--json")
@@ -197,18 +223,25 @@ def test_bad_params_fail_with_one_clear_line(workspace):
 
     result = run_with(lambda p: p["train"].update(seasons=["summer", "autumn"]), "stages/fit.py", "pca")
     assert result.returncode == 1
-    assert result.stderr.strip() == "error: train.seasons: unknown season 'autumn' (known: summer, spring, fall, winter)"
+    assert (
+        result.stderr.strip() == "error: train.seasons: unknown season 'autumn' (known: summer, spring, fall, winter)"
+    )
     result = run_with(lambda p: None, "stages/fit.py", "sift")
     assert result.returncode == 1 and "unknown method 'sift'" in result.stderr and "Traceback" not in result.stderr
     # typos and out-of-range values outside the learner sections, caught before any work
     result = run_with(lambda p: p["split"].update(tets_fraction=0.2), "stages/split.py")
     assert result.returncode == 1 and result.stderr.strip().startswith("error: split.tets_fraction: unknown key")
     result = run_with(lambda p: p["split"].update(test_fraction=0.9), "stages/split.py")
-    assert result.returncode == 1 and result.stderr.strip().startswith("error: split.test_fraction: expected a number in")
+    assert result.returncode == 1 and result.stderr.strip().startswith(
+        "error: split.test_fraction: expected a number in"
+    )
     # the ablation rejects a bad evaluate.metric before its first fit
     result = run_with(lambda p: p["evaluate"].update(metric="manhattan"), "stages/training_seasons.py")
     assert result.returncode == 1 and "FastICA" not in result.stderr
-    assert result.stderr.strip() == "error: evaluate.metric: unknown value 'manhattan' (known: cosine, euclidean, cityblock)"
+    assert (
+        result.stderr.strip()
+        == "error: evaluate.metric: unknown value 'manhattan' (known: cosine, euclidean, cityblock)"
+    )
 
 
 @pytest.mark.e2e

@@ -81,8 +81,10 @@ def test_plot_series(tmp_path):
 
 
 def test_plot_loss_curves(tmp_path):
-    curves = {"fae": {"train": [0.04, 0.02, 0.015], "validation": [0.05, 0.03, 0.031]},
-              "cae": {"train": [0.06], "validation": [0.07]}}
+    curves = {
+        "fae": {"train": [0.04, 0.02, 0.015], "validation": [0.05, 0.03, 0.031]},
+        "cae": {"train": [0.06], "validation": [0.07]},
+    }
     plot_loss_curves(curves, tmp_path / "loss.png", title="loss")
     assert_png(tmp_path / "loss.png")
     with pytest.raises(ValueError, match="empty"):

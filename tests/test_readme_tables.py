@@ -45,7 +45,8 @@ def test_snapshots_of_the_default_run_match_its_outputs_when_present(name):
     if lock_changed.returncode:
         pytest.skip("dvc.lock or params.yaml differ from HEAD: the workspace holds another run")
     assert (ROOT / source).read_text() == (write_tables.RESULTS / copy).read_text(), (
-        "run `python docs/write_tables.py --snapshot " + name + "` after `dvc repro`")
+        "run `python docs/write_tables.py --snapshot " + name + "` after `dvc repro`"
+    )
 
 
 def test_an_unknown_table_name_is_an_error():

@@ -7,13 +7,12 @@ from pathlib import Path
 
 import cv2
 import pytest
+from test_pipeline import TINY, dvc, make_workspace
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import render_route
 
-from test_pipeline import TINY, dvc, make_workspace
-
-SECONDS = 240   # places per season
+SECONDS = 240  # places per season
 
 
 def write_frame_folders(folder: Path) -> None:
@@ -30,12 +29,23 @@ def write_frame_folders(folder: Path) -> None:
 
 @pytest.mark.e2e
 def test_the_readme_frames_recipe_runs_through_the_report(tmp_path):
-    frames = tmp_path / "nordland_png"          # outside the repository: an external dependency
+    frames = tmp_path / "nordland_png"  # outside the repository: an external dependency
     write_frame_folders(frames)
     root = make_workspace(tmp_path / "repo", {k: v for k, v in TINY.items() if k not in ("ablation",)})
     # the README's recipe, and nothing else changed
-    result = dvc(root, "exp", "run", "-S", "data.source=frames", "-S", f"data.frames_dir={frames}",
-                 "-S", "data.seasons=[summer,winter]", "-S", "train.seasons=[summer,winter]")
+    result = dvc(
+        root,
+        "exp",
+        "run",
+        "-S",
+        "data.source=frames",
+        "-S",
+        f"data.frames_dir={frames}",
+        "-S",
+        "data.seasons=[summer,winter]",
+        "-S",
+        "train.seasons=[summer,winter]",
+    )
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     assert "frames paired by file name" in result.stdout
     assert (root / "plots/report.html").stat().st_size > 0

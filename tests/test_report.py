@@ -42,23 +42,37 @@ def pngs(tmp_path):
 
 
 def metrics(fraction_correct):
-    return {"fraction_correct": fraction_correct, "precision_at_full_recall": fraction_correct,
-            "recall_at_1": fraction_correct, "recall_at_5": 0.95,
-            "recall_at_10": 0.975, "recall_at_100_precision": 0.25, "auc_pr": 0.5}
+    return {
+        "fraction_correct": fraction_correct,
+        "precision_at_full_recall": fraction_correct,
+        "recall_at_1": fraction_correct,
+        "recall_at_5": 0.95,
+        "recall_at_10": 0.975,
+        "recall_at_100_precision": 0.25,
+        "auc_pr": 0.5,
+    }
 
 
 def test_report_is_self_contained_and_escaped(tmp_path, pngs):
-    results = {"pca": {"summer-fall": metrics(0.8), "winter-fall": metrics(0.1)},
-               "pca+seq": {"summer-fall": metrics(0.9), "winter-fall": metrics(0.4)}}
-    dataset = {"seasons": {"summer": {"frames": 1800, "train": 1510, "test": 158, "train_augmented": 3020}},
-               "dropped_tunnel": 2, "dropped_stop": 20, "gap": 110,
-               "detection": {"tunnel": {"found": 66, "true": 66, "precision": 1.0, "recall": 1.0}}}
+    results = {
+        "pca": {"summer-fall": metrics(0.8), "winter-fall": metrics(0.1)},
+        "pca+seq": {"summer-fall": metrics(0.9), "winter-fall": metrics(0.4)},
+    }
+    dataset = {
+        "seasons": {"summer": {"frames": 1800, "train": 1510, "test": 158, "train_augmented": 3020}},
+        "dropped_tunnel": 2,
+        "dropped_stop": 20,
+        "gap": 110,
+        "detection": {"tunnel": {"found": 66, "true": 66, "precision": 1.0, "recall": 1.0}},
+    }
     sections = [
         dataset_section(dataset, pngs[0]),
         fraction_correct_section(results, ["pca"], ["single", "sequence"], PAIRS, pngs[1]),
         similarity_section({"pca": {pair: pngs[0] for pair in PAIRS}}, PAIRS),
-        Section("Odd <labels> & co", [Table("a <b> table", pd.DataFrame({"x<y": [1.25]}, index=["m<n"])),
-                                      Text("if a < b then")]),
+        Section(
+            "Odd <labels> & co",
+            [Table("a <b> table", pd.DataFrame({"x<y": [1.25]}, index=["m<n"])), Text("if a < b then")],
+        ),
         parameters_section("seed: 0\nname: <tag>\n"),
     ]
     page = build_report("seasonloop", sections)
@@ -91,10 +105,7 @@ def test_select_examples_picks_most_confident_correct_and_wrong():
     places = np.array([10, 11, 12, 13])
     # query 0 -> 0 (correct, distance 0.1), query 1 -> 1 (correct, 0.3),
     # query 2 -> 0 (wrong, 0.05), query 3 -> 2 (wrong, 0.2)
-    distances = np.array([[0.1, 0.9, 0.9, 0.9],
-                          [0.9, 0.3, 0.9, 0.9],
-                          [0.05, 0.9, 0.6, 0.9],
-                          [0.9, 0.9, 0.2, 0.7]])
+    distances = np.array([[0.1, 0.9, 0.9, 0.9], [0.9, 0.3, 0.9, 0.9], [0.05, 0.9, 0.6, 0.9], [0.9, 0.9, 0.2, 0.7]])
     examples = select_examples(distances, places, places, "distance", tolerance=0, n=1)
     assert [(e.query, e.match, e.truth, e.correct) for e in examples] == [(0, 0, 0, True), (2, 0, 2, False)]
     examples = select_examples(distances, places, places, "distance", tolerance=1, n=5)
@@ -117,11 +128,19 @@ def test_example_grid_is_embedded():
 
 
 def test_runtime_training_and_figures_sections(pngs):
-    runtime = {"pca": {"n_train_images": 120, "fit_seconds": 1.5, "descriptor_dimension": 100, "feature_ms_per_image": 0.25}}
+    runtime = {
+        "pca": {"n_train_images": 120, "fit_seconds": 1.5, "descriptor_dimension": 100, "feature_ms_per_image": 0.25}
+    }
     training = {"pair": "summer-fall", "fraction_correct": {"pca": {"summer": 0.5, "summer+winter": 0.625}}}
     autoencoders = {"fae": {"code": {"summer-fall": 0.375}, "output_patchnorm": {"summer-fall": 0.875}}}
-    page = build_report("r", [runtime_section(runtime), training_seasons_section(training, pngs[0]),
-                              figures_section({"fig12 patch ica filters": pngs[1]}, autoencoders)])
+    page = build_report(
+        "r",
+        [
+            runtime_section(runtime),
+            training_seasons_section(training, pngs[0]),
+            figures_section({"fig12 patch ica filters": pngs[1]}, autoencoders),
+        ],
+    )
     # runtime columns in the study's order (fit, then feature time), not the JSON's sorted order
     headers = re.findall(r"<th>([^<]+)</th>", page)
     assert [h for h in headers if h in ("fit (s)", "features (ms / image)")] == ["fit (s)", "features (ms / image)"]
@@ -131,8 +150,10 @@ def test_runtime_training_and_figures_sections(pngs):
 
 
 def test_autoencoder_training_section_shows_how_training_ended():
-    training = {"fae": {"stop_reason": "plateau", "converged": True, "epochs_run": 57, "best_validation_loss": 0.00412},
-                "cae": {"stop_reason": "max_epochs", "converged": False, "epochs_run": 3, "best_validation_loss": 0.0213}}
+    training = {
+        "fae": {"stop_reason": "plateau", "converged": True, "epochs_run": 57, "best_validation_loss": 0.00412},
+        "cae": {"stop_reason": "max_epochs", "converged": False, "epochs_run": 3, "best_validation_loss": 0.0213},
+    }
     page = build_report("r", [autoencoder_training_section(training)])
     for value in ["plateau", "max_epochs", "True", "False", "57", "0.00412", "0.0213"]:
         assert f">{value}</" in page, value
@@ -142,10 +163,19 @@ def test_autoencoder_training_section_shows_how_training_ended():
 def test_sections_show_what_a_subset_run_has(pngs):
     # a run on one season skips the ablation; a run without pca, ica_bovw or an auto-encoder has no figure
     skipped = {"skipped": "skipped: it needs two seasons and data.seasons has only ['summer']"}
-    adapted = {"pair": "winter-summer", "notes": ["ablation.pair summer-fall needs a season not in data.seasons: using winter-summer"],
-               "fraction_correct": {"pca": {"summer": 0.5}}}
-    page = build_report("r", [training_seasons_section(skipped, pngs[0]), training_seasons_section(adapted, pngs[0]),
-                              figures_section({}, {})])
+    adapted = {
+        "pair": "winter-summer",
+        "notes": ["ablation.pair summer-fall needs a season not in data.seasons: using winter-summer"],
+        "fraction_correct": {"pca": {"summer": 0.5}},
+    }
+    page = build_report(
+        "r",
+        [
+            training_seasons_section(skipped, pngs[0]),
+            training_seasons_section(adapted, pngs[0]),
+            figures_section({}, {}),
+        ],
+    )
     assert "ablation was skipped: it needs two seasons" in page
     assert "using winter-summer" in page and ">50.0</" in page
     assert "No figure: the learners they show" in page
@@ -153,13 +183,20 @@ def test_sections_show_what_a_subset_run_has(pngs):
 
 
 def test_extra_metric_rows_and_pr_landmarks_are_reported(pngs):
-    results = {label: {"summer-fall": metrics(value), "winter-fall": metrics(value / 2)}
-               for label, value in (("pca", 0.8), ("pca+seq", 0.9), ("pca@cityblock", 0.6), ("pca@cityblock+seq", 0.7))}
+    results = {
+        label: {"summer-fall": metrics(value), "winter-fall": metrics(value / 2)}
+        for label, value in (("pca", 0.8), ("pca+seq", 0.9), ("pca@cityblock", 0.6), ("pca@cityblock+seq", 0.7))
+    }
     landmarks = pr_landmarks_table(pr_landmarks(results))
-    page = build_report("r", [
-        fraction_correct_section(results, ["pca"], ["single", "sequence"], PAIRS, pngs[1], ["cityblock"],
-                                 {"cityblock": pngs[0]}),
-        pr_section({"summer-fall": pngs[0]}, landmarks)])
+    page = build_report(
+        "r",
+        [
+            fraction_correct_section(
+                results, ["pca"], ["single", "sequence"], PAIRS, pngs[1], ["cityblock"], {"cityblock": pngs[0]}
+            ),
+            pr_section({"summer-fall": pngs[0]}, landmarks),
+        ],
+    )
     assert "Fraction correct (%), single-image matching, cityblock distance" in page
     assert "Fraction correct (%), sequence matching (SeqSLAM), cityblock distance" in page
     assert "<th>pca@cityblock</th>" in page and ">60.0</td>" in page

@@ -7,18 +7,25 @@ import shutil
 import numpy as np
 import pytest
 
-from seasonloop.io import save_array, write_json
-from seasonloop.plots import plot_image_grid
-from seasonloop.reporting.report import ReportFiles, study_report
-from seasonloop.reporting.results import load_evaluations
-from seasonloop.params.settings import EvaluateConfig
-
 # the fake metrics/eval folder of test_results
 from test_results import METHODS, PAIRS, VARIANTS, write_evaluations
 
+from seasonloop.io import save_array, write_json
+from seasonloop.params.settings import EvaluateConfig
+from seasonloop.plots import plot_image_grid
+from seasonloop.reporting.report import ReportFiles, study_report
+from seasonloop.reporting.results import load_evaluations
+
 # the main metric, both matchers: the first two of VARIANTS
-EVALUATE = EvaluateConfig(pairs=tuple(PAIRS), metric="cosine", extra_metrics=(), confidence="ratio",
-                          ratio_exclusion=0, tolerance_frames=0, matchers=("single", "sequence"))
+EVALUATE = EvaluateConfig(
+    pairs=tuple(PAIRS),
+    metric="cosine",
+    extra_metrics=(),
+    confidence="ratio",
+    ratio_exclusion=0,
+    tolerance_frames=0,
+    matchers=("single", "sequence"),
+)
 SEASONS = ["summer", "winter", "fall"]
 
 
@@ -26,27 +33,66 @@ def report_files(root) -> ReportFiles:
     """Every input of the report under root, the smallest that builds."""
     png = root / "one.png"
     plot_image_grid([[np.random.default_rng(0).random((4, 8))]], png)
-    files = ReportFiles(params=root / "params.yaml", dataset=root / "dataset.json", runtime=root / "runtime.json",
-                        training_seasons=root / "training.json", autoencoder_descriptors=root / "ae.json",
-                        autoencoder_training=root / "ae_training.json", features=root / "features",
-                        season_preview=png, summary=root / "summary", similarity=root / "similarity",
-                        training_seasons_figure=png, cae_widths=root / "cae_widths.json", cae_widths_figure=png,
-                        figures=root / "figures")
+    files = ReportFiles(
+        params=root / "params.yaml",
+        dataset=root / "dataset.json",
+        runtime=root / "runtime.json",
+        training_seasons=root / "training.json",
+        autoencoder_descriptors=root / "ae.json",
+        autoencoder_training=root / "ae_training.json",
+        features=root / "features",
+        season_preview=png,
+        summary=root / "summary",
+        similarity=root / "similarity",
+        training_seasons_figure=png,
+        cae_widths=root / "cae_widths.json",
+        cae_widths_figure=png,
+        figures=root / "figures",
+    )
     files.params.write_text("seed: 0\n")
-    write_json(files.dataset, {"seasons": {season: {"frames": 10, "train": 6, "test": 3, "train_augmented": 12}
-                                           for season in reversed(SEASONS)},
-                               "dropped_tunnel": 1, "dropped_stop": 0, "gap": 2})
-    write_json(files.runtime, {method: {"fit_seconds": 1.0, "n_train_images": 6, "feature_ms_per_image": 0.5,
-                                        "descriptor_dimension": 4} for method in METHODS})
+    write_json(
+        files.dataset,
+        {
+            "seasons": {
+                season: {"frames": 10, "train": 6, "test": 3, "train_augmented": 12} for season in reversed(SEASONS)
+            },
+            "dropped_tunnel": 1,
+            "dropped_stop": 0,
+            "gap": 2,
+        },
+    )
+    write_json(
+        files.runtime,
+        {
+            method: {"fit_seconds": 1.0, "n_train_images": 6, "feature_ms_per_image": 0.5, "descriptor_dimension": 4}
+            for method in METHODS
+        },
+    )
     write_json(files.training_seasons, {"skipped": "skipped: a test"})
     write_json(files.autoencoder_descriptors, {})
     write_json(files.autoencoder_training, {})
-    width = {"width": 0.0625, "channels": [6, 16, 24], "converged": True, "stop_reason": "plateau", "epochs_run": 30,
-             "best_validation_loss": 0.003, "cosine_with_input": 0.9,
-             **{descriptor: {"fraction_correct": {"summer-fall": 0.5}, "agreement_with_raw": {"summer-fall": 0.75}}
-                for descriptor in ("output_patchnorm", "code")}}
-    write_json(files.cae_widths, {"pairs": ["summer-fall"], "metric": "cosine", "widths": {"1/16": width},
-                                  "raw_patchnorm": {"fraction_correct": {"summer-fall": 0.25}}})
+    width = {
+        "width": 0.0625,
+        "channels": [6, 16, 24],
+        "converged": True,
+        "stop_reason": "plateau",
+        "epochs_run": 30,
+        "best_validation_loss": 0.003,
+        "cosine_with_input": 0.9,
+        **{
+            descriptor: {"fraction_correct": {"summer-fall": 0.5}, "agreement_with_raw": {"summer-fall": 0.75}}
+            for descriptor in ("output_patchnorm", "code")
+        },
+    }
+    write_json(
+        files.cae_widths,
+        {
+            "pairs": ["summer-fall"],
+            "metric": "cosine",
+            "widths": {"1/16": width},
+            "raw_patchnorm": {"fraction_correct": {"summer-fall": 0.25}},
+        },
+    )
     rng = np.random.default_rng(1)
     for method in METHODS:
         for season in SEASONS:
@@ -69,9 +115,19 @@ def test_study_report_from_files(tmp_path):
     images = {season: np.random.default_rng(2).random((5, 4, 8)) for season in SEASONS}
     page = study_report(files, results, METHODS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, np.arange(5))
     assert page.startswith("<!DOCTYPE html>") and "seasonloop: loop-closure detection across seasons" in page
-    titles = ["Dataset", "Fraction correct", "Precision-recall curves", "Similarity matrices",
-              "Example matches and failures, summer-fall", "Runtimes", "Training-season effect",
-              "Auto-encoder training", "CAE width", "The study&#x27;s other figures", "Parameters"]
+    titles = [
+        "Dataset",
+        "Fraction correct",
+        "Precision-recall curves",
+        "Similarity matrices",
+        "Example matches and failures, summer-fall",
+        "Runtimes",
+        "Training-season effect",
+        "Auto-encoder training",
+        "CAE width",
+        "The study&#x27;s other figures",
+        "Parameters",
+    ]
     for number, title in enumerate(titles, 1):
         assert f"<h2>{number}. {title}</h2>" in page, title
     # the seasons in the run's order, not the JSON's sorted one

@@ -28,12 +28,18 @@ def write_evaluations(eval_dir, pr_dir) -> None:
     for v, (_, _, suffix) in enumerate(VARIANTS):
         for m, method in enumerate(METHODS):
             for p, pair in enumerate(PAIRS):
-                write_json(eval_dir / method / f"{pair}{suffix}.json",
-                           {"fraction_correct": (100 * m + 10 * p + v) / 1000, "recall_at_100_precision": 0.5,
-                            "precision_at_full_recall": 0.25})
+                write_json(
+                    eval_dir / method / f"{pair}{suffix}.json",
+                    {
+                        "fraction_correct": (100 * m + 10 * p + v) / 1000,
+                        "recall_at_100_precision": 0.5,
+                        "precision_at_full_recall": 0.25,
+                    },
+                )
                 (pr_dir / method).mkdir(parents=True, exist_ok=True)
                 pd.DataFrame({"recall": [0.0, 0.5 + v / 10], "precision": [1.0, m / 2]}).to_csv(
-                    pr_dir / method / f"{pair}{suffix}.csv", index=False)
+                    pr_dir / method / f"{pair}{suffix}.csv", index=False
+                )
 
 
 @pytest.fixture
@@ -50,8 +56,14 @@ def test_load_evaluations_in_table_order(result_dirs):
     assert results.labels == ["pca", "ica", "pca+seq", "ica+seq", "pca@cityblock", "ica@cityblock"]
     assert results.pairs == PAIRS and all(list(by_pair) == PAIRS for by_pair in results.metrics.values())
     assert results.metrics["ica@cityblock"]["winter-fall"]["fraction_correct"] == pytest.approx(0.112)
-    assert results.metric_of == {"pca": "cosine", "ica": "cosine", "pca+seq": "cosine", "ica+seq": "cosine",
-                                 "pca@cityblock": "cityblock", "ica@cityblock": "cityblock"}
+    assert results.metric_of == {
+        "pca": "cosine",
+        "ica": "cosine",
+        "pca+seq": "cosine",
+        "ica+seq": "cosine",
+        "pca@cityblock": "cityblock",
+        "ica@cityblock": "cityblock",
+    }
     # curves: the main metric's labels only, per pair
     assert list(results.curves) == PAIRS
     assert list(results.curves["summer-fall"]) == ["pca", "ica", "pca+seq", "ica+seq"]
@@ -79,8 +91,12 @@ def test_load_runtime(tmp_path):
             write_json(tmp_path / "features" / method / f"{season}.json", {"ms_per_image": ms, "dimension": 16})
     runtime = load_runtime(tmp_path / "fit", tmp_path / "features", ["ica", "pca"], ["summer", "fall"])
     assert list(runtime) == ["ica", "pca"]
-    assert runtime["pca"] == {"fit_seconds": 1.5, "n_train_images": 100, "feature_ms_per_image": 1.5,
-                              "descriptor_dimension": 16}
+    assert runtime["pca"] == {
+        "fit_seconds": 1.5,
+        "n_train_images": 100,
+        "feature_ms_per_image": 1.5,
+        "descriptor_dimension": 16,
+    }
     assert list(runtime["ica"]) == ["fit_seconds", "n_train_images", "feature_ms_per_image", "descriptor_dimension"]
 
 
@@ -95,9 +111,17 @@ def test_records_in_the_run_order(tmp_path):
     assert list(load_dataset(tmp_path / "dataset.json", ["summer", "fall"])["seasons"]) == ["summer", "fall"]
     write_json(tmp_path / "runtime.json", {"ica": {}, "pca": {}})
     assert list(load_runtime_record(tmp_path / "runtime.json", ["pca", "ica"])) == ["pca", "ica"]
-    write_json(tmp_path / "training.json", {"pair": "summer-fall", "season_sets": ["summer", "summer+winter"],
-                                            "fraction_correct": {"ica": {"summer": 0.1, "summer+winter": 0.2},
-                                                                 "pca": {"summer+winter": 0.4, "summer": 0.3}}})
+    write_json(
+        tmp_path / "training.json",
+        {
+            "pair": "summer-fall",
+            "season_sets": ["summer", "summer+winter"],
+            "fraction_correct": {
+                "ica": {"summer": 0.1, "summer+winter": 0.2},
+                "pca": {"summer+winter": 0.4, "summer": 0.3},
+            },
+        },
+    )
     training = load_training_seasons(tmp_path / "training.json", ["pca", "ica"])
     assert list(training["fraction_correct"]) == ["pca", "ica"]
     assert list(training["fraction_correct"]["pca"]) == ["summer", "summer+winter"]

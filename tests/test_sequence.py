@@ -34,10 +34,14 @@ def reference_sequence(distances, length, velocities, window, query_places=None,
     for i in range(n_queries):
         for j in range(n_database):
             for velocity in velocities:
-                points = [(i - k, j - int(np.floor(velocity * k + 0.5))) for k in range(length)
-                          if i - k >= 0 and query_segment[i - k] == query_segment[i]]
-                if all(0 <= column < n_database and database_segment[column] == database_segment[j]
-                       for _, column in points):
+                points = [
+                    (i - k, j - int(np.floor(velocity * k + 0.5)))
+                    for k in range(length)
+                    if i - k >= 0 and query_segment[i - k] == query_segment[i]
+                ]
+                if all(
+                    0 <= column < n_database and database_segment[column] == database_segment[j] for _, column in points
+                ):
                     best[i, j] = min(best[i, j], np.mean([enhanced[row, column] for row, column in points]))
     return best
 
@@ -53,7 +57,9 @@ def noisy_diagonal(size: int, depth: float, seed: int) -> np.ndarray:
 def test_enhance_distance_contrast_matches_loop_reference():
     rng = np.random.default_rng(0)
     distances = rng.random((6, 17)) * 3.0 + 100.0  # offset: checks the cumulative sums stay precise
-    np.testing.assert_allclose(enhance_distance_contrast(distances, window=6), reference_enhance(distances, 6), atol=1e-5)
+    np.testing.assert_allclose(
+        enhance_distance_contrast(distances, window=6), reference_enhance(distances, 6), atol=1e-5
+    )
 
 
 def test_enhance_distance_contrast_constant_rows_are_finite():
@@ -87,8 +93,16 @@ def test_sequence_never_crosses_a_break_in_place_ids(v_min, v_max):
     distances = rng.random((12, 15))
     velocities = np.linspace(v_min, v_max, 3)
     expected = reference_sequence(distances, 4, velocities, 4, QUERY_PLACES, DATABASE_PLACES)
-    result = sequence_distances(distances, length=4, v_min=v_min, v_max=v_max, v_steps=3, window=4,
-                                query_places=QUERY_PLACES, database_places=DATABASE_PLACES)
+    result = sequence_distances(
+        distances,
+        length=4,
+        v_min=v_min,
+        v_max=v_max,
+        v_steps=3,
+        window=4,
+        query_places=QUERY_PLACES,
+        database_places=DATABASE_PLACES,
+    )
     np.testing.assert_array_equal(np.isinf(result), np.isinf(expected))
     finite = np.isfinite(expected)
     np.testing.assert_allclose(result[finite], expected[finite], atol=1e-5)
@@ -100,8 +114,16 @@ def test_sequence_restarts_at_a_break():
     rng = np.random.default_rng(6)
     distances = rng.random((12, 15))
     enhanced = enhance_distance_contrast(distances, window=4)
-    result = sequence_distances(distances, length=4, v_min=1.0, v_max=1.0, v_steps=1, window=4,
-                                query_places=QUERY_PLACES, database_places=DATABASE_PLACES)
+    result = sequence_distances(
+        distances,
+        length=4,
+        v_min=1.0,
+        v_max=1.0,
+        v_steps=1,
+        window=4,
+        query_places=QUERY_PLACES,
+        database_places=DATABASE_PLACES,
+    )
     # Query row 4 (place 10) starts a segment: its sequence is that one point, so at database
     # column 5 (place 20, a segment start too) the score is the enhanced difference itself ...
     assert result[4, 5] == pytest.approx(enhanced[4, 5], abs=1e-6)
@@ -111,7 +133,8 @@ def test_sequence_restarts_at_a_break():
     contiguous = np.arange(12)
     np.testing.assert_array_equal(
         sequence_distances(distances, 4, query_places=contiguous, database_places=np.arange(15)),
-        sequence_distances(distances, 4))
+        sequence_distances(distances, 4),
+    )
     with pytest.raises(ValueError, match="query_places"):
         sequence_distances(distances, 4, query_places=contiguous[:5])
 

@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 from seasonloop.params.schema import SCHEMA
-from seasonloop.params.settings import SECTIONS, _frozen, AblationConfig, EvaluateConfig, SplitConfig
+from seasonloop.params.settings import SECTIONS, AblationConfig, EvaluateConfig, SplitConfig, _frozen
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -32,7 +32,7 @@ def test_shipped_params_build_every_section(name):
     params = yaml.safe_load((REPO / name).read_text())
     for section in SECTIONS:
         config = section.from_params(params)
-        for key in section.keys():
+        for key in section.keys():  # noqa: SIM118 (Section.keys, not a dict)
             value = params[section.NAME][key]
             assert getattr(config, key) == _frozen(value), (section.NAME, key)
 

@@ -8,7 +8,14 @@ import json
 import numpy as np
 import pytest
 
-from seasonloop.data.split import detection_record, detection_scores, make_split, place_seconds, split_route, write_split_sets
+from seasonloop.data.split import (
+    detection_record,
+    detection_scores,
+    make_split,
+    place_seconds,
+    split_route,
+    write_split_sets,
+)
 from seasonloop.params.settings import SplitConfig
 
 CONFIG = SplitConfig(section_length=10, test_fraction=0.3, gap=1, dark_threshold=40, stop_threshold=1.0)
@@ -19,8 +26,12 @@ def stats_of(n: int) -> dict[str, np.ndarray]:
     brightness[9] = 10  # a tunnel in one season only
     change = np.full(n, 5.0)
     change[18] = 0.5
-    return {"summer_brightness": brightness, "summer_change": change,
-            "winter_brightness": np.full(n, 90.0), "winter_change": np.full(n, 4.0)}
+    return {
+        "summer_brightness": brightness,
+        "summer_change": change,
+        "winter_brightness": np.full(n, 90.0),
+        "winter_change": np.full(n, 4.0),
+    }
 
 
 def test_split_route_is_make_split_of_the_detected_masks():

@@ -110,7 +110,7 @@ def direct_imports(path: Path) -> frozenset[Path]:
         elif isinstance(node, ast.ImportFrom):
             if node.level:
                 package = package_of(path).split(".")
-                base = ".".join(package[:len(package) - node.level + 1] + ([node.module] if node.module else []))
+                base = ".".join(package[: len(package) - node.level + 1] + ([node.module] if node.module else []))
             else:
                 base = node.module or ""
             if base in HELPERS or base.split(".")[0] == "seasonloop":
@@ -126,8 +126,11 @@ def enclosing_inits(path: Path) -> list[Path]:
     """The __init__.py of every package above a module under src/: importing it runs them first."""
     if SRC not in path.resolve().parents:
         return []
-    return [folder / "__init__.py" for folder in path.resolve().parents
-            if SRC in folder.parents and (folder / "__init__.py").is_file()]
+    return [
+        folder / "__init__.py"
+        for folder in path.resolve().parents
+        if SRC in folder.parents and (folder / "__init__.py").is_file()
+    ]
 
 
 def runs_code(init: Path) -> bool:
@@ -157,9 +160,13 @@ def module_closure(script: Path, learners: Iterable[str] = ()) -> set[Path]:
 
 def checked_keys(script: Path) -> set[str]:
     """The keys a stage script checks up front: the literal arguments of its load_params call."""
-    return {arg.value for node in ast.walk(ast.parse(script.read_text()))
-            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "load_params"
-            for arg in node.args if isinstance(arg, ast.Constant) and isinstance(arg.value, str)}
+    return {
+        arg.value
+        for node in ast.walk(ast.parse(script.read_text()))
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "load_params"
+        for arg in node.args
+        if isinstance(arg, ast.Constant) and isinstance(arg.value, str)
+    }
 
 
 def _reads_in(tree: ast.AST, file: str) -> tuple[set[str], set[str], set[str]]:
@@ -168,8 +175,12 @@ def _reads_in(tree: ast.AST, file: str) -> tuple[set[str], set[str], set[str]]:
     dynamic: set[str] = set()
     calls: set[str] = set()
     for node in ast.walk(tree):
-        if (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "from_params"
-                and isinstance(node.func.value, ast.Name)):
+        if (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and node.func.attr == "from_params"
+            and isinstance(node.func.value, ast.Name)
+        ):
             # SplitConfig.from_params(params) reads (and checks) section "split"
             section = config_sections().get(node.func.value.id)
             assert section is not None, f"{file}: {ast.unparse(node)}: not a seasonloop.params.settings section"
@@ -177,7 +188,7 @@ def _reads_in(tree: ast.AST, file: str) -> tuple[set[str], set[str], set[str]]:
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
             calls.add(node.func.id)
             if node.func.id in PARAM_READERS:
-                for arg in node.args[PARAM_READERS[node.func.id]:]:
+                for arg in node.args[PARAM_READERS[node.func.id] :]:
                     if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
                         keys.add(arg.value)
                     elif isinstance(arg, ast.Starred) or not isinstance(arg, ast.Constant):
@@ -193,8 +204,12 @@ def _reads_in(tree: ast.AST, file: str) -> tuple[set[str], set[str], set[str]]:
 @cache
 def common_reads() -> dict[str, tuple[frozenset[str], frozenset[str]]]:
     """function name in the stage helpers (stages/_*.py) -> (param keys, dynamic reads) it reads, transitively."""
-    functions = {node.name: (node, helper) for helper in HELPERS.values()
-                 for node in ast.parse(helper.read_text()).body if isinstance(node, ast.FunctionDef)}
+    functions = {
+        node.name: (node, helper)
+        for helper in HELPERS.values()
+        for node in ast.parse(helper.read_text()).body
+        if isinstance(node, ast.FunctionDef)
+    }
     direct = {name: _reads_in(node, rel(helper)) for name, (node, helper) in functions.items()}
     result = {}
     for name in functions:
@@ -235,7 +250,9 @@ def resolved_stages() -> list[dict[str, Any]]:
     with Repo(str(ROOT)) as repo:
         for stage in repo.index.stages:
             argv = shlex.split(stage.cmd)
-            assert argv[0] == "python" and argv[1].startswith("stages/"), f"{stage.addressing}: unexpected cmd {stage.cmd}"
+            assert argv[0] == "python" and argv[1].startswith("stages/"), (
+                f"{stage.addressing}: unexpected cmd {stage.cmd}"
+            )
             deps, params = [], []
             for dep in stage.deps:
                 if hasattr(dep, "params"):
@@ -243,13 +260,16 @@ def resolved_stages() -> list[dict[str, Any]]:
                     params = None if not dep.params else params + list(dep.params)
                 else:
                     deps.append(Path(dep.def_path).as_posix())
-            stages.append({"name": stage.addressing, "script": argv[1], "argv": argv[2:], "deps": deps, "params": params})
+            stages.append(
+                {"name": stage.addressing, "script": argv[1], "argv": argv[2:], "deps": deps, "params": params}
+            )
     return stages
 
 
 def uncovered_modules(required: Iterable[str], deps: list[str]) -> list[str]:
-    return sorted(path for path in required
-                  if not any(path == dep or path.startswith(dep.rstrip("/") + "/") for dep in deps))
+    return sorted(
+        path for path in required if not any(path == dep or path.startswith(dep.rstrip("/") + "/") for dep in deps)
+    )
 
 
 def uncovered_params(required: Iterable[str], declared: list[str] | None) -> list[str]:
@@ -267,8 +287,10 @@ def learners_asked_for(stage: dict[str, Any]) -> list[str]:
     if REGISTRY not in module_closure(ROOT / stage["script"]):
         return []
     resolver = LEARNERS_ASKED_FOR.get(stage["script"])
-    assert resolver is not None, (f"{stage['script']} imports the learner registry; add which learners it asks "
-                                  "for to LEARNERS_ASKED_FOR in tests/test_stage_deps.py")
+    assert resolver is not None, (
+        f"{stage['script']} imports the learner registry; add which learners it asks "
+        "for to LEARNERS_ASKED_FOR in tests/test_stage_deps.py"
+    )
     return resolver(stage["argv"], params_yaml())
 
 
@@ -290,8 +312,10 @@ def test_stage_declares_every_param_it_reads(name: str) -> None:
     keys, dynamic = script_reads(ROOT / stage["script"])
     for read in sorted(dynamic):
         resolver = DYNAMIC_READS.get((stage["script"], read))
-        assert resolver is not None, (f"{stage['script']}: param read `{read}` has a computed key; "
-                                      "add what it can read to DYNAMIC_READS in tests/test_stage_deps.py")
+        assert resolver is not None, (
+            f"{stage['script']}: param read `{read}` has a computed key; "
+            "add what it can read to DYNAMIC_READS in tests/test_stage_deps.py"
+        )
         keys |= set(resolver(stage["argv"], params_yaml()))
     missing = uncovered_params(keys, stage["params"])
     assert not missing, f"dvc.yaml stage {name}: reads param {', '.join(missing)} not listed in its params"
@@ -315,15 +339,22 @@ def test_package_inits_hold_no_code() -> None:
         for node in ast.parse(init.read_text()).body:
             is_docstring = isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant)
             is_reexport = isinstance(node, ast.ImportFrom) and node.level > 0
-            assert is_docstring or is_reexport or isinstance(node, ast.Assign), \
+            assert is_docstring or is_reexport or isinstance(node, ast.Assign), (
                 f"{rel(init)}: holds code; list it as a dep or move it"
+            )
 
 
 def test_the_checks_see_what_they_should() -> None:
     # the derivation itself: known imports and reads are found
     fit = {rel(p) for p in module_closure(ROOT / "stages/fit.py", ["ica"])}
-    assert {"stages/_common.py", "stages/_datasets.py", "src/seasonloop/models/ica.py",
-            "src/seasonloop/models/core/fastica.py", "src/seasonloop/models/registry.py", "src/seasonloop/io.py"} <= fit
+    assert {
+        "stages/_common.py",
+        "stages/_datasets.py",
+        "src/seasonloop/models/ica.py",
+        "src/seasonloop/models/core/fastica.py",
+        "src/seasonloop/models/registry.py",
+        "src/seasonloop/io.py",
+    } <= fit
     # the registry imports only the learner asked for
     assert "src/seasonloop/models/pca.py" not in fit and "src/seasonloop/models/cae.py" not in fit
     # importing a module inside a package runs the package's __init__ and what it re-exports
@@ -335,7 +366,9 @@ def test_the_checks_see_what_they_should() -> None:
     keys, _ = script_reads(ROOT / "stages/preprocess.py")
     assert "preprocess" in keys
     assert uncovered_modules(["src/seasonloop/models/pca.py"], ["src/seasonloop/models"]) == []
-    assert uncovered_modules(["src/seasonloop/models_x.py"], ["src/seasonloop/models"]) == ["src/seasonloop/models_x.py"]
+    assert uncovered_modules(["src/seasonloop/models_x.py"], ["src/seasonloop/models"]) == [
+        "src/seasonloop/models_x.py"
+    ]
     assert uncovered_params(["evaluate.metric"], ["evaluate"]) == []
     assert uncovered_params(["evaluate_x"], ["evaluate"]) == ["evaluate_x"]
 
@@ -343,9 +376,11 @@ def test_the_checks_see_what_they_should() -> None:
 def test_config_reads_count_as_section_reads(tmp_path: Path) -> None:
     # XConfig.from_params(params) reads section x: dvc.yaml must declare it, load_params must check it
     script = tmp_path / "stage.py"
-    script.write_text('params = load_params("data.seasons", "split")\n'
-                      "config = SplitConfig.from_params(params)\n"
-                      "evaluate = EvaluateConfig.from_params(params)\n")
+    script.write_text(
+        'params = load_params("data.seasons", "split")\n'
+        "config = SplitConfig.from_params(params)\n"
+        "evaluate = EvaluateConfig.from_params(params)\n"
+    )
     keys, dynamic = script_reads(script)
     assert {"split", "evaluate", "data.seasons"} <= keys and not dynamic
     assert uncovered_params(keys, ["data.seasons", "split"]) == ["evaluate"]

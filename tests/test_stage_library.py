@@ -34,8 +34,16 @@ def test_extract_seasons_writes_every_season_and_its_record(tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     record = extract_seasons(sources_of(tmp_path / "in", ["summer", "fall"]), ["summer", "fall"], EXTRACT, 2, {}, out)
-    assert list(record) == ["n_places", "seasons", "frames_per_season", "frame_step", "pairing", "alignment",
-                            "offsets", "place"]
+    assert list(record) == [
+        "n_places",
+        "seasons",
+        "frames_per_season",
+        "frame_step",
+        "pairing",
+        "alignment",
+        "offsets",
+        "place",
+    ]
     assert record["n_places"] == 4 and record["frames_per_season"] == {"summer": 4, "fall": 4}
     frames = np.load(out / "summer.npy")
     assert frames.shape == (4, 6, 8, 3) and frames.dtype == np.uint8
@@ -51,8 +59,9 @@ def test_extract_seasons_drops_known_offsets_and_rejects_mismatched_lengths(tmp_
     frame_folder(tmp_path / "in" / "fall", 6)
     out = tmp_path / "out"
     out.mkdir()
-    record = extract_seasons(sources_of(tmp_path / "in", ["summer", "fall"]), ["summer", "fall"], EXTRACT, 1,
-                             {"fall": 2}, out)
+    record = extract_seasons(
+        sources_of(tmp_path / "in", ["summer", "fall"]), ["summer", "fall"], EXTRACT, 1, {"fall": 2}, out
+    )
     assert record["n_places"] == 4 and np.load(out / "summer.npy").shape[0] == 4
     frame_folder(tmp_path / "short" / "summer", 6)
     frame_folder(tmp_path / "short" / "fall", 5)
@@ -73,9 +82,15 @@ def test_evaluate_learner_writes_every_pair_metric_and_matcher(tmp_path):
     base = rng.normal(size=(15, 5)).astype(np.float32)
     for i, season in enumerate(("summer", "fall")):
         np.save(features / f"{season}.npy", base + 0.01 * i * rng.normal(size=base.shape).astype(np.float32))
-    evaluate = EvaluateConfig(pairs=("summer-fall",), metric="cosine", extra_metrics=("cityblock",),
-                              confidence="distance", ratio_exclusion=2, tolerance_frames=0,
-                              matchers=("single", "sequence"))
+    evaluate = EvaluateConfig(
+        pairs=("summer-fall",),
+        metric="cosine",
+        extra_metrics=("cityblock",),
+        confidence="distance",
+        ratio_exclusion=2,
+        tolerance_frames=0,
+        matchers=("single", "sequence"),
+    )
     sequence = SequenceConfig(length=3, v_min=1.0, v_max=1.0, v_steps=1, window=4)
     dirs = [tmp_path / name for name in ("metrics", "pr", "similarity")]
     for folder in dirs:

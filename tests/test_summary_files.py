@@ -6,14 +6,16 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from seasonloop.reporting.results import load_evaluations
-from seasonloop.reporting.summary_files import summary_record, write_dvc_plots, write_summary_files, write_tables
-
 # the fake metrics/eval and plots/pr folders of test_results
 from test_results import METHODS, PAIRS, VARIANTS, write_evaluations
 
-RUNTIME = {"pca": {"fit_seconds": 1.23456, "n_train_images": 100, "feature_ms_per_image": 0.5, "descriptor_dimension": 16},
-           "ica": {"fit_seconds": 20.0, "n_train_images": 100, "feature_ms_per_image": 1.0, "descriptor_dimension": 16}}
+from seasonloop.reporting.results import load_evaluations
+from seasonloop.reporting.summary_files import summary_record, write_dvc_plots, write_summary_files, write_tables
+
+RUNTIME = {
+    "pca": {"fit_seconds": 1.23456, "n_train_images": 100, "feature_ms_per_image": 0.5, "descriptor_dimension": 16},
+    "ica": {"fit_seconds": 20.0, "n_train_images": 100, "feature_ms_per_image": 1.0, "descriptor_dimension": 16},
+}
 
 
 @pytest.fixture
@@ -24,8 +26,14 @@ def results(tmp_path):
 
 
 def training_curves() -> pd.DataFrame:
-    return pd.DataFrame({"learner": ["fae"] * 3, "metric": ["loss/train", "loss/validation", "lr"],
-                         "step": [1, 1, 1], "value": [0.5, 0.25, 0.001]})
+    return pd.DataFrame(
+        {
+            "learner": ["fae"] * 3,
+            "metric": ["loss/train", "loss/validation", "lr"],
+            "step": [1, 1, 1],
+            "value": [0.5, 0.25, 0.001],
+        }
+    )
 
 
 def test_summary_record(results):
@@ -44,17 +52,29 @@ def test_write_summary_files(tmp_path, results):
     out.mkdir()
     write_summary_files(out, results, RUNTIME, training_curves())
     names = sorted(path.relative_to(out).as_posix() for path in out.rglob("*") if path.is_file())
-    assert names == ["fraction_correct.csv", "fraction_correct.md", "fraction_correct.png",
-                     "fraction_correct@cityblock.png", "pr/summer-fall.csv", "pr/winter-fall.csv",
-                     "pr_landmarks.md", "pr_summer-fall.png", "pr_winter-fall.png", "runtime.md", "training_loss.csv"]
+    assert names == [
+        "fraction_correct.csv",
+        "fraction_correct.md",
+        "fraction_correct.png",
+        "fraction_correct@cityblock.png",
+        "pr/summer-fall.csv",
+        "pr/winter-fall.csv",
+        "pr_landmarks.md",
+        "pr_summer-fall.png",
+        "pr_winter-fall.png",
+        "runtime.md",
+        "training_loss.csv",
+    ]
     assert (out / "fraction_correct.png").read_bytes().startswith(b"\x89PNG")
 
 
 def test_tables_text(tmp_path, results):
     write_tables(tmp_path, results, RUNTIME)
     markdown = (tmp_path / "fraction_correct.md").read_text()
-    assert markdown.startswith("Fraction of correct matches (%), ours (the study's in brackets where it gives one)\n\n"
-                               "| method | summer-fall | winter-fall |\n|---|---|---|\n")
+    assert markdown.startswith(
+        "Fraction of correct matches (%), ours (the study's in brackets where it gives one)\n\n"
+        "| method | summer-fall | winter-fall |\n|---|---|---|\n"
+    )
     # ours, then the study's number in brackets where it gives one
     assert "| pca | 0.0 (88) | 1.0 |\n" in markdown and "| ica@cityblock | 10.2 | 11.2 |\n" in markdown
     csv = (tmp_path / "fraction_correct.csv").read_text().splitlines()

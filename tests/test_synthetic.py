@@ -19,7 +19,6 @@ from seasonloop.data.synthetic import (
     render_preview,
     render_route,
 )
-
 from seasonloop.params.settings import SyntheticConfig
 
 W, H = 128, 72
@@ -120,10 +119,14 @@ def test_tunnel_frames_are_much_darker(route: SyntheticRoute) -> None:
 
 def test_standing_frames_are_near_identical_moving_frames_are_not(route: SyntheticRoute) -> None:
     start, end = route.layout.stops[0]
-    standing = [np.abs(gray(route.frame("summer", t, W, H)) - gray(route.frame("summer", t - 0.5, W, H))).mean()
-                for t in np.arange(start + 1.0, end, 1.0)]
-    moving = [np.abs(gray(route.frame("summer", float(t), W, H)) - gray(route.frame("summer", t - 0.5, W, H))).mean()
-              for t in moving_times(route.layout, 20)]
+    standing = [
+        np.abs(gray(route.frame("summer", t, W, H)) - gray(route.frame("summer", t - 0.5, W, H))).mean()
+        for t in np.arange(start + 1.0, end, 1.0)
+    ]
+    moving = [
+        np.abs(gray(route.frame("summer", float(t), W, H)) - gray(route.frame("summer", t - 0.5, W, H))).mean()
+        for t in moving_times(route.layout, 20)
+    ]
     assert max(standing) < 3.0
     assert np.mean(moving) > 3.0 * np.mean(standing)
 
@@ -133,8 +136,10 @@ def test_seasons_differ_and_winter_is_hardest(route: SyntheticRoute) -> None:
     frames = {season: [gray(route.frame(season, float(t), W, H)) for t in times] for season in SEASONS}
     contrast = {season: np.mean([f.std() for f in frames[season]]) for season in SEASONS}
     assert min(contrast, key=contrast.get) == "winter", contrast
-    change = {season: np.mean([np.abs(a - b).mean() for a, b in zip(frames["summer"], frames[season])])
-              for season in SEASONS[1:]}
+    change = {
+        season: np.mean([np.abs(a - b).mean() for a, b in zip(frames["summer"], frames[season])])
+        for season in SEASONS[1:]
+    }
     assert min(change.values()) > 8.0, change
     assert max(change, key=change.get) == "winter", change
 
@@ -234,7 +239,7 @@ def test_gap_and_margin_knobs_are_kept() -> None:
     for seed in range(4):
         layout = make_layout(3600, seed, knobs)
         spans = sorted(layout.tunnels + layout.stops)
-        assert spans and all(200 <= start and end <= 3600 - 200 for start, end in spans)
+        assert spans and all(start >= 200 and end <= 3600 - 200 for start, end in spans)
         assert all(b[0] - a[1] >= 90 for a, b in zip(spans[:-1], spans[1:]))
         assert all(5 <= end - start <= 8 for start, end in layout.stops)
 
@@ -258,12 +263,15 @@ def test_a_higher_winter_contrast_makes_winter_easier(route: SyntheticRoute) -> 
     assert easy > 1.5 * hard, (easy, hard)
 
 
-@pytest.mark.parametrize("knobs, message", [
-    ({"tunnel_min_s": 30, "tunnel_max_s": 20}, "tunnel_max_s: 20 is below tunnel_min_s 30"),
-    ({"stop_min_s": 2.5}, "stop_min_s: expected an integer"),
-    ({"cruise_speed": 0.0}, "cruise_speed: expected a positive number"),
-    ({"event_gap_s": -1}, "event_gap_s: expected a number >= 0"),
-])
+@pytest.mark.parametrize(
+    "knobs, message",
+    [
+        ({"tunnel_min_s": 30, "tunnel_max_s": 20}, "tunnel_max_s: 20 is below tunnel_min_s 30"),
+        ({"stop_min_s": 2.5}, "stop_min_s: expected an integer"),
+        ({"cruise_speed": 0.0}, "cruise_speed: expected a positive number"),
+        ({"event_gap_s": -1}, "event_gap_s: expected a number >= 0"),
+    ],
+)
 def test_bad_knobs_are_rejected(knobs: dict, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         RouteDifficulty(**knobs)

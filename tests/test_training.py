@@ -20,8 +20,17 @@ CPU = torch.device("cpu")
 
 
 def config(**overrides) -> TrainingConfig:
-    values = dict(max_epochs=50, batch_size=16, learning_rate=1e-2, patience=3, min_delta=0.01,
-                  lr_patience=1, lr_factor=0.5, budget_seconds=0, seed=0)
+    values = dict(
+        max_epochs=50,
+        batch_size=16,
+        learning_rate=1e-2,
+        patience=3,
+        min_delta=0.01,
+        lr_patience=1,
+        lr_factor=0.5,
+        budget_seconds=0,
+        seed=0,
+    )
     return TrainingConfig(**{**values, **overrides})
 
 
@@ -34,8 +43,9 @@ def images(n: int, seed: int) -> torch.Tensor:
 
 def small_autoencoder() -> nn.Module:
     torch.manual_seed(0)
-    return nn.Sequential(nn.Flatten(), nn.Linear(64, 8), nn.ReLU(), nn.Linear(8, 64), nn.Sigmoid(),
-                         nn.Unflatten(1, (1, 8, 8)))
+    return nn.Sequential(
+        nn.Flatten(), nn.Linear(64, 8), nn.ReLU(), nn.Linear(8, 64), nn.Sigmoid(), nn.Unflatten(1, (1, 8, 8))
+    )
 
 
 def test_validation_places_are_whole_blocks_seeded_and_never_all():
@@ -47,8 +57,8 @@ def test_validation_places_are_whole_blocks_seeded_and_never_all():
     assert len(blocks) == 2 and set(held_out) == {100 + 10 * block + i for block in blocks for i in range(10)}
     np.testing.assert_array_equal(held_out, validation_places(places, 0.2, 10, seed=1))
     assert not np.array_equal(held_out, validation_places(places, 0.2, 10, seed=2))
-    assert len(validation_places(places, 0.0, 10, 0)) == 10      # never empty
-    assert len(validation_places(places, 0.99, 10, 0)) == 90     # never every place
+    assert len(validation_places(places, 0.0, 10, 0)) == 10  # never empty
+    assert len(validation_places(places, 0.99, 10, 0)) == 90  # never every place
     with pytest.raises(ValueError, match="at least 2 blocks"):
         validation_places(np.arange(5), 0.1, 10, 0)
 
@@ -72,7 +82,8 @@ def test_stops_on_plateau_and_keeps_the_best_weights():
     assert info["best_validation_loss"] < 0.8 * losses[0]
     # the model holds the best epoch's weights, not the last epoch's
     assert mean_loss(model, validation, 16, CPU, torch.float32, torch.contiguous_format) == pytest.approx(
-        info["best_validation_loss"], rel=1e-6)
+        info["best_validation_loss"], rel=1e-6
+    )
     # the schedule cut the learning rate on the way to the plateau
     assert info["learning_rate_per_epoch"][-1] < info["learning_rate_per_epoch"][0]
     assert info["images_seen"] == 256 * info["epochs_run"]
@@ -80,11 +91,13 @@ def test_stops_on_plateau_and_keeps_the_best_weights():
 
 def test_max_epochs_and_budget_stop_without_converging():
     train, validation = images(64, 0), images(16, 1)
-    by_epochs = train_until_plateau(small_autoencoder(), train, validation, config(max_epochs=2), CPU,
-                                    progress=False).info()
+    by_epochs = train_until_plateau(
+        small_autoencoder(), train, validation, config(max_epochs=2), CPU, progress=False
+    ).info()
     assert (by_epochs["stop_reason"], by_epochs["converged"], by_epochs["epochs_run"]) == ("max_epochs", False, 2)
-    by_budget = train_until_plateau(small_autoencoder(), train, validation, config(budget_seconds=1e-9), CPU,
-                                    progress=False).info()
+    by_budget = train_until_plateau(
+        small_autoencoder(), train, validation, config(budget_seconds=1e-9), CPU, progress=False
+    ).info()
     assert (by_budget["stop_reason"], by_budget["converged"], by_budget["epochs_run"]) == ("budget", False, 1)
 
 
@@ -126,8 +139,9 @@ def test_validation_holds_out_every_image_of_its_places():
     rng = np.random.default_rng(0)
     frames = (rng.random((120, 8, 16)) * 255).astype(np.uint8)
     places = np.tile(np.arange(60), 2)  # originals then one augmented copy each
-    learner = get_learner("fae")({"max_epochs": 1, "hidden": 4, "patch_size": 4, "validation_fraction": 0.2,
-                                  "validation_block": 10}, seed=0)
+    learner = get_learner("fae")(
+        {"max_epochs": 1, "hidden": 4, "patch_size": 4, "validation_fraction": 0.2, "validation_block": 10}, seed=0
+    )
     info = learner.fit(frames, progress=False, places=places)
     assert info["n_validation_places"] == 10 and info["n_validation_images"] == 20
     assert info["n_train_images"] == 100 and info["torch_threads"] == torch.get_num_threads()

@@ -37,7 +37,9 @@ def remove_stale_staging(final: Path) -> list[Path]:
     one writer per final path, so anything found is stale. Returns what was removed."""
     stale = sorted(Path(final).parent.glob(_staging_prefix(Path(final)) + "*"))
     for path in stale:
-        shutil.rmtree(path, ignore_errors=True) if path.is_dir() and not path.is_symlink() else path.unlink(missing_ok=True)
+        shutil.rmtree(path, ignore_errors=True) if path.is_dir() and not path.is_symlink() else path.unlink(
+            missing_ok=True
+        )
     return stale
 
 
@@ -85,9 +87,8 @@ def write_json(path: Path, data: Any) -> None:
 
 def save_array(path: Path, array: np.ndarray) -> None:
     """np.save, atomically."""
-    with staged_file(Path(path)) as tmp:
-        with open(tmp, "wb") as handle:
-            np.save(handle, array)
+    with staged_file(Path(path)) as tmp, open(tmp, "wb") as handle:
+        np.save(handle, array)
 
 
 def read_json(path: Path) -> Any:

@@ -10,9 +10,9 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 import pandas as pd
-import matplotlib
 from matplotlib.figure import Figure
 
 # Largest side, in cells, of a distance matrix drawn without downsampling.
@@ -51,8 +51,14 @@ def plot_pr_curves(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], title: s
                 f"curve {label!r}: recall and precision must be 1-D of equal length, "
                 f"got shapes {recall.shape} and {precision.shape}"
             )
-        axes.plot(recall, precision, label=label, linewidth=1.5, color=styles[label]["color"],
-                  linestyle="--" if styles[label]["variant"] else "-")
+        axes.plot(
+            recall,
+            precision,
+            label=label,
+            linewidth=1.5,
+            color=styles[label]["color"],
+            linestyle="--" if styles[label]["variant"] else "-",
+        )
     axes.set_xlim(0.0, 1.0)
     axes.set_ylim(0.0, 1.02)
     axes.set_xlabel("Recall")
@@ -72,10 +78,7 @@ def _check_fractions(table: pd.DataFrame, name: str) -> None:
 
 
 def plot_fraction_correct(
-    table: pd.DataFrame,
-    path,
-    title: str = "Fraction of correct matches",
-    reference: pd.DataFrame | None = None,
+    table: pd.DataFrame, path, title: str = "Fraction of correct matches", reference: pd.DataFrame | None = None
 ) -> None:
     """Grouped bars of the fraction of correct matches, in %: one group per pair, one bar per method.
 
@@ -100,9 +103,15 @@ def plot_fraction_correct(
     styles = _series_styles(methods)
     for index, method in enumerate(methods):
         positions = group_positions + (index - (len(methods) - 1) / 2) * bar_width
-        axes.bar(positions, 100.0 * table.loc[method].to_numpy(dtype=np.float64), bar_width, label=str(method),
-                 color=styles[method]["color"], hatch="//" if styles[method]["variant"] else None,
-                 edgecolor="white" if styles[method]["variant"] else None)
+        axes.bar(
+            positions,
+            100.0 * table.loc[method].to_numpy(dtype=np.float64),
+            bar_width,
+            label=str(method),
+            color=styles[method]["color"],
+            hatch="//" if styles[method]["variant"] else None,
+            edgecolor="white" if styles[method]["variant"] else None,
+        )
         if reference is not None:
             study = 100.0 * reference.loc[method].to_numpy(dtype=np.float64)
             axes.scatter(
@@ -216,19 +225,15 @@ def plot_image_grid(
 
 
 def plot_series(
-    series: Mapping[str, tuple[Sequence[str], Sequence[float]]],
-    path,
-    title: str,
-    xlabel: str,
-    ylabel: str,
+    series: Mapping[str, tuple[Sequence[str], Sequence[float]]], path, title: str, xlabel: str, ylabel: str
 ) -> None:
     """Lines with markers over categorical x ticks, label -> (x tick labels, values)."""
     if not series:
         raise ValueError("series is empty: nothing to plot")
     figure = Figure(figsize=(6.0, 4.0))
     axes = figure.add_subplot()
-    for label, (ticks, values) in series.items():
-        ticks, values = [str(tick) for tick in ticks], np.asarray(values, dtype=np.float64)
+    for label, (tick_values, series_values) in series.items():
+        ticks, values = [str(tick) for tick in tick_values], np.asarray(series_values, dtype=np.float64)
         if values.ndim != 1 or len(ticks) != values.size:
             raise ValueError(f"series {label!r}: {len(ticks)} x tick labels but values of shape {values.shape}")
         axes.plot(ticks, values, marker="o", label=label)
@@ -249,8 +254,8 @@ def plot_loss_curves(curves: Mapping[str, Mapping[str, Sequence[float]]], path, 
     figure = Figure(figsize=(4.5 * len(curves), 3.6))
     panels = figure.subplots(1, len(curves), squeeze=False)[0]
     for axes, (model, by_name) in zip(panels, curves.items()):
-        for name, values in by_name.items():
-            values = np.asarray(values, dtype=np.float64)
+        for name, curve in by_name.items():
+            values = np.asarray(curve, dtype=np.float64)
             epochs = np.arange(1, len(values) + 1)
             axes.plot(epochs, values, marker="." if len(values) < 40 else None, label=name)
             if name == "validation":

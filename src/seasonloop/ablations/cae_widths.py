@@ -27,23 +27,36 @@ from typing import Any
 import numpy as np
 
 from seasonloop.evaluation.matchers import match_pair
-from seasonloop.reporting.figures import autoencoder_descriptors
-from seasonloop.io import staged_file, write_json
 from seasonloop.evaluation.matching import best_matches, distance_matrix
-from seasonloop.plots import plot_series
+from seasonloop.io import staged_file, write_json
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.plots import plot_series
+from seasonloop.reporting.figures import autoencoder_descriptors
 
 TABLE5_CHANNELS = (96, 256, 384)
 DESCRIPTORS = ("output_patchnorm", "code")
 # what the record keeps of each width's fit info
-FIT_RECORD = ("converged", "stop_reason", "epochs_run", "best_epoch", "best_validation_loss", "n_train_images",
-              "n_validation_images", "images_seen", "training_seconds", "precision", "n_parameters")
+FIT_RECORD = (
+    "converged",
+    "stop_reason",
+    "epochs_run",
+    "best_epoch",
+    "best_validation_loss",
+    "n_train_images",
+    "n_validation_images",
+    "images_seen",
+    "training_seconds",
+    "precision",
+    "n_parameters",
+)
 
 
 def width_channels(width: float) -> list[int]:
     """Table 5's channels scaled by `width` (at least 1 each)."""
     if isinstance(width, bool) or not isinstance(width, (int, float)) or not 0 < width <= 1:
-        raise ValueError(f"cae_widths.widths: each width must be a fraction of Table 5's channels in (0, 1], got {width!r}")
+        raise ValueError(
+            f"cae_widths.widths: each width must be a fraction of Table 5's channels in (0, 1], got {width!r}"
+        )
     return [max(1, round(width * channels)) for channels in TABLE5_CHANNELS]
 
 
@@ -52,7 +65,9 @@ def width_label(width: float) -> str:
     return str(Fraction(width).limit_denominator(256))
 
 
-def agreement(descriptors: tuple[np.ndarray, np.ndarray], reference: tuple[np.ndarray, np.ndarray], metric: str) -> float:
+def agreement(
+    descriptors: tuple[np.ndarray, np.ndarray], reference: tuple[np.ndarray, np.ndarray], metric: str
+) -> float:
     """Fraction of queries whose best database match is the same under both descriptors
     ((database, queries) each), with the same distance."""
     ours = best_matches(distance_matrix(*descriptors, metric=metric))[0]
@@ -68,9 +83,16 @@ def mean_cosine(first: np.ndarray, second: np.ndarray) -> float:
     return float(np.mean(cosines))
 
 
-def describe_width(learner, raw_described: Mapping[str, np.ndarray], test: Mapping[str, np.ndarray],
-                   places: np.ndarray, pairs: Sequence[tuple[str, str]], evaluate: EvaluateConfig,
-                   sequence: SequenceConfig, batch_size: int) -> dict[str, Any]:
+def describe_width(
+    learner,
+    raw_described: Mapping[str, np.ndarray],
+    test: Mapping[str, np.ndarray],
+    places: np.ndarray,
+    pairs: Sequence[tuple[str, str]],
+    evaluate: EvaluateConfig,
+    sequence: SequenceConfig,
+    batch_size: int,
+) -> dict[str, Any]:
     """Fraction correct, agreement with raw_patchnorm (raw_described[season]: its descriptors of
     test[season]) per descriptor and pair, and the cosine of the patch-normalised output with the
     patch-normalised input, of a fitted CAE."""
@@ -80,10 +102,16 @@ def describe_width(learner, raw_described: Mapping[str, np.ndarray], test: Mappi
     for descriptor in DESCRIPTORS:
         ours = described[descriptor]
         record[descriptor] = {
-            "fraction_correct": {f"{a}-{b}": match_pair(ours[a], ours[b], places, places, "single", evaluate,
-                                                        sequence)[0]["fraction_correct"] for a, b in pairs},
-            "agreement_with_raw": {f"{a}-{b}": agreement((ours[a], ours[b]), (raw_described[a], raw_described[b]),
-                                                         evaluate.metric) for a, b in pairs},
+            "fraction_correct": {
+                f"{a}-{b}": match_pair(ours[a], ours[b], places, places, "single", evaluate, sequence)[0][
+                    "fraction_correct"
+                ]
+                for a, b in pairs
+            },
+            "agreement_with_raw": {
+                f"{a}-{b}": agreement((ours[a], ours[b]), (raw_described[a], raw_described[b]), evaluate.metric)
+                for a, b in pairs
+            },
         }
     return record
 
@@ -111,9 +139,14 @@ def run_width_sweep(
     record: dict[str, Any] = {
         "pairs": [f"{a}-{b}" for a, b in pairs],
         "metric": evaluate.metric,
-        "raw_patchnorm": {"fraction_correct": {
-            f"{a}-{b}": match_pair(raw_test[a], raw_test[b], places, places, "single", evaluate, sequence)[0][
-                "fraction_correct"] for a, b in pairs}},
+        "raw_patchnorm": {
+            "fraction_correct": {
+                f"{a}-{b}": match_pair(raw_test[a], raw_test[b], places, places, "single", evaluate, sequence)[0][
+                    "fraction_correct"
+                ]
+                for a, b in pairs
+            }
+        },
         "widths": {},
     }
     for width in widths:
@@ -124,7 +157,9 @@ def run_width_sweep(
             learner = new_cae(channels)
             learner.fit(images, progress=True, places=image_places)
         record["widths"][width_label(width)] = {
-            "width": float(width), "channels": channels, "reused": width in fitted,
+            "width": float(width),
+            "channels": channels,
+            "reused": width in fitted,
             **{key: learner.fit_info[key] for key in FIT_RECORD},
             **describe_width(learner, raw_test, test, places, pairs, evaluate, sequence, batch_size),
         }
@@ -140,20 +175,34 @@ def width_table(record: Mapping[str, Any]) -> str:
     """The sweep as a markdown table: one row per width, fraction correct (%) per pair for the
     patch-normalised output and the code, agreement with raw_patchnorm, fit facts."""
     pairs = record["pairs"]
-    header = (["width", "channels", "converged (epochs)", "best val. loss", "cos(out, in)"]
-              + [f"out {pair}" for pair in pairs] + [f"code {pair}" for pair in pairs]
-              + [f"out = raw {pair}" for pair in pairs])
+    header = (
+        ["width", "channels", "converged (epochs)", "best val. loss", "cos(out, in)"]
+        + [f"out {pair}" for pair in pairs]
+        + [f"code {pair}" for pair in pairs]
+        + [f"out = raw {pair}" for pair in pairs]
+    )
     rows = []
     for label, row in by_width(record):
         converged = f"{'yes' if row['converged'] else 'no: ' + row['stop_reason']} ({row['epochs_run']})"
-        rows.append([label, "/".join(map(str, row["channels"])), converged, f"{row['best_validation_loss']:.5f}",
-                     f"{row['cosine_with_input']:.3f}"]
-                    + [f"{100 * row['output_patchnorm']['fraction_correct'][p]:.1f}" for p in pairs]
-                    + [f"{100 * row['code']['fraction_correct'][p]:.1f}" for p in pairs]
-                    + [f"{100 * row['output_patchnorm']['agreement_with_raw'][p]:.1f}" for p in pairs])
+        rows.append(
+            [
+                label,
+                "/".join(map(str, row["channels"])),
+                converged,
+                f"{row['best_validation_loss']:.5f}",
+                f"{row['cosine_with_input']:.3f}",
+            ]
+            + [f"{100 * row['output_patchnorm']['fraction_correct'][p]:.1f}" for p in pairs]
+            + [f"{100 * row['code']['fraction_correct'][p]:.1f}" for p in pairs]
+            + [f"{100 * row['output_patchnorm']['agreement_with_raw'][p]:.1f}" for p in pairs]
+        )
     raw = record["raw_patchnorm"]["fraction_correct"]
-    rows.append(["raw_patchnorm", "", "", "", "1.000"] + [f"{100 * raw[p]:.1f}" for p in pairs]
-                + [""] * len(pairs) + ["100.0"] * len(pairs))
+    rows.append(
+        ["raw_patchnorm", "", "", "", "1.000"]
+        + [f"{100 * raw[p]:.1f}" for p in pairs]
+        + [""] * len(pairs)
+        + ["100.0"] * len(pairs)
+    )
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     lines += ["| " + " | ".join(row) + " |" for row in rows]
     return "\n".join(lines) + "\n"
@@ -163,12 +212,26 @@ def write_width_sweep(record: Mapping[str, Any], json_path: Path, figure_path: P
     """metrics/cae_widths.json, its figure (fraction correct against width) and its markdown table."""
     write_json(json_path, record)
     labels = [label for label, _ in by_width(record)]
-    series = {f"{'output' if descriptor == 'output_patchnorm' else descriptor} {pair}": (
-        labels, [100 * record["widths"][label][descriptor]["fraction_correct"][pair] for label in labels])
-        for descriptor in DESCRIPTORS for pair in record["pairs"]}
-    series.update({f"raw_patchnorm {pair}": (labels, [100 * record["raw_patchnorm"]["fraction_correct"][pair]] * len(labels))
-                   for pair in record["pairs"]})
-    plot_series(series, figure_path, title=f"CAE width (fraction of Table 5's channels), single image, {record['metric']}",
-                xlabel="width", ylabel="fraction correct (%)")
+    series = {
+        f"{'output' if descriptor == 'output_patchnorm' else descriptor} {pair}": (
+            labels,
+            [100 * record["widths"][label][descriptor]["fraction_correct"][pair] for label in labels],
+        )
+        for descriptor in DESCRIPTORS
+        for pair in record["pairs"]
+    }
+    series.update(
+        {
+            f"raw_patchnorm {pair}": (labels, [100 * record["raw_patchnorm"]["fraction_correct"][pair]] * len(labels))
+            for pair in record["pairs"]
+        }
+    )
+    plot_series(
+        series,
+        figure_path,
+        title=f"CAE width (fraction of Table 5's channels), single image, {record['metric']}",
+        xlabel="width",
+        ylabel="fraction correct (%)",
+    )
     with staged_file(Path(table_path)) as tmp:
         tmp.write_text(width_table(record))

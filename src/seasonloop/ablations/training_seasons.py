@@ -16,27 +16,28 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.params.schema import check_seasons, pair_name, pair_present, parse_pair
 from seasonloop.evaluation.matchers import match_pair
 from seasonloop.io import write_json
-from seasonloop.plots import plot_message, plot_series
+from seasonloop.params.schema import check_seasons, pair_name, pair_present, parse_pair
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.plots import plot_message, plot_series
 
 
 @dataclass(frozen=True)
 class AblationPlan:
-    pair: tuple[str, str] | None          # None when skipped
+    pair: tuple[str, str] | None  # None when skipped
     season_sets: list[list[str]]
-    notes: list[str] = field(default_factory=list)   # what was adapted, one line each
-    skipped: str | None = None            # why nothing is fitted
+    notes: list[str] = field(default_factory=list)  # what was adapted, one line each
+    skipped: str | None = None  # why nothing is fitted
 
     @property
     def labels(self) -> list[str]:
         return ["+".join(chosen) for chosen in self.season_sets]
 
 
-def plan_ablation(seasons: Sequence[str], pair: str, training_seasons: Sequence[Sequence[str]],
-                  evaluate_pairs: Sequence[str]) -> AblationPlan:
+def plan_ablation(
+    seasons: Sequence[str], pair: str, training_seasons: Sequence[Sequence[str]], evaluate_pairs: Sequence[str]
+) -> AblationPlan:
     """The pair and training-season lists to run with `seasons` present (see the module doc)."""
     parse_pair(pair, "ablation.pair")
     # names are checked against every season, so a typo is an error, not a silently dropped list
@@ -44,7 +45,9 @@ def plan_ablation(seasons: Sequence[str], pair: str, training_seasons: Sequence[
     if not requested:
         raise ValueError("ablation.training_seasons: expected a non-empty list of season lists")
     if len(seasons) < 2:
-        return AblationPlan(None, [], skipped=f"skipped: it needs two seasons and data.seasons has only {list(seasons)}")
+        return AblationPlan(
+            None, [], skipped=f"skipped: it needs two seasons and data.seasons has only {list(seasons)}"
+        )
     (database, query), note = pair_present(pair, seasons, evaluate_pairs, "ablation.pair")
     notes = [note] if note else []
     season_sets: list[list[str]] = []
@@ -54,10 +57,14 @@ def plan_ablation(seasons: Sequence[str], pair: str, training_seasons: Sequence[
             season_sets.append(kept)
     dropped = [chosen for chosen in requested if [s for s in chosen if s in seasons] != chosen]
     if dropped:
-        notes.append("ablation.training_seasons: seasons not in data.seasons left out of "
-                     + ", ".join("+".join(chosen) for chosen in dropped))
+        notes.append(
+            "ablation.training_seasons: seasons not in data.seasons left out of "
+            + ", ".join("+".join(chosen) for chosen in dropped)
+        )
     if not season_sets:
-        return AblationPlan(None, [], notes, skipped="skipped: no list of ablation.training_seasons has a season of data.seasons")
+        return AblationPlan(
+            None, [], notes, skipped="skipped: no list of ablation.training_seasons has a season of data.seasons"
+        )
     return AblationPlan((database, query), season_sets, notes)
 
 
@@ -76,6 +83,7 @@ def run_ablation(
     place ids go to fit, so that an auto-encoder holds out whole places (every season and augmented
     copy of them) for validation. test[season] are the test images of the pair's seasons, both at
     `places`."""
+    assert plan.pair is not None and plan.labels is not None and plan.season_sets is not None, "a skipped plan"
     database, query = plan.pair
     fraction_correct: dict[str, dict[str, float]] = {}
     for method, new_learner in new_learners.items():
@@ -84,24 +92,40 @@ def run_ablation(
             learner = new_learner()
             images, image_places = training_set(chosen)
             learner.fit(images, progress=True, places=image_places)
-            metrics, _, _ = match_pair(learner.describe(test[database]), learner.describe(test[query]),
-                                       places, places, "single", evaluate, sequence)
+            metrics, _, _ = match_pair(
+                learner.describe(test[database]),
+                learner.describe(test[query]),
+                places,
+                places,
+                "single",
+                evaluate,
+                sequence,
+            )
             fraction_correct[method][label] = metrics["fraction_correct"]
     return fraction_correct
 
 
-def write_ablation(plan: AblationPlan, fraction_correct: dict[str, dict[str, float]] | None, record: Path,
-                   figure: Path) -> None:
+def write_ablation(
+    plan: AblationPlan, fraction_correct: dict[str, dict[str, float]] | None, record: Path, figure: Path
+) -> None:
     """The ablation's JSON record and its figure (study Fig. 18); for a skipped plan, both say why."""
     if plan.skipped:
         write_json(record, {"skipped": plan.skipped})
         plot_message(figure, f"Training-season effect {plan.skipped}")
         return
+    assert plan.pair is not None and plan.labels is not None and fraction_correct is not None
     pair = pair_name(*plan.pair)
     # season_sets keeps the order (the JSON's keys are sorted)
-    write_json(record, {"pair": pair, "season_sets": plan.labels, "notes": plan.notes,
-                        "fraction_correct": fraction_correct})
-    plot_series({method: (plan.labels, [100 * values[label] for label in plan.labels])
-                 for method, values in fraction_correct.items()},
-                figure, title=f"Training-season effect on {pair}", xlabel="training seasons",
-                ylabel="fraction correct (%)")
+    write_json(
+        record, {"pair": pair, "season_sets": plan.labels, "notes": plan.notes, "fraction_correct": fraction_correct}
+    )
+    plot_series(
+        {
+            method: (plan.labels, [100 * values[label] for label in plan.labels])
+            for method, values in fraction_correct.items()
+        },
+        figure,
+        title=f"Training-season effect on {pair}",
+        xlabel="training seasons",
+        ylabel="fraction correct (%)",
+    )

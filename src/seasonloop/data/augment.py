@@ -29,6 +29,7 @@ def augment_images(
     dx = np.rint(rng.uniform(-width_shift, width_shift, n) * width).astype(int)
     dy = np.rint(rng.uniform(-height_shift, height_shift, n) * height).astype(int)
     flip = rng.random(n) < 0.5 if horizontal_flip else np.zeros(n, bool)
+    assert isinstance(flip, np.ndarray)
     # output pixel x of a flipped-then-shifted image reads source column W-1-clip(x-dx)
     cols = np.clip(np.arange(width)[None, :] - dx[:, None], 0, width - 1)
     cols = np.where(flip[:, None], width - 1 - cols, cols)

@@ -37,25 +37,30 @@ class Matcher:
     distances: MatchDistances
 
 
-def _single_image(distances: np.ndarray, database_places: np.ndarray, query_places: np.ndarray,
-                  sequence: SequenceConfig) -> np.ndarray:
+def _single_image(
+    distances: np.ndarray, database_places: np.ndarray, query_places: np.ndarray, sequence: SequenceConfig
+) -> np.ndarray:
     return distances
 
 
-def _sequence(distances: np.ndarray, database_places: np.ndarray, query_places: np.ndarray,
-              sequence: SequenceConfig) -> np.ndarray:
+def _sequence(
+    distances: np.ndarray, database_places: np.ndarray, query_places: np.ndarray, sequence: SequenceConfig
+) -> np.ndarray:
     # Sequence matching restarts at every break in the place ids (seasonloop.evaluation.sequence).
     return sequence_distances(
-        distances, length=int(sequence.length), v_min=float(sequence.v_min), v_max=float(sequence.v_max),
-        v_steps=int(sequence.v_steps), window=int(sequence.window),
-        query_places=query_places, database_places=database_places)
+        distances,
+        length=int(sequence.length),
+        v_min=float(sequence.v_min),
+        v_max=float(sequence.v_max),
+        v_steps=int(sequence.v_steps),
+        window=int(sequence.window),
+        query_places=query_places,
+        database_places=database_places,
+    )
 
 
 # A new matcher is one function plus one line here; the order is config.MATCHER_NAMES'.
-MATCHER_REGISTRY: dict[str, Matcher] = {
-    "single": Matcher("", _single_image),
-    "sequence": Matcher("+seq", _sequence),
-}
+MATCHER_REGISTRY: dict[str, Matcher] = {"single": Matcher("", _single_image), "sequence": Matcher("+seq", _sequence)}
 # matcher -> the suffix its results carry in file names and tables ("pca" vs "pca+seq")
 MATCHERS: dict[str, str] = {name: matcher.suffix for name, matcher in MATCHER_REGISTRY.items()}
 
@@ -75,8 +80,11 @@ def result_suffix(metric: str, matcher: str, evaluate: EvaluateConfig) -> str:
 def evaluations(evaluate: EvaluateConfig) -> list[tuple[str, str, str]]:
     """(metric, matcher, suffix) of every evaluation of a learner on a pair, in table order: the
     main metric's matchers first, then each extra metric's."""
-    return [(metric, matcher, result_suffix(metric, matcher, evaluate))
-            for metric in [evaluate.metric, *evaluate.extra_metrics] for matcher in evaluate.matchers]
+    return [
+        (metric, matcher, result_suffix(metric, matcher, evaluate))
+        for metric in [evaluate.metric, *evaluate.extra_metrics]
+        for matcher in evaluate.matchers
+    ]
 
 
 def match_distances(
@@ -93,9 +101,14 @@ def match_distances(
     settings.
     """
     distances = get_matcher(matcher).distances(distances, database_places, query_places, sequence)
-    metrics, pr = evaluate_pair(distances, database_places, query_places,
-                                tolerance=int(evaluate.tolerance_frames), confidence=evaluate.confidence,
-                                ratio_exclusion=int(evaluate.ratio_exclusion))
+    metrics, pr = evaluate_pair(
+        distances,
+        database_places,
+        query_places,
+        tolerance=int(evaluate.tolerance_frames),
+        confidence=evaluate.confidence,
+        ratio_exclusion=int(evaluate.ratio_exclusion),
+    )
     return metrics, pr, distances
 
 

@@ -49,6 +49,7 @@ def _cosine(database: np.ndarray) -> BatchDistances:
         similarity = _unit_rows(batch) @ database.T
         # Rounding can push similarity slightly outside [-1, 1].
         return np.clip(1.0 - similarity, 0.0, 2.0)
+
     return distances
 
 
@@ -56,13 +57,10 @@ def _euclidean(database: np.ndarray) -> BatchDistances:
     database_sq_norms = np.einsum("ij,ij->i", database, database)
 
     def distances(batch: np.ndarray) -> np.ndarray:
-        squared = (
-            np.einsum("ij,ij->i", batch, batch)[:, None]
-            + database_sq_norms[None, :]
-            - 2.0 * (batch @ database.T)
-        )
+        squared = np.einsum("ij,ij->i", batch, batch)[:, None] + database_sq_norms[None, :] - 2.0 * (batch @ database.T)
         # Cancellation in the expanded form can give tiny negatives for identical vectors.
         return np.sqrt(np.maximum(squared, 0.0))
+
     return distances
 
 
@@ -71,6 +69,7 @@ def _cityblock(database: np.ndarray) -> BatchDistances:
 
     def distances(batch: np.ndarray) -> np.ndarray:
         return torch.cdist(torch.from_numpy(batch), database_tensor, p=1.0).numpy()
+
     return distances
 
 
@@ -104,8 +103,7 @@ def distance_matrix(
         raise ValueError(f"unknown metric {metric!r}; expected one of {METRICS}")
     if database.shape[1] != queries.shape[1]:
         raise ValueError(
-            f"descriptor dimensions differ: database has D={database.shape[1]}, "
-            f"queries have D={queries.shape[1]}"
+            f"descriptor dimensions differ: database has D={database.shape[1]}, queries have D={queries.shape[1]}"
         )
     if int(batch_size) < 1:
         raise ValueError(f"batch_size must be >= 1, got {batch_size}")
@@ -120,10 +118,7 @@ def distance_matrix(
 
 
 def best_matches(
-    distances: np.ndarray,
-    confidence: str = "distance",
-    database_places: np.ndarray | None = None,
-    exclusion: int = 0,
+    distances: np.ndarray, confidence: str = "distance", database_places: np.ndarray | None = None, exclusion: int = 0
 ) -> tuple[np.ndarray, np.ndarray]:
     """Best database column per query row and a confidence for it (higher = more confident).
 
@@ -151,18 +146,30 @@ def best_matches(
     return best_columns, CONFIDENCES[confidence](distances, best_columns, best_distances, database_places, exclusion)
 
 
-def _distance_confidence(distances: np.ndarray, best_columns: np.ndarray, best_distances: np.ndarray,
-                         database_places: np.ndarray | None, exclusion: int) -> np.ndarray:
+def _distance_confidence(
+    distances: np.ndarray,
+    best_columns: np.ndarray,
+    best_distances: np.ndarray,
+    database_places: np.ndarray | None,
+    exclusion: int,
+) -> np.ndarray:
     return -best_distances
 
 
-def _ratio_confidence(distances: np.ndarray, best_columns: np.ndarray, best_distances: np.ndarray,
-                      database_places: np.ndarray | None, exclusion: int) -> np.ndarray:
+def _ratio_confidence(
+    distances: np.ndarray,
+    best_columns: np.ndarray,
+    best_distances: np.ndarray,
+    database_places: np.ndarray | None,
+    exclusion: int,
+) -> np.ndarray:
     if isinstance(exclusion, bool) or not isinstance(exclusion, (int, np.integer)) or exclusion < 0:
         raise ValueError(f"exclusion must be a non-negative integer number of places, got {exclusion!r}")
     places = np.arange(distances.shape[1]) if database_places is None else np.asarray(database_places)
     if places.shape != (distances.shape[1],) or not np.issubdtype(places.dtype, np.integer):
-        raise ValueError(f"database_places must be {distances.shape[1]} integer place ids, got {places.shape} {places.dtype}")
+        raise ValueError(
+            f"database_places must be {distances.shape[1]} integer place ids, got {places.shape} {places.dtype}"
+        )
     if (distances < 0).any():
         raise ValueError("confidence 'ratio' needs non-negative distances")
     places = places.astype(np.int64)
@@ -185,7 +192,4 @@ def _ratio_confidence(distances: np.ndarray, best_columns: np.ndarray, best_dist
 
 # confidence -> (distances, best columns, best distances, database places, exclusion) -> one
 # confidence per query, higher = more confident (see best_matches). The order is config.CONFIDENCES'.
-CONFIDENCES: dict[str, Callable[..., np.ndarray]] = {
-    "distance": _distance_confidence,
-    "ratio": _ratio_confidence,
-}
+CONFIDENCES: dict[str, Callable[..., np.ndarray]] = {"distance": _distance_confidence, "ratio": _ratio_confidence}

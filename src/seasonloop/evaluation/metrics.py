@@ -62,9 +62,7 @@ def correct_matches(matched_places, query_places, tolerance: int) -> np.ndarray:
     query_places = _as_places(query_places, "query_places")
     tolerance = _check_tolerance(tolerance)
     if matched_places.shape != query_places.shape:
-        raise ValueError(
-            f"matched_places has {matched_places.size} entries but query_places has {query_places.size}"
-        )
+        raise ValueError(f"matched_places has {matched_places.size} entries but query_places has {query_places.size}")
     return np.abs(matched_places - query_places) <= tolerance
 
 
@@ -100,9 +98,7 @@ def pr_curve(confidence: np.ndarray, correct: np.ndarray) -> tuple[np.ndarray, n
     false_negatives = confidence.size - accepted
     precision = true_positives / accepted
     found = true_positives + false_negatives
-    recall = np.divide(
-        true_positives, found, out=np.zeros(accepted.size), where=true_positives > 0
-    )
+    recall = np.divide(true_positives, found, out=np.zeros(accepted.size), where=true_positives > 0)
     return recall, precision
 
 
@@ -129,11 +125,7 @@ def auc_pr_vpr_tutorial(confidence: np.ndarray, correct: np.ndarray, n_threshold
 
 
 def recall_at_n(
-    distances: np.ndarray,
-    database_places,
-    query_places,
-    tolerance: int,
-    ns: Sequence[int] = (1, 5, 10),
+    distances: np.ndarray, database_places, query_places, tolerance: int, ns: Sequence[int] = (1, 5, 10)
 ) -> dict[int, float]:
     """Fraction of queries with a database image within tolerance among their N nearest, per N.
 

@@ -12,17 +12,25 @@ from pathlib import Path
 
 import numpy as np
 
-from seasonloop.params.schema import pair_name
 from seasonloop.evaluation.matchers import evaluations, match_distances
-from seasonloop.io import load_array, write_json
 from seasonloop.evaluation.matching import distance_matrix
-from seasonloop.plots import plot_distance_matrix
+from seasonloop.io import load_array, write_json
+from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.plots import plot_distance_matrix
 
 
-def evaluate_learner(method: str, features: Path, pairs: Sequence[tuple[str, str]], places: np.ndarray,
-                     evaluate: EvaluateConfig, sequence: SequenceConfig,
-                     metrics_dir: Path, pr_dir: Path, similarity_dir: Path) -> None:
+def evaluate_learner(
+    method: str,
+    features: Path,
+    pairs: Sequence[tuple[str, str]],
+    places: np.ndarray,
+    evaluate: EvaluateConfig,
+    sequence: SequenceConfig,
+    metrics_dir: Path,
+    pr_dir: Path,
+    similarity_dir: Path,
+) -> None:
     """Evaluate the descriptors features/<season>.npy of `method` on `pairs` (database, query);
     writes <pair><suffix>.json to metrics_dir, .csv to pr_dir and .png to similarity_dir."""
     if not pairs:
@@ -31,12 +39,15 @@ def evaluate_learner(method: str, features: Path, pairs: Sequence[tuple[str, str
     for database, query in pairs:
         descriptors = [load_array(features / f"{season}.npy") for season in (database, query)]
         # One distance matrix per metric, shared by its matchers.
-        distances = {metric: distance_matrix(*descriptors, metric=metric)
-                     for metric in dict.fromkeys(metric for metric, _, _ in variants)}
+        distances = {
+            metric: distance_matrix(descriptors[0], descriptors[1], metric=metric)
+            for metric in dict.fromkeys(metric for metric, _, _ in variants)
+        }
         for metric, matcher, suffix in variants:
             name = pair_name(database, query) + suffix
             metrics, pr, matched = match_distances(distances[metric], places, places, matcher, evaluate, sequence)
             write_json(metrics_dir / f"{name}.json", metrics)
             pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
-            plot_distance_matrix(matched, f"{method}{suffix}: {database} (database) vs {query} (queries)",
-                                 similarity_dir / f"{name}.png")
+            plot_distance_matrix(
+                matched, f"{method}{suffix}: {database} (database) vs {query} (queries)", similarity_dir / f"{name}.png"
+            )

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from seasonloop.params.schema import MIN_SEQUENCE_WINDOW
+
 # Rows processed at once by enhance_distance_contrast: bounds its float64 temporaries (~6 x rows x M x 8 B).
 _ENHANCE_ROWS_PER_BLOCK = 256
 
@@ -32,8 +34,8 @@ def enhance_distance_contrast(distances: np.ndarray, window: int = 10) -> np.nda
     Window sums come from cumulative sums; returns float32.
     """
     distances = _as_distance_matrix(distances)
-    if isinstance(window, bool) or not isinstance(window, (int, np.integer)) or window < 2:
-        raise ValueError(f"window must be an integer >= 2 (database columns), got {window!r}")
+    if isinstance(window, bool) or not isinstance(window, (int, np.integer)) or window < MIN_SEQUENCE_WINDOW:
+        raise ValueError(f"window must be an integer >= {MIN_SEQUENCE_WINDOW} (database columns), got {window!r}")
     half = int(window) // 2
     n_queries, n_database = distances.shape
     columns = np.arange(n_database)
@@ -93,9 +95,15 @@ def _check_trajectories(length: int, v_min: float, v_max: float, v_steps: int) -
         raise ValueError(f"need finite v_min <= v_max, got v_min={v_min!r}, v_max={v_max!r}")
 
 
-def _add_trajectory_step(total: np.ndarray, enhanced: np.ndarray, step: int, shift: int,
-                         query_since_start: np.ndarray, database_since_start: np.ndarray,
-                         database_to_end: np.ndarray) -> None:
+def _add_trajectory_step(
+    total: np.ndarray,
+    enhanced: np.ndarray,
+    step: int,
+    shift: int,
+    query_since_start: np.ndarray,
+    database_since_start: np.ndarray,
+    database_to_end: np.ndarray,
+) -> None:
     """Add step `step` (database shift `shift`) of every trajectory to `total`, in place.
 
     Target (i, j) reads source (i - step, j - shift), for the queries whose segment reaches back

@@ -10,7 +10,7 @@ from typing import Any
 
 from seasonloop.params.seasons import SEASONS, check_seasons, parse_pair
 
-Check = Callable[[str, Any], None]   # (dotted key, value) -> None, or a ValueError naming the key
+Check = Callable[[str, Any], None]  # (dotted key, value) -> None, or a ValueError naming the key
 
 
 def _fail(key: str, expected: str, value: Any) -> None:
@@ -19,22 +19,39 @@ def _fail(key: str, expected: str, value: Any) -> None:
 
 def integer(minimum: int | None = None, maximum: int | None = None) -> Check:
     def check(key: str, value: Any) -> None:
-        if isinstance(value, bool) or not isinstance(value, int) \
-                or (minimum is not None and value < minimum) or (maximum is not None and value > maximum):
-            _fail(key, "an integer" + (f" >= {minimum}" if minimum is not None else "")
-                  + (f" <= {maximum}" if maximum is not None else ""), value)
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int)
+            or (minimum is not None and value < minimum)
+            or (maximum is not None and value > maximum)
+        ):
+            _fail(
+                key,
+                "an integer"
+                + (f" >= {minimum}" if minimum is not None else "")
+                + (f" <= {maximum}" if maximum is not None else ""),
+                value,
+            )
+
     return check
 
 
-def number(low: float | None = None, high: float | None = None, low_open: bool = False, high_open: bool = False) -> Check:
+def number(
+    low: float | None = None, high: float | None = None, low_open: bool = False, high_open: bool = False
+) -> Check:
     def check(key: str, value: Any) -> None:
         ok = not isinstance(value, bool) and isinstance(value, (int, float))
         ok = ok and (low is None or (value > low if low_open else value >= low))
         ok = ok and (high is None or (value < high if high_open else value <= high))
         if not ok:
-            bounds = ("(" if low_open else "[") + f"{low if low is not None else '-inf'}, " \
-                     + f"{high if high is not None else 'inf'}" + (")" if high_open or high is None else "]")
+            bounds = (
+                ("(" if low_open else "[")
+                + f"{low if low is not None else '-inf'}, "
+                + f"{high if high is not None else 'inf'}"
+                + (")" if high_open or high is None else "]")
+            )
             _fail(key, f"a number in {bounds}", value)
+
     return check
 
 
@@ -52,6 +69,7 @@ def one_of(*choices: str) -> Check:
     def check(key: str, value: Any) -> None:
         if value not in choices:
             raise ValueError(f"{key}: unknown value {value!r} (known: {', '.join(choices)})")
+
     return check
 
 
@@ -63,6 +81,7 @@ def list_of(item: Check, non_empty: bool = True, unique: bool = True) -> Check:
             item(key, entry)
         if unique and len({repr(entry) for entry in value}) != len(value):
             raise ValueError(f"{key}: repeated entry in {list(value)}")
+
     return check
 
 
@@ -84,4 +103,5 @@ def season_map(item: Check) -> Check:
             if season not in SEASONS:
                 raise ValueError(f"{key}: unknown season '{season}' (known: {', '.join(SEASONS)})")
             item(f"{key}.{season}", entry)
+
     return check

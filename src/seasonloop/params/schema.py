@@ -10,18 +10,7 @@ from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 # re-exported, so that `from seasonloop.params.schema import SEASONS, parse_pair, ...` keeps working
-from seasonloop.params.checks import (  # noqa: F401
-    Check,
-    boolean,
-    integer,
-    list_of,
-    number,
-    one_of,
-    pair,
-    season_map,
-    seasons,
-    text,
-)
+from seasonloop.params.checks import Check, boolean, integer, list_of, number, one_of, pair, season_map, seasons, text  # noqa: F401
 from seasonloop.params.seasons import (  # noqa: F401
     SEASONS,
     STUDY_PAIRS,
@@ -44,7 +33,28 @@ CONFIDENCES = ("distance", "ratio")
 MATCHER_NAMES = ("single", "sequence")
 CONTRAST_METHODS = ("clahe", "equalize", "none")
 SOURCES = ("synthetic", "videos", "frames")
-LEARNER_SECTIONS = ("raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw", "fae", "cae")
+# The keys of each learner's section: its class's `defaults` (seasonloop.models.<name>), repeated so
+# that checking the whole file imports no learner; tests/test_config.py keeps both equal. Their
+# values are checked by the learner class when it is built (fit@<learner>), where the ranges live.
+_TRAINING_KEYS = (
+    "max_epochs", "batch_size", "learning_rate", "patience", "min_delta", "lr_patience", "lr_factor",
+    "budget_seconds", "validation_fraction", "validation_block", "max_validation_images", "precision", "threads",
+    "descriptor", "patch_size", "device", "max_train_images",
+)  # fmt: skip
+LEARNER_KEYS: dict[str, tuple[str, ...]] = {
+    "raw_patchnorm": ("patch_size", "mode"),
+    "pca": ("n_discard", "n_keep", "svd_solver"),
+    "pca_whiten": ("n_discard", "n_keep", "svd_solver", "max_train_images"),
+    "ica": ("n_components", "algorithm", "fun", "max_iter", "tol", "whiten_solver", "max_train_images", "solver",
+            "device"),
+    "ica_bovw": ("patch_size", "stride", "n_train_patches", "n_components", "n_words", "kmeans", "max_iter", "tol"),
+    "fae": ("hidden", "activation", *_TRAINING_KEYS),
+    "cae": ("channels", "kernels", "output_kernel", *_TRAINING_KEYS),
+}  # fmt: skip
+LEARNER_SECTIONS = tuple(LEARNER_KEYS)
+
+# SeqSLAM's contrast-enhancement window spans at least 2 database columns
+MIN_SEQUENCE_WINDOW = 2
 
 SCHEMA: dict[str, dict[str, Check]] = {
     "data": {
@@ -106,13 +116,8 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "height_shift": number(0, 1, high_open=True),
         "seed": integer(0),
     },
-    "train": {
-        "seasons": seasons,
-        "augmented": boolean,
-    },
-    "features": {
-        "batch_size": integer(1),
-    },
+    "train": {"seasons": seasons, "augmented": boolean},
+    "features": {"batch_size": integer(1)},
     "evaluate": {
         "pairs": list_of(pair),
         "metric": one_of(*DISTANCE_METRICS),
@@ -127,16 +132,11 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "v_min": number(0, None, low_open=True),
         "v_max": number(0, None, low_open=True),
         "v_steps": integer(1),
-        "window": integer(1),
+        # one source for the range: seasonloop.evaluation.sequence checks the same constant
+        "window": integer(MIN_SEQUENCE_WINDOW),
     },
-    "ablation": {
-        "methods": list_of(one_of(*LEARNER_SECTIONS)),
-        "pair": pair,
-        "training_seasons": list_of(seasons),
-    },
-    "report": {
-        "example_pair": pair,
-    },
+    "ablation": {"methods": list_of(one_of(*LEARNER_SECTIONS)), "pair": pair, "training_seasons": list_of(seasons)},
+    "report": {"example_pair": pair},
     "cae_widths": {
         # fractions of Table 5's channels [96, 256, 384] (seasonloop.ablations.cae_widths)
         "widths": list_of(number(0, 1, low_open=True)),
@@ -145,18 +145,17 @@ SCHEMA: dict[str, dict[str, Check]] = {
 }
 
 # Top-level keys that are values, not sections.
-TOP_LEVEL: dict[str, Check] = {
-    "seed": integer(0),
-    "learners": list_of(one_of(*LEARNER_SECTIONS)),
-}
+TOP_LEVEL: dict[str, Check] = {"seed": integer(0), "learners": list_of(one_of(*LEARNER_SECTIONS))}
 
 
 def _check_split(section: Mapping[str, Any]) -> None:
     length, fraction, gap = section["section_length"], section["test_fraction"], section["gap"]
     test = max(1, round(length * fraction))
     if length - test - 2 * gap < 1:
-        raise ValueError(f"split: a section of {length} places with a test block of {test} and gaps of {gap} "
-                         "on either side leaves no training place (split.section_length, test_fraction, gap)")
+        raise ValueError(
+            f"split: a section of {length} places with a test block of {test} and gaps of {gap} "
+            "on either side leaves no training place (split.section_length, test_fraction, gap)"
+        )
 
 
 def _check_synthetic(section: Mapping[str, Any]) -> None:
@@ -224,3 +223,19 @@ def check_params(params: Mapping[str, Any], keys: Sequence[str]) -> None:
             schema[name](f"{section_name}.{name}", section[name])
         if not sub and section_name in SECTION_CHECKS:
             SECTION_CHECKS[section_name](section)
+
+
+def check_whole(params: Mapping[str, Any]) -> None:
+    """Check all of params.yaml before any stage works: every section of the schema whole, the
+    top-level values, and the key names of every learner section (a typo anywhere stops the first
+    stage that runs, not the stage that reads it). Raises a ValueError naming the first bad key."""
+    check_params(params, [*TOP_LEVEL, *SCHEMA])
+    for name, keys in LEARNER_KEYS.items():
+        section = params.get(name)
+        if section is None:
+            continue
+        if not isinstance(section, Mapping):
+            raise ValueError(f"{name}: expected a mapping of the learner's params, got {section!r}")
+        unknown = [key for key in section if key not in keys]
+        if unknown:
+            raise ValueError(f"{name}.{unknown[0]}: unknown key (known: {', '.join(keys)})")

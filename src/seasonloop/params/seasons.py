@@ -51,7 +51,9 @@ def available_pairs(seasons: Sequence[str], pairs: Sequence[str]) -> list[tuple[
     return [(a, b) for a, b in chosen if a in seasons and b in seasons]
 
 
-def pair_present(name: str, seasons: Sequence[str], pairs: Sequence[str], key: str) -> tuple[tuple[str, str], str | None]:
+def pair_present(
+    name: str, seasons: Sequence[str], pairs: Sequence[str], key: str
+) -> tuple[tuple[str, str], str | None]:
     """The pair `name` (checked, named by `key`) if both its seasons are in `seasons`, else the first
     of `pairs` that is (else the first two seasons), with a one-line note saying so (None if kept)."""
     database, query = parse_pair(name, key)

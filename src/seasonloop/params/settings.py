@@ -181,6 +181,17 @@ class ReportConfig(Section):
 
 
 SECTIONS: tuple[type[Section], ...] = (
-    DataConfig, SyntheticConfig, ExtractConfig, PreprocessConfig, SplitConfig, AugmentConfig, TrainConfig,
-    FeaturesConfig, EvaluateConfig, SequenceConfig, AblationConfig, CaeWidthsConfig, ReportConfig,
+    DataConfig,
+    SyntheticConfig,
+    ExtractConfig,
+    PreprocessConfig,
+    SplitConfig,
+    AugmentConfig,
+    TrainConfig,
+    FeaturesConfig,
+    EvaluateConfig,
+    SequenceConfig,
+    AblationConfig,
+    CaeWidthsConfig,
+    ReportConfig,
 )

@@ -18,8 +18,10 @@ LOSS_COLUMNS = ["learner", "metric", "step", "value"]
 
 def pr_long(curves: Mapping[str, tuple[np.ndarray, np.ndarray]]) -> pd.DataFrame:
     """label -> (recall, precision) as one long table, a `learner` column naming the curve."""
-    frames = [pd.DataFrame({"learner": label, "recall": np.asarray(recall), "precision": np.asarray(precision)})
-              for label, (recall, precision) in curves.items()]
+    frames = [
+        pd.DataFrame({"learner": label, "recall": np.asarray(recall), "precision": np.asarray(precision)})
+        for label, (recall, precision) in curves.items()
+    ]
     return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=CURVE_COLUMNS)
 
 
@@ -37,6 +39,7 @@ def training_curves(logs: Path, learners: Sequence[str]) -> pd.DataFrame:
             value = [column for column in table.columns if column not in ("step", "timestamp")]
             if "step" not in table.columns or len(value) != 1:
                 raise ValueError(f"{tsv}: expected a dvclive step log (step and one value column)")
-            frames.append(pd.DataFrame({"learner": learner, "metric": name, "step": table["step"],
-                                        "value": table[value[0]]}))
+            frames.append(
+                pd.DataFrame({"learner": learner, "metric": name, "step": table["step"], "value": table[value[0]]})
+            )
     return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=LOSS_COLUMNS)

@@ -11,12 +11,13 @@ from pathlib import Path
 
 import numpy as np
 
-from seasonloop.io import load_array
 from seasonloop.evaluation.matching import best_matches, distance_matrix
 from seasonloop.evaluation.metrics import correct_matches
+from seasonloop.io import load_array
+from seasonloop.params.settings import EvaluateConfig
 from seasonloop.plots import plot_image_grid
 from seasonloop.reporting.html import Image, Png, Section, Text
-from seasonloop.params.settings import EvaluateConfig
+
 
 @dataclass(frozen=True)
 class Example:
@@ -45,16 +46,26 @@ def select_examples(
     """
     database_places, query_places = np.asarray(database_places), np.asarray(query_places)
     if np.shape(distances) != (len(query_places), len(database_places)):
-        raise ValueError(f"distances shape {np.shape(distances)} does not match "
-                         f"(queries, database) = ({len(query_places)}, {len(database_places)})")
+        raise ValueError(
+            f"distances shape {np.shape(distances)} does not match "
+            f"(queries, database) = ({len(query_places)}, {len(database_places)})"
+        )
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
     matches, scores = best_matches(distances, confidence, database_places, ratio_exclusion)
     correct = correct_matches(database_places[matches], query_places, tolerance)
     order = np.argsort(-scores, kind="stable")
     chosen = [*order[correct[order]][:n], *order[~correct[order]][:n]]
-    return [Example(query=int(q), match=int(matches[q]), truth=int(np.abs(database_places - query_places[q]).argmin()),
-                    correct=bool(correct[q]), confidence=float(scores[q])) for q in chosen]
+    return [
+        Example(
+            query=int(q),
+            match=int(matches[q]),
+            truth=int(np.abs(database_places - query_places[q]).argmin()),
+            correct=bool(correct[q]),
+            confidence=float(scores[q]),
+        )
+        for q in chosen
+    ]
 
 
 def example_grid_png(
@@ -70,8 +81,12 @@ def example_grid_png(
         raise ValueError("examples is empty: nothing to plot")
     rows = [[query_images[e.query], database_images[e.match], database_images[e.truth]] for e in examples]
     # short lines: the labels are drawn vertically beside images only a few lines tall
-    labels = [f"correct\nplace {query_places[e.query]}" if e.correct
-              else f"wrong\nplace {query_places[e.query]}\nmatched {database_places[e.match]}" for e in examples]
+    labels = [
+        f"correct\nplace {query_places[e.query]}"
+        if e.correct
+        else f"wrong\nplace {query_places[e.query]}\nmatched {database_places[e.match]}"
+        for e in examples
+    ]
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "examples.png"
         plot_image_grid(rows, path, row_labels=labels, col_labels=["query", "best match", "true match"], title=title)
@@ -94,18 +109,38 @@ def example_grids(
     grids = {}
     for method in methods:
         features = features_dir / method
-        distances = distance_matrix(load_array(features / f"{database}.npy"), load_array(features / f"{query}.npy"),
-                                    metric=evaluate.metric)
-        examples = select_examples(distances, places, places, evaluate.confidence,
-                                   int(evaluate.tolerance_frames), n, int(evaluate.ratio_exclusion))
-        grids[method] = example_grid_png(images[database], images[query], examples, places, places,
-                                         title=f"{method}: {query} queries vs {database} database")
+        distances = distance_matrix(
+            load_array(features / f"{database}.npy"), load_array(features / f"{query}.npy"), metric=evaluate.metric
+        )
+        examples = select_examples(
+            distances,
+            places,
+            places,
+            evaluate.confidence,
+            int(evaluate.tolerance_frames),
+            n,
+            int(evaluate.ratio_exclusion),
+        )
+        grids[method] = example_grid_png(
+            images[database],
+            images[query],
+            examples,
+            places,
+            places,
+            title=f"{method}: {query} queries vs {database} database",
+        )
     return grids
 
 
 def examples_section(pair: str, grids: Mapping[str, Png]) -> Section:
     """The example grids of one pair, learner -> PNG."""
-    return Section(f"Example matches and failures, {pair}", [
-        Text("Single-image matching. Per learner: the most confident correct matches, then the most "
-             "confident wrong ones (query, its best database match, the true database image)."),
-        *(Image(f"{method}, {pair}", png) for method, png in grids.items())])
+    return Section(
+        f"Example matches and failures, {pair}",
+        [
+            Text(
+                "Single-image matching. Per learner: the most confident correct matches, then the most "
+                "confident wrong ones (query, its best database match, the true database image)."
+            ),
+            *(Image(f"{method}, {pair}", png) for method, png in grids.items()),
+        ],
+    )

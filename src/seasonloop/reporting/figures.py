@@ -15,11 +15,11 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.params.schema import pair_name
 from seasonloop.evaluation.matchers import match_pair
 from seasonloop.models.registry import load_learner
-from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
+from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
 
 AE_DESCRIPTORS = ("code", "output", "output_patchnorm")
 AUTOENCODERS = ("fae", "cae")
@@ -29,9 +29,20 @@ N_WORDS_SHOWN, N_EXAMPLES_SHOWN = 12, 10
 FILTERS_PER_ROW = 16
 N_RECONSTRUCTIONS = 2  # test places shown per season
 # what the auto-encoder training record keeps of each auto-encoder's fit info
-TRAINING_RECORD = ("stop_reason", "converged", "epochs_run", "best_epoch", "best_validation_loss", "final_train_loss",
-                   "n_train_images", "n_validation_images", "images_seen", "training_seconds", "precision",
-                   "torch_threads")
+TRAINING_RECORD = (
+    "stop_reason",
+    "converged",
+    "epochs_run",
+    "best_epoch",
+    "best_validation_loss",
+    "final_train_loss",
+    "n_train_images",
+    "n_validation_images",
+    "images_seen",
+    "training_seconds",
+    "precision",
+    "torch_threads",
+)
 
 
 @dataclass(frozen=True)
@@ -44,7 +55,9 @@ class FigureRecords:
     notes: list[str] = field(default_factory=list)
 
 
-def autoencoder_descriptors(learner, test: Mapping[str, np.ndarray], batch_size: int) -> dict[str, dict[str, np.ndarray]]:
+def autoencoder_descriptors(
+    learner, test: Mapping[str, np.ndarray], batch_size: int
+) -> dict[str, dict[str, np.ndarray]]:
     """described[descriptor][season] for the three auto-encoder descriptors.
 
     One forward pass gives the code and the output, and the patch-normalised output is derived
@@ -59,7 +72,9 @@ def autoencoder_descriptors(learner, test: Mapping[str, np.ndarray], batch_size:
     return described
 
 
-def pca_projection_figure(pca, test: Mapping[str, np.ndarray], places: np.ndarray, seasons: Sequence[str], path: Path) -> None:
+def pca_projection_figure(
+    pca, test: Mapping[str, np.ndarray], places: np.ndarray, seasons: Sequence[str], path: Path
+) -> None:
     """Figure 2: the middle test place in two seasons and its projection on the first,
     condition-dependent principal components vs the kept ones."""
     # the study contrasts summer and winter; fall back to the first and last season present
@@ -67,22 +82,55 @@ def pca_projection_figure(pca, test: Mapping[str, np.ndarray], places: np.ndarra
     middle = len(places) // 2
     first, kept = int(pca.params["n_discard"]), int(pca.params["n_keep"])
     images = np.stack([test[season][middle] for season in shown])
-    rows = [[image, low, high] for image, low, high in zip(
-        images, pca.reconstruct(images, 0, first), pca.reconstruct(images, first, first + kept))]
-    plot_image_grid(rows, path, row_labels=[f"{s}, place {places[middle]}" for s in shown],
-                    col_labels=["image", f"PCs 1-{first}", f"PCs {first + 1}-{first + kept}"],
-                    title="Projection on the first vs the kept principal components (study Fig. 2)")
+    rows = [
+        [image, low, high]
+        for image, low, high in zip(
+            images, pca.reconstruct(images, 0, first), pca.reconstruct(images, first, first + kept)
+        )
+    ]
+    plot_image_grid(
+        rows,
+        path,
+        row_labels=[f"{s}, place {places[middle]}" for s in shown],
+        col_labels=["image", f"PCs 1-{first}", f"PCs {first + 1}-{first + kept}"],
+        title="Projection on the first vs the kept principal components (study Fig. 2)",
+    )
 
 
 def ica_figures(bovw, images: np.ndarray, season: str, out: Path) -> None:
     """Figures 12 (the patch-ICA filters) and 13 (patches of the most frequent visual words in `images`)."""
     filters = bovw.filters()
-    plot_image_grid([list(filters[i:i + FILTERS_PER_ROW]) for i in range(0, len(filters), FILTERS_PER_ROW)],
-                    out / "fig12_patch_ica_filters.png", title="ICA filters learned on image patches (study Fig. 12)")
+    plot_image_grid(
+        [list(filters[i : i + FILTERS_PER_ROW]) for i in range(0, len(filters), FILTERS_PER_ROW)],
+        out / "fig12_patch_ica_filters.png",
+        title="ICA filters learned on image patches (study Fig. 12)",
+    )
     examples = bovw.word_examples(images, N_WORDS_SHOWN, N_EXAMPLES_SHOWN)
-    plot_image_grid([[patch for patch in word if not np.isnan(patch).all()] for word in examples],
-                    out / "fig13_visual_words.png", row_labels=[f"word {i + 1}" for i in range(len(examples))],
-                    title=f"Patches of the {N_WORDS_SHOWN} most frequent visual words, {season} (study Fig. 13)")
+    plot_image_grid(
+        [[patch for patch in word if not np.isnan(patch).all()] for word in examples],
+        out / "fig13_visual_words.png",
+        row_labels=[f"word {i + 1}" for i in range(len(examples))],
+        title=f"Patches of the {N_WORDS_SHOWN} most frequent visual words, {season} (study Fig. 13)",
+    )
+
+
+def _fraction_correct(
+    described: Mapping[str, Mapping[str, np.ndarray]],
+    places: np.ndarray,
+    pairs: Sequence[tuple[str, str]],
+    evaluate: EvaluateConfig,
+    sequence: SequenceConfig,
+) -> dict[str, dict[str, float]]:
+    """Single-image fraction correct [descriptor][pair] of one auto-encoder's described test images."""
+    return {
+        descriptor: {
+            pair_name(a, b): match_pair(
+                described[descriptor][a], described[descriptor][b], places, places, "single", evaluate, sequence
+            )[0]["fraction_correct"]
+            for a, b in pairs
+        }
+        for descriptor in AE_DESCRIPTORS
+    }
 
 
 def autoencoder_figures(
@@ -107,30 +155,43 @@ def autoencoder_figures(
     for method in methods:
         # loaded one at a time: loading sets the learner's torch threads for its describe
         learner = load_learner(models_dir / method)
-        training[method] = {key: learner.fit_info[key] for key in TRAINING_RECORD}
-        losses[method] = {"train": learner.fit_info["loss_per_epoch"],
-                          "validation": learner.fit_info["validation_loss_per_epoch"]}
+        info = learner.fit_info
+        assert info is not None, f"{models_dir / method}: a saved learner without its fit record"
+        training[method] = {key: info[key] for key in TRAINING_RECORD}
+        losses[method] = {"train": info["loss_per_epoch"], "validation": info["validation_loss_per_epoch"]}
         described = autoencoder_descriptors(learner, test, int(batch_size))
         for season in seasons:
-            reconstructions[season].append(list(
-                described["output"][season][shown_places].reshape(-1, *test[season].shape[1:])))
-        fraction_correct[method] = {descriptor: {
-            pair_name(a, b): match_pair(described[descriptor][a], described[descriptor][b], places, places, "single",
-                                        evaluate, sequence)[0]["fraction_correct"]
-            for a, b in pairs} for descriptor in AE_DESCRIPTORS}
-    plot_series({f"{method} {pair_name(a, b)}": (list(AE_DESCRIPTORS),
-                                                 [100 * fraction_correct[method][d][pair_name(a, b)] for d in AE_DESCRIPTORS])
-                 for method in methods for a, b in pairs},
-                out / "fig19_autoencoder_descriptors.png", title="Auto-encoder descriptors (study Fig. 19)",
-                xlabel="descriptor", ylabel="fraction correct (%)")
+            reconstructions[season].append(
+                list(described["output"][season][shown_places].reshape(-1, *test[season].shape[1:]))
+            )
+        fraction_correct[method] = _fraction_correct(described, places, pairs, evaluate, sequence)
+    plot_series(
+        {
+            f"{method} {pair_name(a, b)}": (
+                list(AE_DESCRIPTORS),
+                [100 * fraction_correct[method][d][pair_name(a, b)] for d in AE_DESCRIPTORS],
+            )
+            for method in methods
+            for a, b in pairs
+        },
+        out / "fig19_autoencoder_descriptors.png",
+        title="Auto-encoder descriptors (study Fig. 19)",
+        xlabel="descriptor",
+        ylabel="fraction correct (%)",
+    )
     # rows: a season's input images, then each auto-encoder's reconstructions of them
-    plot_image_grid([images for season in seasons for images in zip(*reconstructions[season])],
-                    out / "fig19b_autoencoder_reconstructions.png",
-                    row_labels=[f"{season}, place {places[index]}" for season in seasons for index in shown_places],
-                    col_labels=["input", *(f"{method} output" for method in methods)],
-                    title="Test images and the auto-encoders' reconstructions")
-    plot_loss_curves(losses, out / "fig19c_autoencoder_loss.png",
-                     title="Auto-encoder training: loss per epoch (validation on held-out training places)")
+    plot_image_grid(
+        [images for season in seasons for images in zip(*reconstructions[season])],
+        out / "fig19b_autoencoder_reconstructions.png",
+        row_labels=[f"{season}, place {places[index]}" for season in seasons for index in shown_places],
+        col_labels=["input", *(f"{method} output" for method in methods)],
+        title="Test images and the auto-encoders' reconstructions",
+    )
+    plot_loss_curves(
+        losses,
+        out / "fig19c_autoencoder_loss.png",
+        title="Auto-encoder training: loss per epoch (validation on held-out training places)",
+    )
     return fraction_correct, training
 
 
@@ -161,6 +222,7 @@ def draw_figures(
     if not autoencoders:
         notes.append("neither fae nor cae is in learners: no Figures 19, 19b, 19c")
         return FigureRecords(notes=notes)
-    fraction_correct, training = autoencoder_figures(models_dir, autoencoders, test, places, pairs, batch_size,
-                                                     evaluate, sequence, out)
+    fraction_correct, training = autoencoder_figures(
+        models_dir, autoencoders, test, places, pairs, batch_size, evaluate, sequence, out
+    )
     return FigureRecords(fraction_correct, training, notes)

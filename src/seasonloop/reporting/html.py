@@ -13,12 +13,11 @@ import html
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Union
 
 import pandas as pd
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-Png = Union[Path, bytes]
+Png = Path | bytes
 
 _STYLE = """
 body { font-family: sans-serif; max-width: 1200px; margin: 2em auto; padding: 0 1em; color: #222; }
@@ -70,7 +69,7 @@ class Text:
     preformatted: bool = False
 
 
-Block = Union[Table, Image, Thumbnails, Text]
+Block = Table | Image | Thumbnails | Text
 
 
 @dataclass(frozen=True)
@@ -105,10 +104,14 @@ def _block_html(block: Block) -> str:
         header = "".join(f"<th>{html.escape(label)}</th>" for label in block.col_labels)
         rows = "".join(
             f"<tr><th>{html.escape(label)}</th>"
-            + "".join(f'<td><img src="{_data_uri(png)}" alt="{html.escape(label)}"></td>' for png in row) + "</tr>"
-            for label, row in zip(block.row_labels, block.pngs))
-        return (f'<table class="thumbnails"><caption>{html.escape(block.caption)}</caption>'
-                f"<tr><th></th>{header}</tr>{rows}</table>")
+            + "".join(f'<td><img src="{_data_uri(png)}" alt="{html.escape(label)}"></td>' for png in row)
+            + "</tr>"
+            for label, row in zip(block.row_labels, block.pngs)
+        )
+        return (
+            f'<table class="thumbnails"><caption>{html.escape(block.caption)}</caption>'
+            f"<tr><th></th>{header}</tr>{rows}</table>"
+        )
     if isinstance(block, Text):
         return f"<pre>{html.escape(block.text)}</pre>" if block.preformatted else f"<p>{html.escape(block.text)}</p>"
     raise ValueError(f"unknown report block type {type(block).__name__}")
@@ -118,12 +121,18 @@ def build_report(title: str, sections: Sequence[Section]) -> str:
     """One self-contained HTML page: title, a table of contents, then each section in order."""
     if not sections:
         raise ValueError("sections is empty: nothing to report")
-    contents = "".join(f'<li><a href="#section-{number}">{html.escape(section.title)}</a></li>'
-                       for number, section in enumerate(sections, 1))
+    contents = "".join(
+        f'<li><a href="#section-{number}">{html.escape(section.title)}</a></li>'
+        for number, section in enumerate(sections, 1)
+    )
     body = "\n".join(
         f'<section id="section-{number}"><h2>{number}. {html.escape(section.title)}</h2>\n'
-        + "\n".join(_block_html(block) for block in section.blocks) + "</section>"
-        for number, section in enumerate(sections, 1))
-    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>'
-            f"<style>{_STYLE}</style></head>\n<body><h1>{html.escape(title)}</h1><nav><ol>{contents}</ol></nav>\n"
-            f"{body}\n</body></html>\n")
+        + "\n".join(_block_html(block) for block in section.blocks)
+        + "</section>"
+        for number, section in enumerate(sections, 1)
+    )
+    return (
+        f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>'
+        f"<style>{_STYLE}</style></head>\n<body><h1>{html.escape(title)}</h1><nav><ol>{contents}</ol></nav>\n"
+        f"{body}\n</body></html>\n"
+    )

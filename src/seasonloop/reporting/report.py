@@ -15,20 +15,15 @@ from pathlib import Path
 
 import numpy as np
 
-from seasonloop.params.schema import pair_name
 from seasonloop.io import read_json
+from seasonloop.params.schema import pair_name
+from seasonloop.params.settings import EvaluateConfig
 from seasonloop.reporting.examples import Example, example_grid_png, example_grids, examples_section, select_examples
 from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text, Thumbnails, build_report
-from seasonloop.reporting.sections import (
+from seasonloop.reporting.model_sections import (
     autoencoder_training_section,
     cae_widths_section,
-    dataset_section,
     figures_section,
-    fraction_correct_section,
-    parameters_section,
-    pr_section,
-    runtime_section,
-    similarity_section,
     training_seasons_section,
 )
 from seasonloop.reporting.results import (
@@ -38,14 +33,42 @@ from seasonloop.reporting.results import (
     load_runtime_record,
     load_training_seasons,
 )
-from seasonloop.params.settings import EvaluateConfig
+from seasonloop.reporting.sections import (
+    dataset_section,
+    fraction_correct_section,
+    parameters_section,
+    pr_section,
+    runtime_section,
+    similarity_section,
+)
 from seasonloop.reporting.summary import pr_landmarks, pr_landmarks_table
 
 __all__ = [
-    "Block", "Example", "Image", "Png", "ReportFiles", "Section", "Table", "Text", "Thumbnails",
-    "autoencoder_training_section", "build_report", "cae_widths_section", "dataset_section", "example_grid_png", "example_grids",
-    "examples_section", "figures_section", "fraction_correct_section", "parameters_section", "pr_section",
-    "runtime_section", "select_examples", "similarity_section", "study_report", "training_seasons_section",
+    "Block",
+    "Example",
+    "Image",
+    "Png",
+    "ReportFiles",
+    "Section",
+    "Table",
+    "Text",
+    "Thumbnails",
+    "autoencoder_training_section",
+    "build_report",
+    "cae_widths_section",
+    "dataset_section",
+    "example_grid_png",
+    "example_grids",
+    "examples_section",
+    "figures_section",
+    "fraction_correct_section",
+    "parameters_section",
+    "pr_section",
+    "runtime_section",
+    "select_examples",
+    "similarity_section",
+    "study_report",
+    "training_seasons_section",
 ]
 
 TITLE = "seasonloop: loop-closure detection across seasons"
@@ -56,20 +79,20 @@ N_EXAMPLES = 3  # correct matches, and as many failures, shown per learner
 class ReportFiles:
     """Where the report's inputs are: the other stages' JSON records, descriptors and figures."""
 
-    params: Path                   # the parameter file, embedded verbatim
-    dataset: Path                  # seasonloop.data.datasets.dataset_record
-    runtime: Path                  # seasonloop.reporting.results.load_runtime, as written
-    training_seasons: Path         # the training-season ablation's record
+    params: Path  # the parameter file, embedded verbatim
+    dataset: Path  # seasonloop.data.datasets.dataset_record
+    runtime: Path  # seasonloop.reporting.results.load_runtime, as written
+    training_seasons: Path  # the training-season ablation's record
     autoencoder_descriptors: Path  # fraction correct per auto-encoder descriptor
-    autoencoder_training: Path     # how each auto-encoder's training ended
-    features: Path                 # <method>/<season>.npy descriptors
-    season_preview: Path           # a PNG
-    summary: Path                  # fraction_correct[@<metric>].png, pr_<pair>.png
-    similarity: Path               # <method>/<pair>.png
+    autoencoder_training: Path  # how each auto-encoder's training ended
+    features: Path  # <method>/<season>.npy descriptors
+    season_preview: Path  # a PNG
+    summary: Path  # fraction_correct[@<metric>].png, pr_<pair>.png
+    similarity: Path  # <method>/<pair>.png
     training_seasons_figure: Path  # a PNG
-    cae_widths: Path               # the CAE width sweep's record (seasonloop.ablations.cae_widths)
-    cae_widths_figure: Path        # a PNG
-    figures: Path                  # a folder of the study's other figures, *.png
+    cae_widths: Path  # the CAE width sweep's record (seasonloop.ablations.cae_widths)
+    cae_widths_figure: Path  # a PNG
+    figures: Path  # a folder of the study's other figures, *.png
 
 
 def _figures(folder: Path) -> dict[str, Path]:
@@ -98,17 +121,27 @@ def study_report(
     grids = example_grids(files.features, methods, database, query, test_images, test_places, evaluate, N_EXAMPLES)
     sections = [
         dataset_section(load_dataset(files.dataset, seasons), files.season_preview),
-        fraction_correct_section(results.metrics, methods, list(evaluate.matchers), pairs,
-                                 files.summary / "fraction_correct.png", extra_metrics,
-                                 {metric: files.summary / f"fraction_correct@{metric}.png" for metric in extra_metrics}),
-        pr_section({pair: files.summary / f"pr_{pair}.png" for pair in pairs},
-                   pr_landmarks_table(pr_landmarks(results.metrics))),
-        similarity_section({method: {pair: files.similarity / method / f"{pair}.png" for pair in pairs}
-                            for method in methods}, pairs),
+        fraction_correct_section(
+            results.metrics,
+            methods,
+            list(evaluate.matchers),
+            pairs,
+            files.summary / "fraction_correct.png",
+            extra_metrics,
+            {metric: files.summary / f"fraction_correct@{metric}.png" for metric in extra_metrics},
+        ),
+        pr_section(
+            {pair: files.summary / f"pr_{pair}.png" for pair in pairs},
+            pr_landmarks_table(pr_landmarks(results.metrics)),
+        ),
+        similarity_section(
+            {method: {pair: files.similarity / method / f"{pair}.png" for pair in pairs} for method in methods}, pairs
+        ),
         examples_section(pair_name(database, query), grids),
         runtime_section(load_runtime_record(files.runtime, methods)),
-        training_seasons_section(load_training_seasons(files.training_seasons, ablation_methods),
-                                 files.training_seasons_figure),
+        training_seasons_section(
+            load_training_seasons(files.training_seasons, ablation_methods), files.training_seasons_figure
+        ),
         autoencoder_training_section(read_json(files.autoencoder_training)),
         cae_widths_section(read_json(files.cae_widths), files.cae_widths_figure),
         figures_section(_figures(files.figures), load_autoencoder_descriptors(files.autoencoder_descriptors, methods)),

@@ -68,7 +68,9 @@ def load_evaluations(
     return EvaluationResults(list(pairs), metrics, metric_of, main_metric, curves)
 
 
-def load_runtime(fit_dir: Path, features_dir: Path, methods: Sequence[str], seasons: Sequence[str]) -> dict[str, dict[str, Any]]:
+def load_runtime(
+    fit_dir: Path, features_dir: Path, methods: Sequence[str], seasons: Sequence[str]
+) -> dict[str, dict[str, Any]]:
     """method -> fit seconds and training images (study Table 6), feature milliseconds per image
     averaged over `seasons` (Table 7) and the descriptor dimension."""
     runtime = {}
@@ -111,7 +113,8 @@ def load_training_seasons(path: Path, methods: Sequence[str]) -> dict[str, Any]:
     if "skipped" not in training:
         training["fraction_correct"] = {
             method: ordered(values, training["season_sets"], str(path))
-            for method, values in ordered(training["fraction_correct"], methods, str(path)).items()}
+            for method, values in ordered(training["fraction_correct"], methods, str(path)).items()
+        }
     return training
 
 

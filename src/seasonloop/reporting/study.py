@@ -22,5 +22,5 @@ STUDY_PR_LANDMARKS: dict[str, dict[str, dict[str, float]]] = {
     "summer-fall": {
         "pca": {"recall_at_100_precision": 0.67, "precision_at_full_recall": 0.84},
         "ica": {"recall_at_100_precision": 0.67, "precision_at_full_recall": 0.9105},
-    },
+    }
 }

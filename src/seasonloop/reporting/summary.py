@@ -10,11 +10,18 @@ import pandas as pd
 from seasonloop.reporting.study import STUDY_FRACTION_CORRECT, STUDY_PR_LANDMARKS
 
 
-def fraction_correct_table(results: Mapping[str, Mapping[str, Mapping[str, float]]], pairs: Sequence[str]) -> pd.DataFrame:
+def fraction_correct_table(
+    results: Mapping[str, Mapping[str, Mapping[str, float]]], pairs: Sequence[str]
+) -> pd.DataFrame:
     """results[label][pair] = metrics dict -> DataFrame (labels x pairs) of fraction correct in %."""
     return pd.DataFrame(
-        {pair: [100 * results[label][pair]["fraction_correct"] if pair in results[label] else np.nan
-                for label in results] for pair in pairs},
+        {
+            pair: [
+                100 * results[label][pair]["fraction_correct"] if pair in results[label] else np.nan
+                for label in results
+            ]
+            for pair in pairs
+        },
         index=list(results),
     )
 
@@ -29,10 +36,7 @@ def study_table(labels: Sequence[str], pairs: Sequence[str]) -> pd.DataFrame:
 
 def markdown_table(table: pd.DataFrame, index_name: str) -> str:
     """A markdown table of `table`'s cells as they print (format numbers before calling)."""
-    lines = [
-        f"| {index_name} | " + " | ".join(map(str, table.columns)) + " |",
-        "|" + "---|" * (len(table.columns) + 1),
-    ]
+    lines = [f"| {index_name} | " + " | ".join(map(str, table.columns)) + " |", "|" + "---|" * (len(table.columns) + 1)]
     lines += [f"| {label} | " + " | ".join(map(str, row)) + " |" for label, row in zip(table.index, table.to_numpy())]
     return "\n".join(lines) + "\n"
 
@@ -47,8 +51,10 @@ def side_by_side_markdown(ours: pd.DataFrame, study: pd.DataFrame) -> str:
     return markdown_table(cells, "method")
 
 
-LANDMARK_NAMES = {"recall_at_100_precision": "recall at 100% precision",
-                  "precision_at_full_recall": "precision at 100% recall"}
+LANDMARK_NAMES = {
+    "recall_at_100_precision": "recall at 100% precision",
+    "precision_at_full_recall": "precision at 100% recall",
+}
 
 
 def pr_landmarks(results: Mapping[str, Mapping[str, Mapping[str, float]]]) -> dict[str, dict[str, dict[str, dict]]]:
@@ -56,19 +62,32 @@ def pr_landmarks(results: Mapping[str, Mapping[str, Mapping[str, float]]]) -> di
     {"ours": fraction or None where we did not evaluate that pair or learner, "study": fraction}.
     results[label][pair] = metrics dict; the study's numbers are single-image matching, under its
     learners' plain labels ('pca', 'ica')."""
-    return {pair: {method: {key: {"ours": results[method][pair][key] if pair in results.get(method, {}) else None,
-                                  "study": study_value}
-                            for key, study_value in landmarks.items()}
-                   for method, landmarks in by_method.items()}
-            for pair, by_method in STUDY_PR_LANDMARKS.items()}
+    return {
+        pair: {
+            method: {
+                key: {
+                    "ours": results[method][pair][key] if pair in results.get(method, {}) else None,
+                    "study": study_value,
+                }
+                for key, study_value in landmarks.items()
+            }
+            for method, landmarks in by_method.items()
+        }
+        for pair, by_method in STUDY_PR_LANDMARKS.items()
+    }
 
 
 def pr_landmarks_table(landmarks: Mapping[str, Mapping[str, Mapping[str, Mapping[str, float | None]]]]) -> pd.DataFrame:
     """pr_landmarks' record as a table in %: rows (pair, learner, landmark), columns ours, study (S)."""
-    rows = {(pair, method, LANDMARK_NAMES[key]): {"ours": np.nan if values["ours"] is None else 100 * values["ours"],
-                                                  "study (S)": 100 * values["study"]}
-            for pair, by_method in landmarks.items() for method, by_key in by_method.items()
-            for key, values in by_key.items()}
+    rows = {
+        (pair, method, LANDMARK_NAMES[key]): {
+            "ours": np.nan if values["ours"] is None else 100 * values["ours"],
+            "study (S)": 100 * float(values["study"]),  # type: ignore[arg-type]  # the study states each landmark
+        }
+        for pair, by_method in landmarks.items()
+        for method, by_key in by_method.items()
+        for key, values in by_key.items()
+    }
     table = pd.DataFrame.from_dict(rows, orient="index")
     table.index.names = ["pair", "method", "landmark"]
     return table

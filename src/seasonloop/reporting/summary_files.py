@@ -14,8 +14,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from seasonloop.reporting.dvcplots import pr_long
 from seasonloop.plots import plot_fraction_correct, plot_pr_curves
+from seasonloop.reporting.dvcplots import pr_long
 from seasonloop.reporting.results import EvaluationResults
 from seasonloop.reporting.summary import (
     fraction_correct_table,
@@ -31,9 +31,12 @@ def summary_record(results: EvaluationResults) -> dict[str, Any]:
     """Fraction correct per label and pair, its mean per label, and the study's PR landmarks beside ours."""
     labels, pairs, metrics = results.labels, results.pairs, results.metrics
     return {
-        "fraction_correct": {label: {pair: metrics[label][pair]["fraction_correct"] for pair in pairs} for label in labels},
-        "mean_fraction_correct": {label: float(np.mean([metrics[label][pair]["fraction_correct"] for pair in pairs]))
-                                  for label in labels},
+        "fraction_correct": {
+            label: {pair: metrics[label][pair]["fraction_correct"] for pair in pairs} for label in labels
+        },
+        "mean_fraction_correct": {
+            label: float(np.mean([metrics[label][pair]["fraction_correct"] for pair in pairs])) for label in labels
+        },
         "pr_landmarks": pr_landmarks(metrics),
     }
 
@@ -44,7 +47,8 @@ def write_tables(out: Path, results: EvaluationResults, runtime: Mapping[str, Ma
     study = study_table(results.labels, results.pairs)
     (out / "fraction_correct.md").write_text(
         "Fraction of correct matches (%), ours (the study's in brackets where it gives one)\n\n"
-        + side_by_side_markdown(ours, study))
+        + side_by_side_markdown(ours, study)
+    )
     long = ours.reset_index(names="method").melt(id_vars="method", var_name="pair", value_name="fraction_correct")
     long["label"] = long["pair"] + " " + long["method"]
     long.to_csv(out / "fraction_correct.csv", index=False, float_format="%.3f")
@@ -52,10 +56,15 @@ def write_tables(out: Path, results: EvaluationResults, runtime: Mapping[str, Ma
     landmark_cells = pr_landmarks_table(landmarks).map(lambda value: "n/a" if np.isnan(value) else f"{value:.1f}")
     (out / "pr_landmarks.md").write_text(
         "The study's precision-recall landmarks beside ours (%), single-image matching\n\n"
-        + markdown_table(landmark_cells.set_index(landmark_cells.index.map(" ".join)), "pair method landmark"))
-    runtime_cells = pd.DataFrame(runtime).T.map(lambda value: f"{value:.4g}" if isinstance(value, float) else str(value))
-    (out / "runtime.md").write_text("Fit time (study Table 6) and feature time per test image (Table 7)\n\n"
-                                    + markdown_table(runtime_cells, "method"))
+        + markdown_table(landmark_cells.set_index(landmark_cells.index.map(" ".join)), "pair method landmark")
+    )
+    runtime_cells = pd.DataFrame(runtime).T.map(
+        lambda value: f"{value:.4g}" if isinstance(value, float) else str(value)
+    )
+    (out / "runtime.md").write_text(
+        "Fit time (study Table 6) and feature time per test image (Table 7)\n\n"
+        + markdown_table(runtime_cells, "method")
+    )
 
 
 def write_figures(out: Path, results: EvaluationResults) -> None:
@@ -66,9 +75,12 @@ def write_figures(out: Path, results: EvaluationResults) -> None:
     for metric in dict.fromkeys(results.metric_of.values()):
         rows = [label for label in results.labels if results.metric_of[label] == metric]
         suffix = "" if metric == results.main_metric else f"@{metric}"
-        plot_fraction_correct(ours.loc[rows] / 100, out / f"fraction_correct{suffix}.png",
-                              title=f"Fraction of correct matches per pair, {metric} distance",
-                              reference=study.loc[rows] / 100)
+        plot_fraction_correct(
+            ours.loc[rows] / 100,
+            out / f"fraction_correct{suffix}.png",
+            title=f"Fraction of correct matches per pair, {metric} distance",
+            reference=study.loc[rows] / 100,
+        )
     for pair in results.pairs:
         plot_pr_curves(results.curves[pair], f"Precision-recall, {pair} (database-queries)", out / f"pr_{pair}.png")
 
@@ -86,8 +98,9 @@ def write_dvc_plots(out: Path, results: EvaluationResults, training_curves: pd.D
     losses.to_csv(out / "training_loss.csv", index=False, float_format="%.6g")
 
 
-def write_summary_files(out: Path, results: EvaluationResults, runtime: Mapping[str, Mapping[str, Any]],
-                        training_curves: pd.DataFrame) -> None:
+def write_summary_files(
+    out: Path, results: EvaluationResults, runtime: Mapping[str, Mapping[str, Any]], training_curves: pd.DataFrame
+) -> None:
     """Every file of the summary folder `out` (the tables, the figures, the dvc plots tables)."""
     write_tables(out, results, runtime)
     write_figures(out, results)

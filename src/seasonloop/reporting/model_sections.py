@@ -1,0 +1,119 @@
+"""The report's sections about the learners themselves: the training-season effect, the CAE's
+width, the study's figures and how each auto-encoder's training ended. Each takes result records
+and figures and returns a seasonloop.reporting.html.Section."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import pandas as pd
+
+from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text
+
+
+def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -> Section:
+    """The training-season effect (study Figure 18): {"pair", "fraction_correct": {method: {seasons: value}},
+    "notes": [...]}, or {"skipped": why} when the run's seasons do not allow it."""
+    if "skipped" in training_seasons:
+        return Section(
+            "Training-season effect", [Text(f"The training-season ablation was {training_seasons['skipped']}.")]
+        )
+    pair = training_seasons["pair"]
+    table = 100 * pd.DataFrame.from_dict(training_seasons["fraction_correct"], orient="index")
+    return Section(
+        "Training-season effect",
+        [
+            *(Text(note) for note in training_seasons.get("notes", [])),
+            Table(f"Fraction correct (%) on {pair}, single-image matching, by the seasons trained on", table),
+            Image(f"Training-season effect on {pair} (study Fig. 18)", figure),
+        ],
+    )
+
+
+def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:
+    """The CAE width sweep (metrics/cae_widths.json, seasonloop.ablations.cae_widths): one row per width."""
+    pairs = record["pairs"]
+    rows = {}
+    for label, row in sorted(record["widths"].items(), key=lambda item: item[1]["width"]):
+        rows[label] = {
+            "channels": "/".join(map(str, row["channels"])),
+            "converged": row["converged"],
+            "stop": row["stop_reason"],
+            "epochs": row["epochs_run"],
+            "best val. loss": row["best_validation_loss"],
+            "cos(output, input)": row["cosine_with_input"],
+            **{f"output {pair}": 100 * row["output_patchnorm"]["fraction_correct"][pair] for pair in pairs},
+            **{f"code {pair}": 100 * row["code"]["fraction_correct"][pair] for pair in pairs},
+            **{f"output = raw {pair}": 100 * row["output_patchnorm"]["agreement_with_raw"][pair] for pair in pairs},
+        }
+    rows["raw_patchnorm"] = {
+        f"output {pair}": 100 * record["raw_patchnorm"]["fraction_correct"][pair] for pair in pairs
+    }
+    table = pd.DataFrame.from_dict(rows, orient="index")
+    return Section(
+        "CAE width",
+        [
+            Text(
+                "Table 5's CAE trained at fractions of its channel widths, each to its validation plateau (or "
+                "marked not converged), single-image matching under " + record["metric"] + ". 'output': the "
+                "patch-normalised output (the pipeline's CAE descriptor); 'code': the code vector; "
+                "cos(output, input): mean cosine of the patch-normalised output with the patch-normalised "
+                "input image; 'output = raw': the fraction of queries whose best match is raw_patchnorm's. "
+                "Table 5 has no bottleneck, so a CAE that scores like raw_patchnorm and agrees with it may "
+                "mostly measure the raw image."
+            ),
+            Table(
+                "CAE width sweep (metrics/cae_widths.json): fraction correct and agreement in %",
+                table,
+                float_format="{:.4g}",
+            ),
+            Image("Fraction correct against the CAE's width", figure),
+        ],
+    )
+
+
+def figures_section(
+    figures: Mapping[str, Png], autoencoder_descriptors: Mapping[str, Mapping[str, Mapping[str, float]]]
+) -> Section:
+    """The study's other figures (caption -> PNG) and the auto-encoder descriptor comparison table.
+
+    autoencoder_descriptors[method][descriptor][pair] is a fraction correct. Either may be empty
+    when the learners they need are not in the run.
+    """
+    blocks: list[Block] = [Image(caption, png) for caption, png in figures.items()]
+    if not figures:
+        blocks.append(Text("No figure: the learners they show (pca, ica_bovw, fae, cae) are not in learners."))
+    if autoencoder_descriptors:
+        table = 100 * pd.DataFrame.from_dict(
+            {
+                (method, descriptor): values
+                for method, by_descriptor in autoencoder_descriptors.items()
+                for descriptor, values in by_descriptor.items()
+            },
+            orient="index",
+        )
+        table.index.names = ["method", "descriptor"]
+        blocks.append(
+            Table("Auto-encoder descriptors (study Fig. 19): fraction correct (%), single-image matching", table)
+        )
+    return Section("The study's other figures", blocks)
+
+
+def autoencoder_training_section(training: Mapping[str, Mapping[str, Any]]) -> Section:
+    """How each auto-encoder's training ended, training[method][key] (metrics/autoencoder_training.json)."""
+    if not training:
+        return Section("Auto-encoder training", [Text("No auto-encoder (fae, cae) is in learners.")])
+    table = pd.DataFrame.from_dict(training, orient="index")
+    return Section(
+        "Auto-encoder training",
+        [
+            Text(
+                "Each auto-encoder trains until its loss on held-out training places stops improving "
+                "(stop reason 'plateau', converged), or stops at its maximum number of epochs or its "
+                "wall-clock budget (not converged); the weights of the lowest validation loss are kept. "
+                "The loss curves and reconstructions are under 'The study's other figures'."
+            ),
+            Table("Auto-encoder training (metrics/autoencoder_training.json)", table, float_format="{:.4g}"),
+        ],
+    )

@@ -146,19 +146,20 @@ def main() -> None:
         "mixture_fit_seconds": {name: fit["seconds"] for name, fit in mixture_fits.items()},
         "load_note": note,
     }
+    record["headline"] = (
+        f"torch FastICA fit {speedup:.1f}x faster than scikit-learn on the CPU "
+        f"({fits['torch_cpu']['seconds']:.1f} s vs {sklearn_seconds:.1f} s, {data.shape[0]} x {data.shape[1]}, "
+        f"{args.n_components} components, {torch.get_num_threads()} threads; {convergence}); fraction correct {args.pair} "
+        f"{quality['torch_cpu']['fraction_correct']:.4f} vs {quality['sklearn']['fraction_correct']:.4f}; "
+        f"Amari on known sources {amari['torch_cpu']:.4f} vs {amari['sklearn']:.4f}"
+    )
     path = write_result("bench_ica", record, measured_on)
     print(f"wrote {path}")
     if note:
         print(note)
     if "torch_cuda" in fits:
         print(f"torch FastICA on CUDA: {sklearn_seconds / fits['torch_cuda']['seconds']:.1f}x faster than sklearn")
-    print(
-        f"HEADLINE: torch FastICA fit {speedup:.1f}x faster than scikit-learn on the CPU "
-        f"({fits['torch_cpu']['seconds']:.1f} s vs {sklearn_seconds:.1f} s, {data.shape[0]} x {data.shape[1]}, "
-        f"{args.n_components} components, {torch.get_num_threads()} threads; {convergence}); fraction correct {args.pair} "
-        f"{quality['torch_cpu']['fraction_correct']:.4f} vs {quality['sklearn']['fraction_correct']:.4f}; "
-        f"Amari on known sources {amari['torch_cpu']:.4f} vs {amari['sklearn']:.4f}"
-    )
+    print(f"HEADLINE: {record['headline']}")
 
 
 if __name__ == "__main__":

@@ -98,15 +98,16 @@ def main() -> None:
         "fraction_correct": metrics["fraction_correct"],
         "load_note": note,
     }
+    record["headline"] = (
+        f"matching a {args.n_places} x {args.n_places} pair (D={args.dim}) takes {vectorised_seconds:.3f} s "
+        f"(distances + best matches + evaluation), {loop_total / vectorised_seconds:.1f}x faster than a per-query "
+        f"loop; best matches identical: {identical}"
+    )
     path = write_result("bench_matching", record, measured_on)
     print(f"wrote {path}")
     if note:
         print(note)
-    print(
-        f"HEADLINE: matching a {args.n_places} x {args.n_places} pair (D={args.dim}) takes {vectorised_seconds:.3f} s "
-        f"(distances + best matches + evaluation), {loop_total / vectorised_seconds:.1f}x faster than a per-query "
-        f"loop; best matches identical: {identical}"
-    )
+    print(f"HEADLINE: {record['headline']}")
     if not identical:
         raise SystemExit("best matches differ between the vectorised and the loop implementation")
 

@@ -154,13 +154,9 @@ def main() -> None:
         "agreement": agreements,
         "load_note": note,
     }
-    path = write_result("bench_pca", record, measured_on)
-    print(f"wrote {path}")
-    if note:
-        print(note)
     baseline = "full" if "full" in results else args.solvers[0]
     headline = (
-        f"HEADLINE: pca learner (svd_solver {learner.params['svd_solver']}) {ours_seconds:.1f} s vs sklearn "
+        f"pca learner (svd_solver {learner.params['svd_solver']}) {ours_seconds:.1f} s vs sklearn "
         f"svd_solver {baseline} {results[baseline]['seconds']:.1f} s ({results[baseline]['seconds'] / ours_seconds:.1f}x) "
         f"on {images.shape[0]} x {images.shape[1] * images.shape[2]}"
     )
@@ -169,7 +165,12 @@ def main() -> None:
             f"; kept components {n_discard}-{n_discard + n_keep} vs {reference_name}: max principal angle "
             f"{agreements['ours']['max_principal_angle_deg']:.2f} deg"
         )
-    print(headline)
+    record["headline"] = headline
+    path = write_result("bench_pca", record, measured_on)
+    print(f"wrote {path}")
+    if note:
+        print(note)
+    print(f"HEADLINE: {headline}")
 
 
 if __name__ == "__main__":

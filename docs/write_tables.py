@@ -1,14 +1,14 @@
-"""Write the README's results tables from the pipeline's own output files, never by hand.
+"""Write the results tables of README.md and docs/*.md from the pipeline's own output files, never by hand.
 
     python docs/write_tables.py --snapshot   # copy the run's output files into docs/results/, then write
-    python docs/write_tables.py              # rewrite the README's tables from docs/results/
+    python docs/write_tables.py              # rewrite the tables from docs/results/
 
 `--snapshot` copies each table's source (an output of `dvc repro` or of a `dvc exp run`) into
 docs/results/ together with where it came from (the git commit, whether the workspace had
 uncommitted changes, the CPU), so that the tables can be checked in a clone that has no pipeline
 outputs: tests/test_readme_tables.py fails when a README table differs from what this script
-writes from docs/results/. A table's block in README.md sits between
-`<!-- table: NAME -->` and `<!-- /table -->`.
+writes from docs/results/. A table's block sits between `<!-- table: NAME -->` and `<!-- /table -->`
+in one of DOCUMENTS.
 """
 
 from __future__ import annotations
@@ -30,12 +30,20 @@ from seasonloop.machine import cpu_model  # noqa: E402
 
 RESULTS = ROOT / "docs" / "results"
 README = ROOT / "README.md"
+# the documents whose tables this script writes (docs/history/ holds archived notes of earlier runs)
+DOCUMENTS = [README, *sorted((ROOT / "docs").glob("*.md"))]
 PROVENANCE = RESULTS / "provenance.json"
 
 
 def _fraction_correct(path: Path) -> str:
     """The pipeline's own markdown, without its title line."""
     return path.read_text().split("\n", 2)[2].strip() + "\n"
+
+
+def _headline(path: Path) -> str:
+    """The fraction-correct table's rows under the main distance (no @<metric> rows)."""
+    rows = _fraction_correct(path).splitlines()
+    return "\n".join(row for row in rows if "@" not in row.split("|")[1]) + "\n"
 
 
 def _autoencoder_training(path: Path) -> str:
@@ -152,9 +160,25 @@ def _check_cross_isa(path: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _bench_headline(path: Path) -> str:
+    """A CPU benchmark's own headline (ratio, convergence and quality, as the script states them) and
+    where it ran."""
+    record = json.loads(path.read_text())
+    machine = record["machine"]
+    capped = any((machine.get("isa_cap") or {}).values())
+    where = f"{machine['cpu']}, {machine['torch_threads']} threads, instruction set " + (
+        "capped to AVX2 (an estimate for an AVX2-only CPU)" if capped else "not capped"
+    )
+    load = record.get("load_note") or "nothing else running"
+    return f"| result | measured on | load |\n|---|---|---|\n| {record['headline']} | {where} | {load} |\n"
+
+
 # table name -> (the output file it is written from, its snapshot in docs/results/, how)
 TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
+    "headline": ("plots/summary/fraction_correct.md", "fraction_correct.md", _headline),
     "fraction_correct": ("plots/summary/fraction_correct.md", "fraction_correct.md", _fraction_correct),
+    "pr_landmarks": ("plots/summary/pr_landmarks.md", "pr_landmarks.md", _fraction_correct),
+    "runtime": ("plots/summary/runtime.md", "runtime.md", _fraction_correct),
     "autoencoder_training": ("metrics/autoencoder_training.json", "autoencoder_training.json", _autoencoder_training),
     "cae_widths": ("metrics/cae_widths.json", "cae_widths_sweep.json", _cae_widths),
     # three runs of the benchmark (its file is rewritten by each): Table 5's width, the default
@@ -175,6 +199,9 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
         _bench_autoencoders,
     ),
     "check_cross_isa": ("benchmarks/results/check_cross_isa.json", "check_cross_isa.json", _check_cross_isa),
+    "bench_ica": ("benchmarks/results/bench_ica.json", "bench_ica.json", _bench_headline),
+    "bench_pca": ("benchmarks/results/bench_pca.json", "bench_pca.json", _bench_headline),
+    "bench_matching": ("benchmarks/results/bench_matching.json", "bench_matching.json", _bench_headline),
 }
 
 
@@ -197,20 +224,21 @@ def provenance_line(name: str, provenance: dict) -> str:
     )
 
 
-def table_block(name: str, provenance: dict) -> str:
+def table_block(name: str, provenance: dict, folder: str = "docs/results") -> str:
+    """The table, its figure (linked from a document in `folder`'s parent) and its provenance line."""
     _, snapshot, render = TABLES[name]
-    figure = f"\n![{name}](docs/results/{FIGURES[name][1]})\n" if name in FIGURES else ""
+    figure = f"\n![{name}]({folder}/{FIGURES[name][1]})\n" if name in FIGURES else ""
     return render(RESULTS / snapshot) + figure + "\n" + provenance_line(name, provenance)
 
 
-def rewrite(text: str, provenance: dict) -> str:
-    """README text with every table block rewritten."""
+def rewrite(text: str, provenance: dict, folder: str = "docs/results") -> str:
+    """A document's text with every table block rewritten; `folder`: docs/results/ seen from the document."""
 
     def replace(match: re.Match) -> str:
         name = match.group(1)
         if name not in TABLES:
-            raise ValueError(f"README.md: unknown table '{name}' (known: {', '.join(TABLES)})")
-        return f"<!-- table: {name} -->\n{table_block(name, provenance)}<!-- /table -->"
+            raise ValueError(f"unknown table '{name}' (known: {', '.join(TABLES)})")
+        return f"<!-- table: {name} -->\n{table_block(name, provenance, folder)}<!-- /table -->"
 
     return re.sub(r"<!-- table: (\w+) -->\n.*?<!-- /table -->", replace, text, flags=re.S)
 
@@ -252,7 +280,13 @@ def main() -> None:
     if args.snapshot is not None:
         snapshot(args.snapshot or list(TABLES), args.command)
     provenance = json.loads(PROVENANCE.read_text()) if PROVENANCE.is_file() else {}
-    README.write_text(rewrite(README.read_text(), provenance))
+    for document in DOCUMENTS:
+        document.write_text(rewrite(document.read_text(), provenance, results_folder(document)))
+
+
+def results_folder(document: Path) -> str:
+    """docs/results/ as a link from `document`."""
+    return "docs/results" if document == README else "results"
 
 
 if __name__ == "__main__":

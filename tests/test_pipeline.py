@@ -212,6 +212,26 @@ def test_a_learner_param_reruns_only_that_learner(workspace):
 
 
 @pytest.mark.e2e
+def test_editing_one_learner_module_reruns_only_that_learner(workspace):
+    # the registry imports a learner's module on demand, and its stages depend on that module only
+    # (and models/core); training_seasons refits the learners named by ablation.methods, a param,
+    # so it depends on every learner module
+    changed = {}
+    for learner in ("pca_whiten", "fae"):
+        module = workspace / "src/seasonloop/models" / f"{learner}.py"
+        saved = module.read_text()
+        try:
+            module.write_text(saved + "# an edit\n")
+            changed[learner] = set(json.loads(dvc(workspace, "status", "--json").stdout))
+        finally:
+            module.write_text(saved)
+    assert changed["pca_whiten"] == {"fit@pca_whiten", "features@pca_whiten", "training_seasons"}
+    # fae's model is drawn by the figures stage (Figure 19)
+    assert changed["fae"] == {"fit@fae", "features@fae", "training_seasons", "figures"}
+    assert set(json.loads(dvc(workspace, "status", "--json").stdout)) == set()
+
+
+@pytest.mark.e2e
 def test_bad_params_fail_with_one_clear_line(workspace):
     base = yaml.safe_load((workspace / "params.yaml").read_text())
 
@@ -231,6 +251,9 @@ def test_bad_params_fail_with_one_clear_line(workspace):
     # typos and out-of-range values outside the learner sections, caught before any work
     result = run_with(lambda p: p["split"].update(tets_fraction=0.2), "stages/split.py")
     assert result.returncode == 1 and result.stderr.strip().startswith("error: split.tets_fraction: unknown key")
+    # a typo in a section the stage does not read stops it too: the whole file is checked first
+    result = run_with(lambda p: p["evaluate"].update(metirc="cosine"), "stages/acquire.py")
+    assert result.returncode == 1 and result.stderr.strip().startswith("error: evaluate.metirc: unknown key")
     result = run_with(lambda p: p["split"].update(test_fraction=0.9), "stages/split.py")
     assert result.returncode == 1 and result.stderr.strip().startswith(
         "error: split.test_fraction: expected a number in"

@@ -31,7 +31,9 @@ def write_frame_folders(folder: Path) -> None:
 def test_the_readme_frames_recipe_runs_through_the_report(tmp_path):
     frames = tmp_path / "nordland_png"  # outside the repository: an external dependency
     write_frame_folders(frames)
-    root = make_workspace(tmp_path / "repo", {k: v for k, v in TINY.items() if k not in ("ablation",)})
+    # two learners: this test is about the data path (the learners' stages are covered by test_pipeline)
+    overrides = {**{k: v for k, v in TINY.items() if k != "ablation"}, "learners": ["raw_patchnorm", "pca"]}
+    root = make_workspace(tmp_path / "repo", overrides)
     # the README's recipe, and nothing else changed
     result = dvc(
         root,

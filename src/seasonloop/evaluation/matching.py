@@ -11,7 +11,6 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-import torch
 
 # Query rows per block when finding the ratio's runner-up: bounds the (rows, M) temporaries.
 _RATIO_ROWS_PER_BLOCK = 1024
@@ -65,6 +64,8 @@ def _euclidean(database: np.ndarray) -> BatchDistances:
 
 
 def _cityblock(database: np.ndarray) -> BatchDistances:
+    import torch  # here, not at the top: only the L1 distance needs it, and it costs a second to import
+
     database_tensor = torch.from_numpy(database)
 
     def distances(batch: np.ndarray) -> np.ndarray:

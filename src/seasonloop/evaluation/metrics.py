@@ -10,7 +10,6 @@ from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
-from sklearn.metrics import auc
 
 from seasonloop.evaluation.matching import best_matches
 
@@ -189,6 +188,8 @@ def evaluate_pair(
     perfect = precision == 1.0  # a prefix: once a wrong match is accepted precision stays < 1
     recall_at_100_precision = float(recall[perfect].max()) if perfect.any() else 0.0
     # The curve starts at recall TP/N > 0; extend its first precision to recall 0.
+    from sklearn.metrics import auc  # here: importing scikit-learn costs a second at every stage's start
+
     auc_pr = float(auc(np.concatenate(([0.0], recall)), np.concatenate(([precision[0]], precision))))
     recalls = recall_at_n(distances, database_places, query_places, tolerance, ns=(1, 5, 10))
 

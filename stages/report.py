@@ -33,6 +33,7 @@ FILES = ReportFiles(
     cae_widths=Path("metrics/cae_widths.json"),
     cae_widths_figure=Path("plots/cae_widths.png"),
     figures=Path("plots/figures"),
+    fits=Path("metrics/fit"),
 )
 
 

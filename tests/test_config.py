@@ -15,7 +15,11 @@ from seasonloop.data import preprocess, sources
 from seasonloop.evaluation import matching
 from seasonloop.evaluation.matchers import MATCHER_REGISTRY, MATCHERS
 from seasonloop.evaluation.sequence import enhance_distance_contrast
+from seasonloop.models.core.fastica import WHITEN_SOLVERS
+from seasonloop.models.fae import ACTIVATIONS
+from seasonloop.models.ica import ICA_SOLVERS
 from seasonloop.models.registry import LEARNERS, get_learner
+from seasonloop.params import learners
 from seasonloop.params import schema as config
 from seasonloop.params.schema import SCHEMA, TOP_LEVEL, check_params
 
@@ -160,9 +164,23 @@ def test_the_whole_file_is_checked_before_any_stage_works():
         config.check_whole(params)
 
 
-def test_learner_keys_are_the_learners_defaults():
+def test_learner_schema_is_the_learners_defaults_and_registries():
+    # every key a learner has is in the schema, and every default passes its check
     for name in LEARNERS:
-        assert set(config.LEARNER_KEYS[name]) == set(get_learner(name).defaults), name
+        assert set(learners.LEARNER_SCHEMA[name]) == set(get_learner(name).defaults), name
+        learners.check_learner(name, get_learner(name).defaults)
+    # the names of registries that live beside their code
+    assert tuple(ICA_SOLVERS) == learners.ICA_SOLVER_NAMES
+    assert tuple(WHITEN_SOLVERS) == learners.WHITEN_SOLVER_NAMES
+    assert tuple(ACTIVATIONS) == learners.ACTIVATION_NAMES
+
+
+def test_a_bad_learner_value_stops_the_whole_file_check():
+    # a value out of range in a learner's section is caught before any stage works, not at its fit
+    params = yaml.safe_load((REPO / "params.yaml").read_text())
+    params["pca"]["svd_solver"] = "ful"
+    with pytest.raises(ValueError, match=r"^pca.svd_solver: unknown value 'ful'"):
+        config.check_whole(params)
 
 
 def test_the_schema_accepts_only_what_the_code_accepts():

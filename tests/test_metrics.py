@@ -172,3 +172,21 @@ def test_recall_at_n_random(tolerance):
 def test_recall_at_n_bad_ns_raises():
     with pytest.raises(ValueError, match="ns"):
         recall_at_n(hand_distances(), DATABASE_PLACES, QUERY_PLACES, 0, ns=(0,))
+
+
+def test_auc_pr_is_scikit_learns_area_bit_for_bit():
+    # evaluate_pair integrates with numpy's trapezoid instead of importing scikit-learn: same number
+    from sklearn.metrics import auc
+
+    from seasonloop.evaluation.matching import best_matches
+
+    rng = np.random.default_rng(4)
+    for _ in range(20):
+        distances = rng.random((30, 40))
+        places = np.arange(30)
+        metrics, _ = evaluate_pair(distances, np.arange(40), places, tolerance=0)
+        columns, confidence = best_matches(distances, "distance", np.arange(40), 10)
+        recall, precision = pr_curve(confidence, columns == places)
+        assert np.all(np.diff(recall) >= 0)
+        expected = float(auc(np.concatenate(([0.0], recall)), np.concatenate(([precision[0]], precision))))
+        assert metrics["auc_pr"] == expected

@@ -48,6 +48,7 @@ def report_files(root) -> ReportFiles:
         cae_widths=root / "cae_widths.json",
         cae_widths_figure=png,
         figures=root / "figures",
+        fits=root / "fit",
     )
     files.params.write_text("seed: 0\n")
     write_json(
@@ -103,6 +104,8 @@ def report_files(root) -> ReportFiles:
     files.summary.mkdir()
     for name in ["fraction_correct", *(f"pr_{pair}" for pair in PAIRS)]:
         shutil.copy(png, files.summary / f"{name}.png")
+    for method in METHODS:
+        write_json(files.fits / f"{method}.json", {"environment": {"numpy": "2.4.6", "torch_threads": 2}})
     files.figures.mkdir()
     shutil.copy(png, files.figures / "fig02_pca_projection.png")
     return files
@@ -126,6 +129,7 @@ def test_study_report_from_files(tmp_path):
         "Auto-encoder training",
         "CAE width",
         "The study&#x27;s other figures",
+        "Software",
         "Parameters",
     ]
     for number, title in enumerate(titles, 1):

@@ -168,7 +168,7 @@ def evaluate_pair(
     Metrics (keys in METRIC_KEYS): fraction_correct of best matches, in [0, 1];
     precision_at_full_recall (precision with every query accepted); recall_at_100_precision
     (largest recall at which precision is still 1.0, 0 if the most confident matches are wrong);
-    auc_pr, the trapezoidal area (sklearn.metrics.auc) under the study-convention curve (pr_curve:
+    auc_pr, the trapezoidal area (as sklearn.metrics.auc) under the study-convention curve (pr_curve:
     recall reaches 1) with a leading point at recall 0 that carries the precision of the first
     threshold; auc_pr_vpr_tutorial, the same area in VPR_Tutorial's convention (recall = TP / N,
     ending at the fraction correct; see auc_pr_vpr_tutorial), so at most fraction_correct;
@@ -188,9 +188,9 @@ def evaluate_pair(
     perfect = precision == 1.0  # a prefix: once a wrong match is accepted precision stays < 1
     recall_at_100_precision = float(recall[perfect].max()) if perfect.any() else 0.0
     # The curve starts at recall TP/N > 0; extend its first precision to recall 0.
-    from sklearn.metrics import auc  # here: importing scikit-learn costs a second at every stage's start
-
-    auc_pr = float(auc(np.concatenate(([0.0], recall)), np.concatenate(([precision[0]], precision))))
+    # recall never decreases along the curve, so this is sklearn.metrics.auc's area (its trapezoid),
+    # without importing scikit-learn (1.4 s at every evaluate stage's start)
+    auc_pr = float(np.trapezoid(np.concatenate(([precision[0]], precision)), np.concatenate(([0.0], recall))))
     recalls = recall_at_n(distances, database_places, query_places, tolerance, ns=(1, 5, 10))
 
     metrics: dict[str, float | int] = {

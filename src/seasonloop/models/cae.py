@@ -28,18 +28,6 @@ class ConvolutionalAutoEncoder(TorchAutoEncoderLearner):
         "max_validation_images": 128,
     }
 
-    def _validate_params(self) -> None:
-        super()._validate_params()
-        for key in ("channels", "kernels"):
-            values = self.params[key]
-            if (
-                not isinstance(values, (list, tuple))
-                or len(values) != 3
-                or not all(type(value) is int and value >= 1 for value in values)
-            ):
-                raise ValueError(f"{self._key(key)} must be a list of 3 positive integers, got {values!r}")
-        self._check_int("output_kernel", 1)
-
     def _check_image_size(self, height: int, width: int) -> None:
         if height % 4 or width % 4:
             raise ValueError(

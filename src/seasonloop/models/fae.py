@@ -15,11 +15,6 @@ class FullyConnectedAutoEncoder(TorchAutoEncoderLearner):
     name = "fae"
     defaults = {"hidden": 512, "activation": "relu", **TorchAutoEncoderLearner.COMMON_DEFAULTS}
 
-    def _validate_params(self) -> None:
-        super()._validate_params()
-        self._check_int("hidden", 1)
-        self._check_choice("activation", tuple(ACTIVATIONS))
-
     def _build_model(self, height: int, width: int) -> AutoEncoder:
         n_pixels, hidden = height * width, self.params["hidden"]
         encoder = nn.Sequential(

@@ -31,11 +31,10 @@ from seasonloop.models.core.learner import (
     to_float,
     with_contiguous_arrays,
 )
+from seasonloop.params.learners import ICA_ALGORITHMS, ICA_FUNCTIONS
 
 ESTIMATOR_FILE = "fastica.joblib"
 TORCH_STATE_FILE = "fastica.npz"
-ICA_ALGORITHMS = ("parallel", "deflation")
-ICA_FUNCTIONS = ("logcosh", "exp", "cube")
 
 
 @dataclass(frozen=True)
@@ -145,15 +144,6 @@ class ICALearner(FeatureLearner):
         return ICA_SOLVERS[self.params["solver"]]
 
     def _validate_params(self) -> None:
-        self._check_int("n_components", 1)
-        self._check_choice("algorithm", ICA_ALGORITHMS)
-        self._check_choice("fun", ICA_FUNCTIONS)
-        self._check_int("max_iter", 1)
-        self._check_positive_float("tol")
-        self._check_choice("whiten_solver", tuple(WHITEN_SOLVERS))
-        self._check_int("max_train_images", 0)
-        self._check_choice("solver", tuple(ICA_SOLVERS))
-        self._check_choice("device", DEVICES)
         self._check_solver_takes("algorithm", "algorithms", f" (the {self.params['solver']} solver implements the "
                                                             f"{' and '.join(self.solver.algorithms)} algorithm)")
         self._check_solver_takes("device", "devices")

@@ -14,9 +14,9 @@ from sklearn.decomposition import FastICA
 
 from seasonloop.models.core.learner import EpochCallback, FeatureLearner, to_float, with_contiguous_arrays
 from seasonloop.models.core.fastica_sklearn import fit_fastica
+from seasonloop.params.learners import KMEANS_KINDS
 
 ESTIMATORS_FILE = "ica_bovw.joblib"
-KMEANS_KINDS = ("minibatch", "full")
 KMEANS_N_INIT = 3
 
 
@@ -55,12 +55,6 @@ class ICABoVW(FeatureLearner):
         self.kmeans: KMeans | MiniBatchKMeans | None = None
 
     def _validate_params(self) -> None:
-        for key in ("patch_size", "stride", "n_words", "max_iter"):
-            self._check_int(key, 1)
-        self._check_int("n_train_patches", 2)
-        self._check_int("n_components", 1)
-        self._check_choice("kmeans", KMEANS_KINDS)
-        self._check_positive_float("tol")
         patch_size, n_components = self.params["patch_size"], self.params["n_components"]
         if n_components > patch_size**2 - 1:
             raise ValueError(

@@ -28,10 +28,6 @@ class WhitenedPCALearner(PrincipalComponentLearner):
     name = "pca_whiten"
     defaults = {"n_discard": 0, "n_keep": 128, "svd_solver": "covariance_eigh", "max_train_images": 0}
 
-    def _validate_params(self) -> None:
-        super()._validate_params()
-        self._check_int("max_train_images", 0)
-
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         # The same seeded subset as ICA's max_train_images, so both can see the same images.
         subset, subset_info = select_training_subset(images, self.params["max_train_images"], self.seed)

@@ -17,10 +17,6 @@ class RawPatchNorm(FeatureLearner):
     name = "raw_patchnorm"
     defaults = {"patch_size": 8, "mode": "zscore"}
 
-    def _validate_params(self) -> None:
-        self._check_int("patch_size", 1)
-        self._check_choice("mode", PATCH_NORM_MODES)
-
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         height, width = self.input_shape
         patch_size = self.params["patch_size"]

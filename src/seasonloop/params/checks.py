@@ -5,6 +5,7 @@ seasonloop.params.schema composes them into the schema of every section of param
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -21,9 +22,9 @@ def integer(minimum: int | None = None, maximum: int | None = None) -> Check:
     def check(key: str, value: Any) -> None:
         if (
             isinstance(value, bool)
-            or not isinstance(value, int)
-            or (minimum is not None and value < minimum)
-            or (maximum is not None and value > maximum)
+            or not isinstance(value, numbers.Integral)
+            or (minimum is not None and int(value) < minimum)
+            or (maximum is not None and int(value) > maximum)
         ):
             _fail(
                 key,
@@ -40,9 +41,10 @@ def number(
     low: float | None = None, high: float | None = None, low_open: bool = False, high_open: bool = False
 ) -> Check:
     def check(key: str, value: Any) -> None:
-        ok = not isinstance(value, bool) and isinstance(value, (int, float))
-        ok = ok and (low is None or (value > low if low_open else value >= low))
-        ok = ok and (high is None or (value < high if high_open else value <= high))
+        # numbers.Real: numpy scalars too (a learner built in code may get them); YAML gives int or float
+        ok = not isinstance(value, bool) and isinstance(value, numbers.Real)
+        ok = ok and (low is None or (float(value) > low if low_open else float(value) >= low))
+        ok = ok and (high is None or (float(value) < high if high_open else float(value) <= high))
         if not ok:
             bounds = (
                 ("(" if low_open else "[")

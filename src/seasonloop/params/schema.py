@@ -11,6 +11,7 @@ from typing import Any
 
 # re-exported, so that `from seasonloop.params.schema import SEASONS, parse_pair, ...` keeps working
 from seasonloop.params.checks import Check, boolean, integer, list_of, number, one_of, pair, season_map, seasons, text  # noqa: F401
+from seasonloop.params.learners import LEARNER_SCHEMA, check_learner
 from seasonloop.params.seasons import (  # noqa: F401
     SEASONS,
     STUDY_PAIRS,
@@ -33,25 +34,8 @@ CONFIDENCES = ("distance", "ratio")
 MATCHER_NAMES = ("single", "sequence")
 CONTRAST_METHODS = ("clahe", "equalize", "none")
 SOURCES = ("synthetic", "videos", "frames")
-# The keys of each learner's section: its class's `defaults` (seasonloop.models.<name>), repeated so
-# that checking the whole file imports no learner; tests/test_config.py keeps both equal. Their
-# values are checked by the learner class when it is built (fit@<learner>), where the ranges live.
-_TRAINING_KEYS = (
-    "max_epochs", "batch_size", "learning_rate", "patience", "min_delta", "lr_patience", "lr_factor",
-    "budget_seconds", "validation_fraction", "validation_block", "max_validation_images", "precision", "threads",
-    "descriptor", "patch_size", "device", "max_train_images",
-)  # fmt: skip
-LEARNER_KEYS: dict[str, tuple[str, ...]] = {
-    "raw_patchnorm": ("patch_size", "mode"),
-    "pca": ("n_discard", "n_keep", "svd_solver"),
-    "pca_whiten": ("n_discard", "n_keep", "svd_solver", "max_train_images"),
-    "ica": ("n_components", "algorithm", "fun", "max_iter", "tol", "whiten_solver", "max_train_images", "solver",
-            "device"),
-    "ica_bovw": ("patch_size", "stride", "n_train_patches", "n_components", "n_words", "kmeans", "max_iter", "tol"),
-    "fae": ("hidden", "activation", *_TRAINING_KEYS),
-    "cae": ("channels", "kernels", "output_kernel", *_TRAINING_KEYS),
-}  # fmt: skip
-LEARNER_SECTIONS = tuple(LEARNER_KEYS)
+# the learner sections: their keys and checks are in seasonloop.params.learners
+LEARNER_SECTIONS = tuple(LEARNER_SCHEMA)
 
 # SeqSLAM's contrast-enhancement window spans at least 2 database columns
 MIN_SEQUENCE_WINDOW = 2
@@ -227,15 +211,9 @@ def check_params(params: Mapping[str, Any], keys: Sequence[str]) -> None:
 
 def check_whole(params: Mapping[str, Any]) -> None:
     """Check all of params.yaml before any stage works: every section of the schema whole, the
-    top-level values, and the key names of every learner section (a typo anywhere stops the first
-    stage that runs, not the stage that reads it). Raises a ValueError naming the first bad key."""
+    top-level values and every learner section (a typo anywhere stops the first stage that runs,
+    not the stage that reads it). Raises a ValueError naming the first bad key."""
     check_params(params, [*TOP_LEVEL, *SCHEMA])
-    for name, keys in LEARNER_KEYS.items():
-        section = params.get(name)
-        if section is None:
-            continue
-        if not isinstance(section, Mapping):
-            raise ValueError(f"{name}: expected a mapping of the learner's params, got {section!r}")
-        unknown = [key for key in section if key not in keys]
-        if unknown:
-            raise ValueError(f"{name}.{unknown[0]}: unknown key (known: {', '.join(keys)})")
+    for name in LEARNER_SCHEMA:
+        if name in params:
+            check_learner(name, params[name])

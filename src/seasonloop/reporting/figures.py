@@ -17,11 +17,11 @@ import numpy as np
 
 from seasonloop.evaluation.matchers import match_pair
 from seasonloop.models.registry import load_learner
+from seasonloop.params.learners import AE_DESCRIPTORS
 from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
 
-AE_DESCRIPTORS = ("code", "output", "output_patchnorm")
 AUTOENCODERS = ("fae", "cae")
 # the learners whose models draw_figures loads (dvc.yaml's figures stage depends on their modules)
 FIGURE_LEARNERS = ("pca", "ica_bovw", *AUTOENCODERS)

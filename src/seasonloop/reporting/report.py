@@ -40,6 +40,7 @@ from seasonloop.reporting.sections import (
     pr_section,
     runtime_section,
     similarity_section,
+    software_section,
 )
 from seasonloop.reporting.summary import pr_landmarks, pr_landmarks_table
 
@@ -67,6 +68,7 @@ __all__ = [
     "runtime_section",
     "select_examples",
     "similarity_section",
+    "software_section",
     "study_report",
     "training_seasons_section",
 ]
@@ -93,6 +95,7 @@ class ReportFiles:
     cae_widths: Path  # the CAE width sweep's record (seasonloop.ablations.cae_widths)
     cae_widths_figure: Path  # a PNG
     figures: Path  # a folder of the study's other figures, *.png
+    fits: Path  # <method>.json fit records, each with the environment it was fitted in
 
 
 def _figures(folder: Path) -> dict[str, Path]:
@@ -145,6 +148,7 @@ def study_report(
         autoencoder_training_section(read_json(files.autoencoder_training)),
         cae_widths_section(read_json(files.cae_widths), files.cae_widths_figure),
         figures_section(_figures(files.figures), load_autoencoder_descriptors(files.autoencoder_descriptors, methods)),
+        software_section({method: read_json(files.fits / f"{method}.json")["environment"] for method in methods}),
         parameters_section(files.params.read_text()),
     ]
     return build_report(TITLE, sections)

@@ -206,6 +206,27 @@ def runtime_section(runtime: Mapping[str, Mapping[str, float]]) -> Section:
     )
 
 
+def software_section(environments: Mapping[str, Mapping[str, Any]]) -> Section:
+    """The library versions and torch threads each learner was fitted with (metrics/fit/<learner>.json's
+    environment): one column when every learner shares them, one per learner otherwise."""
+    table = pd.DataFrame(
+        {method: {key: str(value) for key, value in env.items()} for method, env in environments.items()}
+    )
+    if len(table.columns) > 1 and (table.nunique(axis=1) == 1).all():
+        table = table.iloc[:, [0]].set_axis(["every learner"], axis=1)
+    table.index.name = "package"
+    return Section(
+        "Software",
+        [
+            Text(
+                "What the learners were fitted with (requirements.lock pins the same versions for a new "
+                "install): another version or thread count can give other floating-point sums."
+            ),
+            Table("Library versions at fit time", table),
+        ],
+    )
+
+
 def parameters_section(params_text: str) -> Section:
     """The parameter file that produced the report, verbatim."""
     return Section(

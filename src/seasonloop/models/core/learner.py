@@ -11,6 +11,8 @@ from typing import Any, ClassVar
 import numpy as np
 from tqdm.auto import tqdm
 
+from seasonloop.params.learners import check_learner
+
 LEARNER_FILE = "learner.json"
 
 EpochCallback = Callable[[int, dict[str, float]], None]
@@ -73,7 +75,7 @@ class FeatureLearner(ABC):
     """A method that turns (N, H, W) images into (N, D) float32 descriptors.
 
     Subclasses set `name` and `defaults` and implement `_fit`, `_describe_batch`,
-    `_save_state` and `_load_state`; `_validate_params` checks param values early.
+    `_save_state` and `_load_state`; `_validate_params` checks params across keys.
     """
 
     name: ClassVar[str]
@@ -81,11 +83,8 @@ class FeatureLearner(ABC):
 
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
         given = dict(params or {})
-        unknown = sorted(set(given) - set(self.defaults))
-        if unknown:
-            raise ValueError(
-                f"unknown parameter '{self.name}.{unknown[0]}' (known: {', '.join(self.defaults)})"
-            )
+        # the same checks as the whole params.yaml gets before any stage works: one source
+        check_learner(self.name, given)
         self.params: dict[str, Any] = {**self.defaults, **given}
         self.seed = int(seed)
         self.fit_info: dict[str, Any] | None = None
@@ -96,29 +95,9 @@ class FeatureLearner(ABC):
     def _key(self, key: str) -> str:
         return f"{self.name}.{key}"
 
-    def _check_choice(self, key: str, choices: Sequence[str]) -> None:
-        if self.params[key] not in choices:
-            raise ValueError(
-                f"{self._key(key)} must be one of {', '.join(choices)}, got {self.params[key]!r}"
-            )
-
-    def _check_int(self, key: str, minimum: int) -> None:
-        value = self.params[key]
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-            raise ValueError(f"{self._key(key)} must be an integer >= {minimum}, got {value!r}")
-
-    def _check_positive_float(self, key: str) -> None:
-        value = self.params[key]
-        if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) or value <= 0:
-            raise ValueError(f"{self._key(key)} must be a positive number, got {value!r}")
-
-    def _check_fraction(self, key: str, low: float, high: float) -> None:
-        value = self.params[key]
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value < high:
-            raise ValueError(f"{self._key(key)} must be in [{low}, {high}), got {value!r}")
-
     def _validate_params(self) -> None:
-        """Raise ValueError for a bad param value (subclasses override)."""
+        """Raise ValueError for params that are fine one by one but not together (subclasses override;
+        each value's own range and choices are checked by seasonloop.params.learners)."""
 
     # ----- public API -----
     def fit(

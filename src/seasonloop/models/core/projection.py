@@ -11,9 +11,9 @@ import numpy as np
 from sklearn.decomposition import PCA
 
 from seasonloop.models.core.learner import EpochCallback, FeatureLearner, to_float, with_contiguous_arrays
+from seasonloop.params.learners import SVD_SOLVERS
 
 ESTIMATOR_FILE = "pca.joblib"
-SVD_SOLVERS = ("auto", "full", "covariance_eigh", "arpack", "randomized")
 
 
 class PrincipalComponentLearner(FeatureLearner):
@@ -23,11 +23,6 @@ class PrincipalComponentLearner(FeatureLearner):
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
         super().__init__(params, seed)
         self.estimator: PCA | None = None
-
-    def _validate_params(self) -> None:
-        self._check_int("n_discard", 0)
-        self._check_int("n_keep", 1)
-        self._check_choice("svd_solver", SVD_SOLVERS)
 
     @property
     def n_components(self) -> int:

@@ -25,9 +25,8 @@ from seasonloop.models.core.training import (
 )
 from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
 from seasonloop.data.patchnorm import patch_normalise
+from seasonloop.params.learners import AE_DESCRIPTORS, DEVICES
 
-DEVICES = ("auto", "cpu", "cuda")
-AE_DESCRIPTORS = ("code", "output", "output_patchnorm")
 MODEL_FILE = "model.pt"
 
 
@@ -116,24 +115,6 @@ class TorchAutoEncoderLearner(FeatureLearner):
 
     def _check_image_size(self, height: int, width: int) -> None:
         """Raise ValueError if the network cannot take height x width images (subclasses override)."""
-
-    def _validate_params(self) -> None:
-        for key in ("max_epochs", "batch_size", "patch_size", "patience", "validation_block", "lr_patience"):
-            self._check_int(key, 1)
-        for key in ("max_train_images", "max_validation_images", "threads"):
-            self._check_int(key, 0)
-        for key in ("learning_rate", "lr_factor"):
-            self._check_positive_float(key)
-        self._check_fraction("min_delta", 0, 1)
-        self._check_fraction("validation_fraction", 0, 1)
-        if self.params["lr_factor"] >= 1:
-            raise ValueError(f"{self._key('lr_factor')} must be below 1, got {self.params['lr_factor']!r}")
-        budget = self.params["budget_seconds"]
-        if isinstance(budget, bool) or not isinstance(budget, (int, float)) or budget < 0:
-            raise ValueError(f"{self._key('budget_seconds')} must be a number >= 0, got {budget!r}")
-        self._check_choice("descriptor", AE_DESCRIPTORS)
-        self._check_choice("device", DEVICES)
-        self._check_choice("precision", PRECISIONS)
 
     def _seeded_model(self) -> AutoEncoder:
         """Build the network with weights drawn from `seed`, leaving the global torch RNG untouched."""

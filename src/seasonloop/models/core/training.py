@@ -21,8 +21,8 @@ from torch import nn
 from tqdm.auto import tqdm
 
 from seasonloop.models.core.learner import EpochCallback
+from seasonloop.params.learners import PRECISIONS
 
-PRECISIONS = ("auto", "float32", "bfloat16")
 # Why training stopped; only a plateau means the model has learned what it can from this data.
 # diverged: a loss became NaN or infinite (the weights of the best finite epoch are kept).
 STOP_PLATEAU, STOP_MAX_EPOCHS, STOP_BUDGET, STOP_DIVERGED = "plateau", "max_epochs", "budget", "diverged"

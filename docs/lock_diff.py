@@ -38,9 +38,13 @@ def differences(old: dict[str, str], new: dict[str, str]) -> tuple[list[str], di
             same.append(path)
         elif path not in old or path not in new:
             differ[path] = ["only in one lock"]
-        elif old[path].endswith(".dir"):
+        elif old[path].endswith(".dir") and all(
+            (CACHE / md5[:2] / md5[2:]).is_file() for md5 in (old[path], new[path])
+        ):
             a, b = manifest(old[path]), manifest(new[path])
             differ[path] = sorted(name for name in set(a) | set(b) if a.get(name) != b.get(name))
+        elif old[path].endswith(".dir"):
+            differ[path] = ["the folder (its file list is not in this clone's cache: `dvc pull` or run both here)"]
         else:
             differ[path] = ["the file"]
     return same, differ

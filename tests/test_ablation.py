@@ -3,7 +3,13 @@ import json
 import numpy as np
 import pytest
 
-from seasonloop.ablations.training_seasons import plan_ablation, run_ablation, write_ablation
+from seasonloop.ablations.training_seasons import (
+    plan_ablation,
+    read_learner_records,
+    run_ablation,
+    write_ablation,
+    write_learner_record,
+)
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 STUDY_SETS = [["summer"], ["summer", "winter"], ["summer", "winter", "spring"], ["summer", "winter", "spring", "fall"]]
@@ -114,3 +120,22 @@ def test_write_ablation_of_a_skipped_plan(tmp_path):
     write_ablation(plan, None, tmp_path / "record.json", tmp_path / "figure.png")
     assert json.loads((tmp_path / "record.json").read_text()) == {"skipped": plan.skipped}
     assert (tmp_path / "figure.png").is_file()
+
+
+def test_learner_records_combine_into_the_ablation_record(tmp_path):
+    # one record per learner (one stage each), read back into what write_ablation writes
+    seasons = ["summer", "spring", "fall", "winter"]
+    plan = plan_ablation(seasons, "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"])
+    write_learner_record(plan, {"summer": 0.5, "summer+winter": 0.75}, tmp_path / "pca.json")
+    write_learner_record(plan, {"summer+winter": 0.625, "summer": 0.25}, tmp_path / "ica.json")
+    combined = read_learner_records(plan, ["pca", "ica"], tmp_path)
+    assert combined == {"pca": {"summer": 0.5, "summer+winter": 0.75}, "ica": {"summer": 0.25, "summer+winter": 0.625}}
+    # a record of another plan (other seasons lists) is stale: one clear line, not a wrong figure
+    other = plan_ablation(seasons, "summer-fall", [["summer"]], ["summer-fall"])
+    with pytest.raises(ValueError, match="pca.json: written for another ablation plan"):
+        read_learner_records(other, ["pca"], tmp_path)
+    with pytest.raises(FileNotFoundError, match="training_seasons_fit@fae"):
+        read_learner_records(plan, ["fae"], tmp_path)
+    skipped = plan_ablation(["summer"], "summer-fall", [["summer"]], ["summer-fall"])
+    write_learner_record(skipped, None, tmp_path / "skipped.json")
+    assert json.loads((tmp_path / "skipped.json").read_text())["skipped"].startswith("skipped:")

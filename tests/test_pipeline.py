@@ -214,10 +214,10 @@ def test_a_learner_param_reruns_only_that_learner(workspace):
 @pytest.mark.e2e
 def test_editing_one_learner_module_reruns_only_that_learner(workspace):
     # the registry imports a learner's module on demand, and its stages depend on that module only
-    # (and models/core); training_seasons refits the learners named by ablation.methods, a param,
-    # so it depends on every learner module
+    # (and models/core): its fit, its features and, for a learner of ablation.methods, its part of
+    # the training-season ablation; nothing else (fae's model is also drawn by the figures stage)
     changed = {}
-    for learner in ("pca_whiten", "fae"):
+    for learner in ("pca_whiten", "fae", "pca"):
         module = workspace / "src/seasonloop/models" / f"{learner}.py"
         saved = module.read_text()
         try:
@@ -225,9 +225,10 @@ def test_editing_one_learner_module_reruns_only_that_learner(workspace):
             changed[learner] = set(json.loads(dvc(workspace, "status", "--json").stdout))
         finally:
             module.write_text(saved)
-    assert changed["pca_whiten"] == {"fit@pca_whiten", "features@pca_whiten", "training_seasons"}
-    # fae's model is drawn by the figures stage (Figure 19)
-    assert changed["fae"] == {"fit@fae", "features@fae", "training_seasons", "figures"}
+    assert changed["pca_whiten"] == {"fit@pca_whiten", "features@pca_whiten"}
+    assert changed["fae"] == {"fit@fae", "features@fae", "figures"}
+    # pca is in ablation.methods and drawn in Figure 2
+    assert changed["pca"] == {"fit@pca", "features@pca", "training_seasons_fit@pca", "figures"}
     assert set(json.loads(dvc(workspace, "status", "--json").stdout)) == set()
 
 
@@ -259,7 +260,7 @@ def test_bad_params_fail_with_one_clear_line(workspace):
         "error: split.test_fraction: expected a number in"
     )
     # the ablation rejects a bad evaluate.metric before its first fit
-    result = run_with(lambda p: p["evaluate"].update(metric="manhattan"), "stages/training_seasons.py")
+    result = run_with(lambda p: p["evaluate"].update(metric="manhattan"), "stages/training_seasons_fit.py", "ica")
     assert result.returncode == 1 and "FastICA" not in result.stderr
     assert (
         result.stderr.strip()

@@ -47,7 +47,7 @@ DYNAMIC_READS: dict[tuple[str, str], Callable[[list[str], dict[str, Any]], list[
     # fit@<learner> reads its learner's section
     ("stages/fit.py", "param(params, method)"): lambda argv, params: [argv[0]],
     # the ablation fits every learner of ablation.methods
-    ("stages/training_seasons.py", "param(params, method)"): lambda argv, params: list(params["ablation"]["methods"]),
+    ("stages/training_seasons_fit.py", "param(params, method)"): lambda argv, params: [argv[0]],
 }
 
 # The learners whose modules a stage script can import through the registry, from its arguments and
@@ -55,7 +55,7 @@ DYNAMIC_READS: dict[tuple[str, str], Callable[[list[str], dict[str, Any]], list[
 LEARNERS_ASKED_FOR: dict[str, Callable[[list[str], dict[str, Any]], list[str]]] = {
     "stages/fit.py": lambda argv, params: [argv[0]],
     "stages/features.py": lambda argv, params: [argv[0]],
-    "stages/training_seasons.py": lambda argv, params: list(params["ablation"]["methods"]),
+    "stages/training_seasons_fit.py": lambda argv, params: [argv[0]],
     # the pipeline's own CAE, loaded from models/cae
     "stages/cae_widths.py": lambda argv, params: ["cae"],
     # seasonloop.reporting.figures loads the models of those of its learners the run has

@@ -4,7 +4,9 @@ The study's defaults name all four seasons; a run on a subset (one real pair, sa
 can: the pair if both its seasons are present, else the first of evaluate.pairs that is; each list
 of training seasons cut to the seasons present, repeats dropped. With fewer than two seasons
 there is no pair to evaluate and the ablation is skipped, with the reason. run_ablation fits and
-evaluates the plan; write_ablation writes its record and figure.
+evaluates the plan, one learner at a time (one pipeline stage per learner, so that a learner's
+change refits only its own ablation); write_learner_record and read_learner_records keep each
+learner's result, write_ablation writes the combined record and figure.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from seasonloop.evaluation.matchers import match_pair
-from seasonloop.io import write_json
+from seasonloop.io import read_json, write_json
 from seasonloop.params.schema import check_seasons, pair_name, pair_present, parse_pair
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 from seasonloop.plots import plot_message, plot_series
@@ -129,3 +131,30 @@ def write_ablation(
         xlabel="training seasons",
         ylabel="fraction correct (%)",
     )
+
+
+def write_learner_record(plan: AblationPlan, fraction_correct: Mapping[str, float] | None, record: Path) -> None:
+    """One learner's part of the ablation: fraction_correct[training seasons] on the plan's pair
+    (None for a skipped plan, whose record says why)."""
+    if plan.skipped:
+        write_json(record, {"skipped": plan.skipped})
+        return
+    assert plan.pair is not None and fraction_correct is not None
+    write_json(record, {"pair": pair_name(*plan.pair), "fraction_correct": dict(fraction_correct)})
+
+
+def read_learner_records(plan: AblationPlan, methods: Sequence[str], folder: Path) -> dict[str, dict[str, float]]:
+    """fraction_correct[method][label] from folder/<method>.json of every method, each checked to
+    hold the plan's pair and season lists (a record of another plan is a stale input)."""
+    assert plan.pair is not None
+    fraction_correct = {}
+    for method in methods:
+        path = folder / f"{method}.json"
+        if not path.is_file():
+            raise FileNotFoundError(f"{path}: not found (run the stage training_seasons_fit@{method} first)")
+        record = read_json(path)
+        # JSON keys are sorted: compare the season lists as sets
+        if record.get("pair") != pair_name(*plan.pair) or set(record.get("fraction_correct", {})) != set(plan.labels):
+            raise ValueError(f"{path}: written for another ablation plan than {pair_name(*plan.pair)} on {plan.labels}")
+        fraction_correct[method] = record["fraction_correct"]
+    return fraction_correct

@@ -1,0 +1,63 @@
+"""Stage training_seasons_fit@<learner>: one learner's part of the training-season effect (Figure 18).
+
+For each list of ablation.training_seasons, fit the learner on those seasons' training images and
+evaluate single-image matching on the fixed pair ablation.pair; writes
+metrics/training_seasons/<learner>.json. One stage per learner of ablation.methods, so that a change
+to one learner (its module or its params) refits only its own ablation. On a subset of seasons the
+pair and lists adapt to the seasons present (seasonloop.ablations.training_seasons says how); with
+fewer than two seasons the record says why nothing was fitted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+from pathlib import Path
+
+from _common import data_seasons, load_params, param, stage_main
+from _datasets import test_images, test_places, training_images, training_places
+from seasonloop.ablations.training_seasons import plan_ablation, run_ablation, write_learner_record
+from seasonloop.models.registry import get_learner
+from seasonloop.params.settings import AblationConfig, EvaluateConfig, SequenceConfig
+
+RECORDS = Path("metrics/training_seasons")
+
+
+@stage_main
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("method", help="a learner of ablation.methods")
+    method = parser.parse_args().method
+    params = load_params(
+        "seed", "data.seasons", "train.augmented", "augment.copies", "ablation", "evaluate", "sequence"
+    )
+    ablation = AblationConfig.from_params(params)
+    if method not in ablation.methods:
+        raise ValueError(f"ablation.methods: '{method}' is not one of {list(ablation.methods)}")
+    evaluate = EvaluateConfig.from_params(params)
+    plan = plan_ablation(data_seasons(params), ablation.pair, ablation.training_seasons, evaluate.pairs)
+    for note in plan.notes:
+        print(f"training_seasons_fit@{method}: {note}")
+    record = RECORDS / f"{method}.json"
+    if plan.skipped:
+        print(f"training_seasons_fit@{method}: {plan.skipped}")
+        write_learner_record(plan, None, record)
+        return
+    # a fresh, unfitted learner per fit, built from the learner's own section (built once here so
+    # that it checks its section before the first, possibly long, fit)
+    new_learner = functools.partial(get_learner(method), param(params, method), seed=int(param(params, "seed")))
+    new_learner()
+    fraction_correct = run_ablation(
+        plan,
+        {method: new_learner},
+        lambda seasons: (training_images(params, seasons), training_places(params, seasons)),
+        test_images(list(plan.pair)),
+        test_places(),
+        evaluate,
+        SequenceConfig.from_params(params),
+    )
+    write_learner_record(plan, fraction_correct[method], record)
+
+
+if __name__ == "__main__":
+    main()

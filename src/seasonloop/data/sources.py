@@ -22,7 +22,7 @@ from seasonloop.data.synthetic import RouteDifficulty, render_route
 from seasonloop.params.settings import DataConfig, SyntheticConfig
 
 
-def check_aligned(counts: Mapping[str, int], trim_to_shortest: bool, sources: Mapping[str, Path]) -> int:
+def check_aligned(counts: Mapping[str, int], trim_to_shortest: bool, sources: Mapping[str, Path | str]) -> int:
     """The common number of places; mismatched season lengths are an error unless trimming."""
     shortest = min(counts.values())
     if len(set(counts.values())) > 1 and not trim_to_shortest:

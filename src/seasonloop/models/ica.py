@@ -80,6 +80,7 @@ def _fit_torch(learner: ICALearner, flat: np.ndarray, progress: bool) -> dict[st
     except ValueError as error:
         raise ValueError(f"{learner.name}: {error}") from error
     learner.estimator = estimator
+    assert estimator.n_iter_ is not None, "set by fit"
     messages = [] if estimator.converged_ else [
         f"FastICA did not converge in {estimator.n_iter_} iterations (last change "
         f"{estimator.last_change_:.3g} >= tol {estimator.tol}); raise max_iter or tol"
@@ -95,7 +96,7 @@ def _fit_torch(learner: ICALearner, flat: np.ndarray, progress: bool) -> dict[st
 
 
 def _save_torch(estimator: TorchFastICA, directory: Path) -> None:
-    np.savez(directory / TORCH_STATE_FILE, **estimator.to_arrays())
+    np.savez(directory / TORCH_STATE_FILE, **estimator.to_arrays())  # type: ignore[arg-type]  # numpy's stubs
 
 
 def _load_torch(learner: ICALearner, directory: Path) -> TorchFastICA:
@@ -180,6 +181,7 @@ class ICALearner(FeatureLearner):
         )
 
     def _describe_batch(self, images: np.ndarray) -> np.ndarray:
+        assert self.estimator is not None, "describe checks that the learner is fitted"
         return self.estimator.transform(to_float(images).reshape(len(images), -1))
 
     def _save_state(self, directory: Path) -> None:

@@ -67,13 +67,14 @@ class ICABoVW(FeatureLearner):
         patch_size = self.params["patch_size"]
         windows = extract_patches(to_float(images), patch_size, self.params["stride"])
         patches = windows.reshape(len(images), -1, patch_size, patch_size)
+        assert self.ica is not None and self.kmeans is not None, "describe checks that the learner is fitted"
         sources = self.ica.transform(remove_dc(patches.reshape(-1, patch_size, patch_size)))
         words = self.kmeans.predict(sources)
         return patches, words.reshape(len(images), -1)
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         patch_size, stride = self.params["patch_size"], self.params["stride"]
-        height, width = self.input_shape
+        height, width = self.image_shape
         if patch_size > min(height, width):
             raise ValueError(
                 f"{self._key('patch_size')} = {patch_size} exceeds the image size {height}x{width}"
@@ -130,6 +131,7 @@ class ICABoVW(FeatureLearner):
     def filters(self) -> np.ndarray:
         """The learned independent components as (n_components, p, p) patches (mixing matrix columns)."""
         self._require_fitted("filters")
+        assert self.ica is not None
         patch_size = self.params["patch_size"]
         return self.ica.mixing_.T.reshape(-1, patch_size, patch_size).astype(np.float32)
 
@@ -147,6 +149,7 @@ class ICABoVW(FeatureLearner):
         patches, words = self._patch_words(images)
         patches = patches.reshape(-1, patch_size, patch_size)
         words = words.ravel()
+        assert self.ica is not None and self.kmeans is not None
         sources = self.ica.transform(remove_dc(patches))
         distances = self.kmeans.transform(sources)
         counts = np.bincount(words, minlength=self.params["n_words"])

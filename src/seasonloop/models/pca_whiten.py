@@ -43,6 +43,7 @@ class WhitenedPCALearner(PrincipalComponentLearner):
 
     def _resolved_components(self) -> int:
         """How many leading components lie above float32 rounding noise for the fitted solver."""
+        assert self.estimator is not None
         tolerance = RESOLVED_ROUNDINGS * np.finfo(np.float32).eps
         variances = np.asarray(self.estimator.explained_variance_, dtype=np.float64)
         if self.params["svd_solver"] == "covariance_eigh":
@@ -58,6 +59,7 @@ class WhitenedPCALearner(PrincipalComponentLearner):
     def kept_std(self) -> np.ndarray:
         """Population standard deviation of each kept component on the training images (sklearn's
         explained_variance_ divides by n - 1)."""
+        assert self.estimator is not None, "kept_std needs the fitted PCA"
         n_samples = self.estimator.n_samples_
         variances = np.asarray(self.estimator.explained_variance_[self.params["n_discard"] :], dtype=np.float64)
         return np.sqrt(variances * (n_samples - 1) / n_samples).astype(np.float32)

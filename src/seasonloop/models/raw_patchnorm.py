@@ -18,7 +18,7 @@ class RawPatchNorm(FeatureLearner):
     defaults = {"patch_size": 8, "mode": "zscore"}
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
-        height, width = self.input_shape
+        height, width = self.image_shape
         patch_size = self.params["patch_size"]
         if height % patch_size or width % patch_size:
             raise ValueError(

@@ -215,6 +215,7 @@ class TorchFastICA:
     # ----- using a fitted model -----
     def _set_components(self) -> None:
         # numpy, so a model rebuilt from its arrays gives bit-identical components.
+        assert self.unmixing_ is not None and self.whitening_ is not None
         self.components_ = np.ascontiguousarray(self.unmixing_ @ self.whitening_, dtype=np.float32)
 
     def transform(self, data: np.ndarray) -> np.ndarray:
@@ -232,6 +233,7 @@ class TorchFastICA:
         """The fitted state as plain numpy arrays (for numpy.savez)."""
         if self.components_ is None:
             raise RuntimeError("TorchFastICA: call fit() before to_arrays()")
+        assert self.mean_ is not None and self.whitening_ is not None and self.unmixing_ is not None
         return {
             "mean": self.mean_,
             "whitening": self.whitening_,

@@ -95,6 +95,13 @@ class FeatureLearner(ABC):
     def _key(self, key: str) -> str:
         return f"{self.name}.{key}"
 
+    @property
+    def image_shape(self) -> tuple[int, int]:
+        """(height, width) of the images the learner was fitted on (set before _fit runs)."""
+        if self.input_shape is None:
+            raise RuntimeError(f"{self.name}: not fitted yet")
+        return self.input_shape
+
     def _validate_params(self) -> None:
         """Raise ValueError for params that are fine one by one but not together (subclasses override;
         each value's own range and choices are checked by seasonloop.params.learners)."""
@@ -142,7 +149,7 @@ class FeatureLearner(ABC):
             "name": self.name,
             "params": to_json_value(self.params),
             "seed": self.seed,
-            "input_shape": list(self.input_shape),
+            "input_shape": list(self.image_shape),
             "fit_info": self.fit_info,
         }
         (directory / LEARNER_FILE).write_text(json.dumps(record, indent=2) + "\n")
@@ -171,10 +178,10 @@ class FeatureLearner(ABC):
         """Check fitted state and that images are non-empty (N, H, W) of the trained size."""
         self._require_fitted(action)
         images = np.asarray(images)
-        if images.ndim != 3 or len(images) == 0 or tuple(images.shape[1:]) != self.input_shape:
+        if images.ndim != 3 or len(images) == 0 or tuple(images.shape[1:]) != self.image_shape:
             raise ValueError(
-                f"{self.name}: expected images of shape (N>=1, {self.input_shape[0]}, "
-                f"{self.input_shape[1]}), got {images.shape}"
+                f"{self.name}: expected images of shape (N>=1, {self.image_shape[0]}, "
+                f"{self.image_shape[1]}), got {images.shape}"
             )
         return images
 

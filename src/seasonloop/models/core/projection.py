@@ -55,6 +55,7 @@ class PrincipalComponentLearner(FeatureLearner):
         }
 
     def _describe_batch(self, images: np.ndarray) -> np.ndarray:
+        assert self.estimator is not None, "describe checks that the learner is fitted"
         flat = to_float(images).reshape(len(images), -1)
         return self.estimator.transform(flat)[:, self.params["n_discard"] :]
 
@@ -65,6 +66,7 @@ class PrincipalComponentLearner(FeatureLearner):
             raise ValueError(
                 f"component range [{start}, {stop}) must satisfy 0 <= start < stop <= {self.n_components}"
             )
+        assert self.estimator is not None
         flat = to_float(images).reshape(len(images), -1)
         projections = self.estimator.transform(flat)[:, start:stop]
         rebuilt = projections @ self.estimator.components_[start:stop]

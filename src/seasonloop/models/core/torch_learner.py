@@ -116,11 +116,18 @@ class TorchAutoEncoderLearner(FeatureLearner):
     def _check_image_size(self, height: int, width: int) -> None:
         """Raise ValueError if the network cannot take height x width images (subclasses override)."""
 
+    @property
+    def network(self) -> AutoEncoder:
+        """The trained network (RuntimeError before fit or load)."""
+        if self.model is None:
+            raise RuntimeError(f"{self.name}: no network yet (fit or load first)")
+        return self.model
+
     def _seeded_model(self) -> AutoEncoder:
         """Build the network with weights drawn from `seed`, leaving the global torch RNG untouched."""
         with torch.random.fork_rng(devices=[]):
             torch.manual_seed(self.seed)
-            return self._build_model(*self.input_shape)
+            return self._build_model(*self.image_shape)
 
     def _memory_format(self) -> torch.memory_format:
         return torch.channels_last if self.channels_last else torch.contiguous_format
@@ -155,7 +162,7 @@ class TorchAutoEncoderLearner(FeatureLearner):
         }
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
-        height, width = self.input_shape
+        height, width = self.image_shape
         self._check_image_size(height, width)
         patch_size = self.params["patch_size"]
         if self.params["descriptor"] == "output_patchnorm" and (height % patch_size or width % patch_size):
@@ -188,24 +195,26 @@ class TorchAutoEncoderLearner(FeatureLearner):
             "cpu_native_bfloat16": cpu_has_native_bfloat16(),
             "channels_last": self.channels_last,
             "torch_threads": torch.get_num_threads(),
-            "n_parameters": sum(parameter.numel() for parameter in self.model.parameters()),
+            "n_parameters": sum(parameter.numel() for parameter in self.network.parameters()),
         }
 
     def _forward_batch(self, images: np.ndarray, decode: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
         """Code (n, C) and, if `decode`, output (n, H*W) of one batch, as float32 numpy arrays."""
-        device = next(self.model.parameters()).device
+        model = self.network
+        device = next(model.parameters()).device
         inputs = torch.from_numpy(to_float(images)).unsqueeze(1).to(device)
         inputs = inputs.contiguous(memory_format=self._memory_format())
         with torch.inference_mode(), autocast(device, self._dtype):
-            code = self.model.encoder(inputs)
+            code = model.encoder(inputs)
             output = None
             if decode:
-                output = self.model.decoder(code)[:, 0].float().reshape(len(images), -1).cpu().numpy()
+                output = model.decoder(code)[:, 0].float().reshape(len(images), -1).cpu().numpy()
             return code.float().flatten(1).cpu().numpy(), output
     def _descriptor_batch(self, images: np.ndarray, descriptor: str) -> np.ndarray:
         code, output = self._forward_batch(images, decode=descriptor != "code")
         if descriptor == "code":
             return code
+        assert output is not None, "decoded: the descriptor is not the code"
         if descriptor == "output":
             return output
         return self.patchnorm_output(output, images.shape[1:])
@@ -240,6 +249,7 @@ class TorchAutoEncoderLearner(FeatureLearner):
 
         def code_keeping_output(batch: np.ndarray) -> np.ndarray:
             code, output = self._forward_batch(batch)
+            assert output is not None, "decoded by default"
             outputs.append(output)
             return code
 
@@ -247,7 +257,7 @@ class TorchAutoEncoderLearner(FeatureLearner):
         return codes, np.concatenate(outputs)
 
     def _save_state(self, directory: Path) -> None:
-        torch.save(self.model.state_dict(), directory / MODEL_FILE)
+        torch.save(self.network.state_dict(), directory / MODEL_FILE)
 
     def _load_state(self, directory: Path) -> None:
         # A model trained on CUDA still loads (on the CPU) where CUDA is absent.
@@ -258,4 +268,4 @@ class TorchAutoEncoderLearner(FeatureLearner):
         self._set_threads()
         self.model = self._seeded_model()
         self.model.load_state_dict(torch.load(directory / MODEL_FILE, map_location="cpu", weights_only=True))
-        self.model.to(device=device, memory_format=self._memory_format()).eval()
+        self.model.to(device=device, memory_format=self._memory_format()).eval()  # type: ignore[call-overload]

@@ -149,7 +149,8 @@ class _Plateau:
 
     def __init__(self, min_delta: float):
         self.min_delta = min_delta
-        self.best_loss, self.best_epoch, self.best_state = float("inf"), 0, None
+        self.best_loss, self.best_epoch = float("inf"), 0
+        self.best_state: dict[str, Any] | None = None
         self.reference_loss, self.improved_epoch = float("inf"), 0
 
     def update(self, epoch: int, loss: float, model: nn.Module) -> None:
@@ -207,7 +208,7 @@ def train_until_plateau(
     Shuffling has its own generator seeded from config.seed, so the global torch RNG is left alone.
     """
     generator = torch.Generator().manual_seed(config.seed)
-    model.to(device=device, memory_format=memory_format)
+    model.to(device=device, memory_format=memory_format)  # type: ignore[call-overload]  # torch's stubs lack it
     optimiser = torch.optim.Adam(model.parameters(), lr=config.learning_rate)
     scheduler = learning_rate_schedule(optimiser, config)
     train_loss: list[float] = []

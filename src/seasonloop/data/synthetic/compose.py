@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from typing import Callable
 
+from functools import partial
+
 import numpy as np
 
 from .camera import View
@@ -37,7 +39,7 @@ def render_codes(view: View, p: float, land: Landscape, placed: RouteObjects, te
     drawn = 0
     layers: list[tuple[float, Callable[[], None]]] = []
     for layer in TREE_LAYERS:
-        layers.append((layer.lateral, lambda layer=layer: draw_trees(codes, view, p, layer, land, textures)))
+        layers.append((layer.lateral, partial(draw_trees, codes, view, p, layer, land, textures)))
     if np.isfinite(portal):
         shape = land.tunnel_shape[i + 1]  # the portal ahead
         layers.append((ROCK_LATERAL + 0.01, lambda: draw_portal(codes, view, portal, shape, textures)))
@@ -60,20 +62,20 @@ def visible_objects(codes: np.ndarray, view: View, p: float, z_max: float, land:
     objects: list[tuple[float, float, Callable[[], None]]] = []
     lo, hi = np.searchsorted(placed.house_s, [p - 40.0, p + z_max])
     for house in placed.houses[lo:hi]:
-        objects.append((house[2], house[0] - p, lambda h=house: draw_house(codes, view, p, *h)))
+        objects.append((house[2], house[0] - p, partial(draw_house, codes, view, p, *house)))
     lo, hi = np.searchsorted(placed.tree_s, [p - 2.0, p + min(z_max, 400.0)])
     for tree in placed.trees[lo:hi]:
         # Small trees far away would be a pixel or two: skip them.
         if tree[0] - p < 60.0 * tree[3]:
-            objects.append((tree[2], tree[0] - p, lambda tr=tree: draw_single_tree(codes, view, p, *tr)))
+            objects.append((tree[2], tree[0] - p, partial(draw_single_tree, codes, view, p, *tree)))
     for at, side in land.stations:
         if at - 200.0 - p < z_max and at + 60.0 - p > -10.0:
-            objects.append((1.75, at - p, lambda a=at, sd=side: draw_platform(codes, view, p, a, sd)))
+            objects.append((1.75, at - p, partial(draw_platform, codes, view, p, at, side)))
     if len(land.bridge_a):
         lo, hi = np.searchsorted(land.bridge_b, [p, p + z_max])
         for a, b in zip(land.bridge_a[lo:hi + 1], land.bridge_b[lo:hi + 1]):
             if a - p < z_max and b > p:
-                objects.append((2.6, a - p, lambda a=a, b=b: draw_truss(codes, view, p, a, b)))
+                objects.append((2.6, a - p, partial(draw_truss, codes, view, p, a, b)))
     objects.append((3.6, 0.0, lambda: draw_poles(codes, view, p, z_max, land, textures)))
     objects.sort(key=lambda o: (-o[0], -o[1]))
     return objects

@@ -43,7 +43,8 @@ def make_layout(seconds: int, seed: int, difficulty: RouteDifficulty = DEFAULT_D
         del events[len(kinds) - 1 - kinds[::-1].index(drop)]
     slack = usable - needed()
     spare = np.floor(rng.dirichlet(np.ones(len(events) + 1)) * slack).astype(int)
-    tunnels, stops = [], []
+    tunnels: list[tuple[int, int]] = []
+    stops: list[tuple[int, int]] = []
     cursor = d.edge_margin_s
     for (kind, length), extra in zip(events, spare):
         start = cursor + int(extra)

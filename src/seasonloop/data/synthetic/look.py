@@ -50,8 +50,8 @@ class SeasonLook:
         self.cloud_drift = rng.uniform(0.2, 0.6) * scale  # px/s
         rng = np.random.default_rng([seed, s_index, 3, width, height])
         pad = self._NOISE_PAD
-        noise = rng.normal(0.0, 2.0, (self._NOISE_FRAMES, height + pad, width + pad, 3))
-        self.noise = np.clip(np.rint(noise), -8, 8).astype(np.int16)
+        grain = rng.normal(0.0, 2.0, (self._NOISE_FRAMES, height + pad, width + pad, 3))
+        self.noise = np.clip(np.rint(grain), -8, 8).astype(np.int16)
 
     def colourise(self, codes: np.ndarray, t: float, shake: float) -> np.ndarray:
         """Season colours, clouds, camera offset and shake (scaled by `shake`), light drift, noise."""

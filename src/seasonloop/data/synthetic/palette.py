@@ -6,6 +6,8 @@ own palette, with the season's colours, light and contrast baked in.
 
 from __future__ import annotations
 
+from typing import overload
+
 import numpy as np
 
 from ...params.seasons import SEASONS
@@ -82,6 +84,10 @@ CLOUDS = {
 }
 
 
+@overload
+def shade_code(material: str, level: int) -> int: ...
+@overload
+def shade_code(material: str, level: np.ndarray) -> np.ndarray: ...
 def shade_code(material: str, level: int | np.ndarray) -> int | np.ndarray:
     """The code of `material` at shade `level` (0 .. LEVELS - 1, `MID` unshaded)."""
     return MAT[material] * LEVELS + level

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import cv2
 import numpy as np
 
@@ -27,6 +29,6 @@ class Textures:
         self.table = rng.random((8, 1 << 16))  # random attributes of trees, looked up by `slots`
 
 
-def texture(table: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+def texture(table: np.ndarray, rows: np.ndarray, cols: Any) -> np.ndarray:
     """Look up a flattened 256 x 256 texture table at (row, col) coordinates, wrapping around."""
     return np.take(table, ((rows.astype(np.int32) & 255) << 8) + (cols.astype(np.int32) & 255))

@@ -49,7 +49,7 @@ def render_route(out_dir: Path, seasons: Sequence[str], seconds: int, fps: int, 
     writers: list[cv2.VideoWriter] = []
     try:
         for path in video_paths:
-            writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), float(fps), (int(width), int(height)))
+            writer = cv2.VideoWriter(str(path), cv2.VideoWriter.fourcc(*"mp4v"), float(fps), (int(width), int(height)))
             if not writer.isOpened():
                 raise OSError(f"cannot open video writer for {path}")
             writers.append(writer)

@@ -37,6 +37,7 @@ def skyline_layers(view: View, p: float, land: Landscape,
         view.ranges = (m0, fbm(a + 37.0 * m0, 301, textures.table[7], 4),
                        fbm(a + 37.0 * (m0 + 1.0), 301, textures.table[7], 4))
     _, h0, h1 = view.ranges
+    assert h0 is not None and h1 is not None, "set just above"
     heights = 250.0 + 1150.0 * np.clip((h0 + (h1 - h0) * w) * 1.6 - 0.45, 0.0, 1.0)
     layers = [(distance, heights, a * 1800.0)]
     for lateral, base, relief, scale, salt in HILLS:
@@ -80,8 +81,8 @@ def draw_skyline(codes: np.ndarray, view: View, p: float, land: Landscape, textu
     y = view.row_centre[r0:r1, None]
     near, far, ahead = y >= tops[2], y >= tops[1], y >= tops[0]
     # Flat index of the covering layer's per-column values.
-    index = np.where(near, 2 * width, np.where(far, width, 0)) + view.col_index
-    offset, scale, level, tex_col, grain_col = (np.take(values, index) for values in per_column)
+    flat_index = np.where(near, 2 * width, np.where(far, width, 0)) + view.col_index
+    offset, scale, level, tex_col, grain_col = (np.take(values, flat_index) for values in per_column)
     altitude = offset - y * scale
     patch = texture(textures.patches_flat, altitude * np.float32(1.0 / 40.0), tex_col)
     band = np.where(altitude > 330.0 + 70.0 * patch, 1, 0)
@@ -89,6 +90,6 @@ def draw_skyline(codes: np.ndarray, view: View, p: float, land: Landscape, textu
     band = np.where(altitude > 950.0 + 80.0 * patch, 3, band)
     # Fine grain: stands of forest and scree on the slopes.
     grain = texture(textures.grain_flat, altitude * np.float32(1.0 / 6.0), grain_col)
-    hills = index >= width
+    hills = flat_index >= width
     code = np.take(SKYLINE_CODES, band + 4 * hills) + (level + patch + grain).astype(np.int32)
     np.copyto(codes[r0:r1], code, where=ahead | far | near, casting="unsafe")

@@ -26,12 +26,11 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.evaluation.matchers import match_pair
 from seasonloop.evaluation.matching import best_matches, distance_matrix
 from seasonloop.io import staged_file, write_json
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 from seasonloop.plots import plot_series
-from seasonloop.reporting.figures import autoencoder_descriptors
+from seasonloop.reporting.figures import autoencoder_descriptors, descriptor_fraction_correct
 
 TABLE5_CHANNELS = (96, 256, 384)
 DESCRIPTORS = ("output_patchnorm", "code")
@@ -99,15 +98,11 @@ def describe_width(
     described = autoencoder_descriptors(learner, test, batch_size)
     cosines = [mean_cosine(described["output_patchnorm"][season], raw_described[season]) for season in test]
     record: dict[str, Any] = {"cosine_with_input": float(np.mean(cosines))}
+    fraction_correct = descriptor_fraction_correct(described, places, pairs, evaluate, sequence, DESCRIPTORS)
     for descriptor in DESCRIPTORS:
         ours = described[descriptor]
         record[descriptor] = {
-            "fraction_correct": {
-                f"{a}-{b}": match_pair(ours[a], ours[b], places, places, "single", evaluate, sequence)[0][
-                    "fraction_correct"
-                ]
-                for a, b in pairs
-            },
+            "fraction_correct": fraction_correct[descriptor],
             "agreement_with_raw": {
                 f"{a}-{b}": agreement((ours[a], ours[b]), (raw_described[a], raw_described[b]), evaluate.metric)
                 for a, b in pairs
@@ -140,12 +135,9 @@ def run_width_sweep(
         "pairs": [f"{a}-{b}" for a, b in pairs],
         "metric": evaluate.metric,
         "raw_patchnorm": {
-            "fraction_correct": {
-                f"{a}-{b}": match_pair(raw_test[a], raw_test[b], places, places, "single", evaluate, sequence)[0][
-                    "fraction_correct"
-                ]
-                for a, b in pairs
-            }
+            "fraction_correct": descriptor_fraction_correct(
+                {"raw": raw_test}, places, pairs, evaluate, sequence, ("raw",)
+            )["raw"]
         },
         "widths": {},
     }

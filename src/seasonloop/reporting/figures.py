@@ -114,14 +114,16 @@ def ica_figures(bovw, images: np.ndarray, season: str, out: Path) -> None:
     )
 
 
-def _fraction_correct(
+def descriptor_fraction_correct(
     described: Mapping[str, Mapping[str, np.ndarray]],
     places: np.ndarray,
     pairs: Sequence[tuple[str, str]],
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
+    descriptors: Sequence[str] = AE_DESCRIPTORS,
 ) -> dict[str, dict[str, float]]:
-    """Single-image fraction correct [descriptor][pair] of one auto-encoder's described test images."""
+    """Single-image fraction correct [descriptor][pair] of one auto-encoder's described test images
+    (described[descriptor][season], as autoencoder_descriptors gives them)."""
     return {
         descriptor: {
             pair_name(a, b): match_pair(
@@ -129,7 +131,7 @@ def _fraction_correct(
             )[0]["fraction_correct"]
             for a, b in pairs
         }
-        for descriptor in AE_DESCRIPTORS
+        for descriptor in descriptors
     }
 
 
@@ -164,7 +166,7 @@ def autoencoder_figures(
             reconstructions[season].append(
                 list(described["output"][season][shown_places].reshape(-1, *test[season].shape[1:]))
             )
-        fraction_correct[method] = _fraction_correct(described, places, pairs, evaluate, sequence)
+        fraction_correct[method] = descriptor_fraction_correct(described, places, pairs, evaluate, sequence)
     plot_series(
         {
             f"{method} {pair_name(a, b)}": (

@@ -22,13 +22,13 @@ PATCH_SIZE = 4
 # one place of it, and it is at least MIN_OFFSET places (one place either way is sampling jitter)
 MIN_AGREEMENT = 0.5
 MIN_OFFSET = 2
-ALIGN_HEIGHT, ALIGN_WIDTH = 16, 32   # small gray frames suffice to see which places match
+ALIGN_HEIGHT, ALIGN_WIDTH = 16, 32  # small gray frames suffice to see which places match
 
 
 @dataclass(frozen=True)
 class Alignment:
-    offset: int             # places: season's place i + offset matches the reference's place i
-    agreement: float        # share of sampled places whose own best offset is within 1 of it
+    offset: int  # places: season's place i + offset matches the reference's place i
+    agreement: float  # share of sampled places whose own best offset is within 1 of it
     n_sampled: int
 
     @property
@@ -36,18 +36,26 @@ class Alignment:
         return abs(self.offset) >= MIN_OFFSET and self.agreement >= MIN_AGREEMENT
 
     def to_json(self) -> dict:
-        return {"offset": self.offset, "agreement": round(self.agreement, 4), "n_sampled": self.n_sampled,
-                "clear": self.clear}
+        return {
+            "offset": self.offset,
+            "agreement": round(self.agreement, 4),
+            "n_sampled": self.n_sampled,
+            "clear": self.clear,
+        }
 
 
 def measure_offset(reference: np.ndarray, season: np.ndarray, max_offset: int, n_samples: int = 200) -> Alignment:
     """The offset (see Alignment) of `season` against `reference`, both (N, H, W) gray images."""
     if reference.shape[1:] != season.shape[1:] or reference.ndim != 3:
-        raise ValueError(f"alignment: expected two (N, H, W) arrays of one image size, got {reference.shape} and {season.shape}")
+        raise ValueError(
+            f"alignment: expected two (N, H, W) arrays of one image size, got {reference.shape} and {season.shape}"
+        )
     n = min(len(reference), len(season))
     if max_offset < 1 or n <= 2 * max_offset + 1:
         return Alignment(0, 1.0, 0)
-    places = np.unique(np.linspace(max_offset, n - 1 - max_offset, min(n_samples, n - 2 * max_offset)).round().astype(int))
+    places = np.unique(
+        np.linspace(max_offset, n - 1 - max_offset, min(n_samples, n - 2 * max_offset)).round().astype(int)
+    )
     offsets = np.arange(-max_offset, max_offset + 1)
 
     def describe(images: np.ndarray) -> np.ndarray:
@@ -88,6 +96,7 @@ def check_alignment(stored: dict[str, np.ndarray], max_offset: int) -> dict[str,
             raise ValueError(
                 f"{season} vs {seasons[0]}: the frames match best at an offset of {alignment.offset} places "
                 f"({alignment.agreement:.0%} of {alignment.n_sampled} sampled places agree); if that is real, set "
-                f"data.offsets.{late}: {by} (drops {late}'s first {by} places), else check the frame folders")
+                f"data.offsets.{late}: {by} (drops {late}'s first {by} places), else check the frame folders"
+            )
         result[f"{seasons[0]}-{season}"] = alignment.to_json()
     return result

@@ -50,9 +50,7 @@ def augment_training_set(
     if copies < 0:
         raise ValueError(f"augment.copies: must be >= 0, got {copies}")
     rng = np.random.default_rng(seed)
-    parts = [images] + [
-        augment_images(images, rng, horizontal_flip, width_shift, height_shift) for _ in range(copies)
-    ]
+    parts = [images] + [augment_images(images, rng, horizontal_flip, width_shift, height_shift) for _ in range(copies)]
     return np.concatenate(parts, axis=0)
 
 

@@ -64,7 +64,9 @@ def training_places(split_dir: Path, seasons: Sequence[str], copies: int) -> np.
     return np.concatenate([augmented_places(places, copies) for _ in seasons])
 
 
-def write_augmented_sets(split_dir: Path, out_dir: Path, seasons: Sequence[str], config: AugmentConfig) -> dict[str, dict]:
+def write_augmented_sets(
+    split_dir: Path, out_dir: Path, seasons: Sequence[str], config: AugmentConfig
+) -> dict[str, dict]:
     """Augment every season's training images into out_dir/<season>.npy; season -> its image counts
     (the rows of the study's Table 3)."""
     split = read_split(split_dir)
@@ -72,9 +74,14 @@ def write_augmented_sets(split_dir: Path, out_dir: Path, seasons: Sequence[str],
     for index, season in enumerate(seasons):
         train = load_array(split_images_file(split_dir, season, "train"))
         # a distinct, reproducible stream per season
-        augmented = augment_training_set(train, int(config.copies), int(config.seed) + index,
-                                         bool(config.horizontal_flip), float(config.width_shift),
-                                         float(config.height_shift))
+        augmented = augment_training_set(
+            train,
+            int(config.copies),
+            int(config.seed) + index,
+            bool(config.horizontal_flip),
+            float(config.width_shift),
+            float(config.height_shift),
+        )
         save_array(augmented_file(out_dir, season), augmented)
         per_season[season] = {
             "frames": split["n_places"],
@@ -85,8 +92,9 @@ def write_augmented_sets(split_dir: Path, out_dir: Path, seasons: Sequence[str],
     return per_season
 
 
-def dataset_record(split: Mapping[str, Any], per_season: Mapping[str, dict], frames: Mapping[str, Any],
-                   detection: Mapping[str, Any]) -> dict[str, Any]:
+def dataset_record(
+    split: Mapping[str, Any], per_season: Mapping[str, dict], frames: Mapping[str, Any], detection: Mapping[str, Any]
+) -> dict[str, Any]:
     """The dataset table (study Table 3): image counts per season and in all, what the split left
     out, what a place is (frames.json of the frames step) and the detection scores when there are
     any. The key order is the JSON file's."""

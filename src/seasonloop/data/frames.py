@@ -27,9 +27,7 @@ def _resize(frame: np.ndarray, height: int, width: int) -> np.ndarray:
     return cv2.resize(frame, (width, height), interpolation=cv2.INTER_AREA)
 
 
-def sample_video(
-    path: Path, fps: float, height: int, width: int, progress: bool = True
-) -> np.ndarray:
+def sample_video(path: Path, fps: float, height: int, width: int, progress: bool = True) -> np.ndarray:
     """Frames of the video at `path` sampled `fps` times a second, resized to height x width.
 
     Sample k is the video frame nearest to time k / fps.
@@ -70,17 +68,16 @@ def sample_video(
         capture.release()
     if next_sample < n_samples:
         if frame_index < n_frames * (1 - _FRAME_COUNT_SLACK):
-            raise ValueError(
-                f"{path}: video ends at frame {frame_index} of {n_frames} (truncated or corrupt)"
-            )
+            raise ValueError(f"{path}: video ends at frame {frame_index} of {n_frames} (truncated or corrupt)")
         samples = samples[:next_sample]
     return samples
 
 
 def natural_key(name: str) -> tuple:
     """Sort key that orders digit runs by value: 2.png before 10.png (plain sorting scrambles them)."""
-    return tuple((0, int(part), part) if part.isdigit() else (1, 0, part.lower())
-                 for part in re.split(r"(\d+)", name) if part)
+    return tuple(
+        (0, int(part), part) if part.isdigit() else (1, 0, part.lower()) for part in re.split(r"(\d+)", name) if part
+    )
 
 
 def list_frame_files(folder: Path) -> list[Path]:
@@ -88,9 +85,14 @@ def list_frame_files(folder: Path) -> list[Path]:
     folder = Path(folder)
     if not folder.is_dir():
         raise FileNotFoundError(f"{folder}: frame folder not found")
-    files = sorted((p for p in folder.iterdir()
-                    if p.suffix.lower() in IMAGE_SUFFIXES and not p.name.startswith(".") and p.is_file()),
-                   key=lambda p: natural_key(p.name))
+    files = sorted(
+        (
+            p
+            for p in folder.iterdir()
+            if p.suffix.lower() in IMAGE_SUFFIXES and not p.name.startswith(".") and p.is_file()
+        ),
+        key=lambda p: natural_key(p.name),
+    )
     if not files:
         raise ValueError(f"{folder}: no image files ({', '.join(IMAGE_SUFFIXES)})")
     return files
@@ -109,8 +111,10 @@ def align_frame_files(files: Mapping[str, Sequence[Path]]) -> tuple[dict[str, li
     if all(found == sets[first] for found in sets.values()):
         order = [path.name for path in files[first]]
         by_name = {season: {path.name: path for path in paths} for season, paths in files.items()}
-        return ({season: [by_name[season][name] for name in order] for season in files},
-                f"frames paired by file name ({len(order)} names shared by {', '.join(files)})")
+        return (
+            {season: [by_name[season][name] for name in order] for season in files},
+            f"frames paired by file name ({len(order)} names shared by {', '.join(files)})",
+        )
     shared = set.intersection(*sets.values())
     if shared:
         for season, found in sets.items():
@@ -120,12 +124,17 @@ def align_frame_files(files: Mapping[str, Sequence[Path]]) -> tuple[dict[str, li
                     raise ValueError(
                         f"{Path(files[other][0]).parent}/{lacking[0]}: no frame of that name in {season} "
                         f"({Path(files[season][0]).parent}); the folders share {len(shared)} names but not all, "
-                        "so places cannot be paired")
-    return ({season: list(paths) for season, paths in files.items()},
-            f"frames paired by position in natural order (the seasons' file names differ)")
+                        "so places cannot be paired"
+                    )
+    return (
+        {season: list(paths) for season, paths in files.items()},
+        "frames paired by position in natural order (the seasons' file names differ)",
+    )
 
 
-def read_frame_files(files: Sequence[Path], height: int, width: int, progress: bool = True, desc: str = "read") -> np.ndarray:
+def read_frame_files(
+    files: Sequence[Path], height: int, width: int, progress: bool = True, desc: str = "read"
+) -> np.ndarray:
     """The images `files`, in that order, resized to height x width."""
     frames = np.empty((len(files), height, width, 3), dtype=np.uint8)
     for i, file in enumerate(tqdm(files, desc=desc, unit="frame", disable=not progress)):

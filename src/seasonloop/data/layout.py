@@ -28,7 +28,7 @@ class RouteLayout:
         }
 
     @classmethod
-    def from_json(cls, data: dict) -> "RouteLayout":
+    def from_json(cls, data: dict) -> RouteLayout:
         """Rebuild a layout written by `to_json`; missing keys raise ValueError."""
         for key in ("seconds", "tunnels", "stops"):
             if key not in data:

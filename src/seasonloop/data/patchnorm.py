@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
-from seasonloop.params.learners import PATCH_NORM_MODES
 
+from seasonloop.params.learners import PATCH_NORM_MODES
 
 
 def _patch_shape(patch_size: int | tuple[int, int]) -> tuple[int, int]:
@@ -23,10 +23,7 @@ def _patch_shape(patch_size: int | tuple[int, int]) -> tuple[int, int]:
 
 
 def patch_normalise(
-    images: np.ndarray,
-    patch_size: int | tuple[int, int] = 8,
-    mode: str = "zscore",
-    eps: float = 1e-6,
+    images: np.ndarray, patch_size: int | tuple[int, int] = 8, mode: str = "zscore", eps: float = 1e-6
 ) -> np.ndarray:
     """Normalise each non-overlapping patch of each image independently.
 
@@ -44,14 +41,10 @@ def patch_normalise(
     patch_height, patch_width = _patch_shape(patch_size)
     height, width = array.shape[-2:]
     if height % patch_height or width % patch_width:
-        raise ValueError(
-            f"image size {height}x{width} is not divisible by patch_size {patch_height}x{patch_width}"
-        )
+        raise ValueError(f"image size {height}x{width} is not divisible by patch_size {patch_height}x{patch_width}")
     stack = array.reshape(-1, height, width).astype(np.float32)
     # (N, rows, patch_height, cols, patch_width): axes 2 and 4 run inside one patch.
-    patches = stack.reshape(
-        stack.shape[0], height // patch_height, patch_height, width // patch_width, patch_width
-    )
+    patches = stack.reshape(stack.shape[0], height // patch_height, patch_height, width // patch_width, patch_width)
     if mode == "zscore":
         centre = patches.mean(axis=(2, 4), keepdims=True)
         scale = patches.std(axis=(2, 4), keepdims=True)

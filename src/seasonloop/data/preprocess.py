@@ -42,11 +42,7 @@ def _clahe(images: np.ndarray, clahe_clip: float, clahe_grid: int) -> np.ndarray
 
 
 # The order is config.CONTRAST_METHODS' (tests/test_config.py keeps them in step).
-CONTRASTS: dict[str, ContrastMethod] = {
-    "clahe": _clahe,
-    "equalize": _equalize,
-    "none": _no_contrast,
-}
+CONTRASTS: dict[str, ContrastMethod] = {"clahe": _clahe, "equalize": _equalize, "none": _no_contrast}
 CONTRAST_METHODS = tuple(CONTRASTS)
 
 

@@ -44,10 +44,12 @@ def _check_outside_copy(path: Path, key: str, cwd: Path | None = None) -> None:
     if not path.is_absolute() and not path.exists() and _in_queued_experiment(cwd or Path.cwd()):
         raise FileNotFoundError(
             f"{path}: not in this queued experiment's copy of the repository (it holds only git-tracked "
-            f"files); give {key} as an absolute path")
+            f"files); give {key} as an absolute path"
+        )
 
 
 # ---- data.source: where each season's files are ----------------------------------------------
+
 
 def _video_files(seasons: Sequence[str], data: DataConfig) -> dict[str, Path]:
     paths = {}
@@ -61,17 +63,27 @@ def _video_files(seasons: Sequence[str], data: DataConfig) -> dict[str, Path]:
     return paths
 
 
-def _render_synthetic(out: Path, seasons: Sequence[str], data: DataConfig, synthetic: SyntheticConfig) -> dict[str, Path]:
+def _render_synthetic(
+    out: Path, seasons: Sequence[str], data: DataConfig, synthetic: SyntheticConfig
+) -> dict[str, Path]:
     # the difficulty knobs are keys of the synthetic section with RouteDifficulty's field names
     difficulty = RouteDifficulty(**{knob: getattr(synthetic, knob) for knob in RouteDifficulty.knobs()})
-    render_route(out, seasons, synthetic.seconds, synthetic.fps, synthetic.width, synthetic.height, synthetic.seed,
-                 difficulty=difficulty)
+    render_route(
+        out,
+        seasons,
+        synthetic.seconds,
+        synthetic.fps,
+        synthetic.width,
+        synthetic.height,
+        synthetic.seed,
+        difficulty=difficulty,
+    )
     return {season: out / f"{season}.mp4" for season in seasons}
 
 
 def _frame_folders(seasons: Sequence[str], data: DataConfig) -> dict[str, Path]:
     paths = {season: Path(data.frames_dir) / season for season in seasons}
-    for season, folder in paths.items():
+    for folder in paths.values():
         _check_outside_copy(folder, "data.frames_dir")
         list_frame_files(folder)  # raises, naming the folder, when missing or empty
     return paths
@@ -124,13 +136,16 @@ def acquire_sources(out: Path, seasons: Sequence[str], data: DataConfig, synthet
 
 # ---- kinds of files: reading a season, pairing places, describing a place ------------------------
 
-def _read_video(path: Path, fps: float, height: int, width: int, progress: bool, frame_step: int,
-                files: Sequence[Path] | None) -> np.ndarray:
+
+def _read_video(
+    path: Path, fps: float, height: int, width: int, progress: bool, frame_step: int, files: Sequence[Path] | None
+) -> np.ndarray:
     return np.ascontiguousarray(sample_video(path, fps, height, width, progress)[::frame_step])
 
 
-def _read_frames(path: Path, fps: float, height: int, width: int, progress: bool, frame_step: int,
-                 files: Sequence[Path] | None) -> np.ndarray:
+def _read_frames(
+    path: Path, fps: float, height: int, width: int, progress: bool, frame_step: int, files: Sequence[Path] | None
+) -> np.ndarray:
     # A frame folder already holds one image per time step (the Nordland PNG release is 1 fps),
     # so fps is not used; only the kept files are read.
     chosen = list(files) if files is not None else list_frame_files(path)
@@ -142,7 +157,11 @@ def _video_place(fps: float, frame_step: int) -> str:
 
 
 def _frame_place(fps: float, frame_step: int) -> str:
-    return "one image of each season's folder" if frame_step == 1 else f"every {frame_step}th image of each season's folder"
+    return (
+        "one image of each season's folder"
+        if frame_step == 1
+        else f"every {frame_step}th image of each season's folder"
+    )
 
 
 @dataclass(frozen=True)
@@ -168,8 +187,16 @@ def get_frame_kind(kind: str) -> FrameKind:
     return FRAME_KINDS[kind]
 
 
-def read_season(kind: str, path: Path, fps: float, height: int, width: int, progress: bool = True,
-                frame_step: int = 1, files: Sequence[Path] | None = None) -> np.ndarray:
+def read_season(
+    kind: str,
+    path: Path,
+    fps: float,
+    height: int,
+    width: int,
+    progress: bool = True,
+    frame_step: int = 1,
+    files: Sequence[Path] | None = None,
+) -> np.ndarray:
     """Places of one season from a file of FRAME_KINDS `kind` ("video": a video, "frames": a frame
     folder): every `frame_step`-th frame, so a place is one kept frame.
 

@@ -23,16 +23,19 @@ from seasonloop.params.settings import SplitConfig
 @dataclass(frozen=True)
 class Split:
     n_places: int
-    train: np.ndarray          # place ids used for training
-    test: np.ndarray           # place ids evaluated (tunnels and stops removed)
-    gap: np.ndarray            # place ids in the gaps around test blocks
+    train: np.ndarray  # place ids used for training
+    test: np.ndarray  # place ids evaluated (tunnels and stops removed)
+    gap: np.ndarray  # place ids in the gaps around test blocks
     dropped_tunnel: np.ndarray  # test-block places left out as tunnel (dark) frames
-    dropped_stop: np.ndarray   # test-block places left out as station stops (not already tunnels)
+    dropped_stop: np.ndarray  # test-block places left out as station stops (not already tunnels)
 
     def to_json(self) -> dict:
         return {
             "n_places": self.n_places,
-            **{name: getattr(self, name).tolist() for name in ("train", "test", "gap", "dropped_tunnel", "dropped_stop")},
+            **{
+                name: getattr(self, name).tolist()
+                for name in ("train", "test", "gap", "dropped_tunnel", "dropped_stop")
+            },
         }
 
 
@@ -66,12 +69,7 @@ def detect_stops(change: Mapping[str, np.ndarray], stop_threshold: float) -> np.
 
 
 def make_split(
-    n_places: int,
-    section_length: int,
-    test_fraction: float,
-    gap: int,
-    tunnel: np.ndarray,
-    stop: np.ndarray,
+    n_places: int, section_length: int, test_fraction: float, gap: int, tunnel: np.ndarray, stop: np.ndarray
 ) -> Split:
     if gap < 0:
         raise ValueError(f"split.gap: must be >= 0, got {gap}")
@@ -93,7 +91,9 @@ def make_split(
     dropped_stop = in_test_block & stop & ~tunnel
     test_mask = in_test_block & ~tunnel & ~stop
     if not test_mask.any():
-        raise ValueError("split: every test place is a tunnel or a stop; check split.dark_threshold / split.stop_threshold")
+        raise ValueError(
+            "split: every test place is a tunnel or a stop; check split.dark_threshold / split.stop_threshold"
+        )
     return Split(
         n_places=n_places,
         train=places[train_mask],
@@ -104,13 +104,16 @@ def make_split(
     )
 
 
-def split_route(stats: Mapping[str, np.ndarray], seasons: Sequence[str], config: SplitConfig) -> tuple[Split, np.ndarray, np.ndarray]:
+def split_route(
+    stats: Mapping[str, np.ndarray], seasons: Sequence[str], config: SplitConfig
+) -> tuple[Split, np.ndarray, np.ndarray]:
     """(split, tunnel mask, stop mask) from the frame statistics `stats` ("<season>_brightness" and
     "<season>_change" per place, as preprocess writes them)."""
     tunnel = detect_tunnels({s: stats[f"{s}_brightness"] for s in seasons}, float(config.dark_threshold))
     stop = detect_stops({s: stats[f"{s}_change"] for s in seasons}, float(config.stop_threshold))
-    split = make_split(len(tunnel), int(config.section_length), float(config.test_fraction), int(config.gap),
-                       tunnel, stop)
+    split = make_split(
+        len(tunnel), int(config.section_length), float(config.test_fraction), int(config.gap), tunnel, stop
+    )
     return split, tunnel, stop
 
 
@@ -141,8 +144,9 @@ def detection_scores(found: np.ndarray, truth: np.ndarray) -> dict[str, float | 
     }
 
 
-def detection_record(tunnel: np.ndarray, stop: np.ndarray, true_tunnel: np.ndarray, true_stop: np.ndarray,
-                     seconds: np.ndarray) -> dict[str, dict[str, float | int]]:
+def detection_record(
+    tunnel: np.ndarray, stop: np.ndarray, true_tunnel: np.ndarray, true_stop: np.ndarray, seconds: np.ndarray
+) -> dict[str, dict[str, float | int]]:
     """Tunnel and stop detection scored against the truth per second of the route (true_tunnel,
     true_stop), place p showing second seconds[p] (place_seconds)."""
     return {

@@ -31,18 +31,13 @@ class ConvolutionalAutoEncoder(TorchAutoEncoderLearner):
     def _check_image_size(self, height: int, width: int) -> None:
         if height % 4 or width % 4:
             raise ValueError(
-                f"{self.name}: image height and width must be divisible by 4 (two 2x2 poolings), "
-                f"got {height}x{width}"
+                f"{self.name}: image height and width must be divisible by 4 (two 2x2 poolings), got {height}x{width}"
             )
 
     def _build_model(self, height: int, width: int) -> AutoEncoder:
         (c0, c1, c2), (k0, k1, k2) = self.params["channels"], self.params["kernels"]
         encoder = nn.Sequential(
-            *_conv_relu(1, c0, k0),
-            nn.MaxPool2d(2),
-            *_conv_relu(c0, c1, k1),
-            *_conv_relu(c1, c2, k2),
-            nn.MaxPool2d(2),
+            *_conv_relu(1, c0, k0), nn.MaxPool2d(2), *_conv_relu(c0, c1, k1), *_conv_relu(c1, c2, k2), nn.MaxPool2d(2)
         )
         decoder = nn.Sequential(
             nn.Upsample(scale_factor=2, mode="nearest"),

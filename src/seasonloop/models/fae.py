@@ -17,10 +17,6 @@ class FullyConnectedAutoEncoder(TorchAutoEncoderLearner):
 
     def _build_model(self, height: int, width: int) -> AutoEncoder:
         n_pixels, hidden = height * width, self.params["hidden"]
-        encoder = nn.Sequential(
-            nn.Flatten(), nn.Linear(n_pixels, hidden), ACTIVATIONS[self.params["activation"]]()
-        )
-        decoder = nn.Sequential(
-            nn.Linear(hidden, n_pixels), nn.Sigmoid(), nn.Unflatten(1, (1, height, width))
-        )
+        encoder = nn.Sequential(nn.Flatten(), nn.Linear(n_pixels, hidden), ACTIVATIONS[self.params["activation"]]())
+        decoder = nn.Sequential(nn.Linear(hidden, n_pixels), nn.Sigmoid(), nn.Unflatten(1, (1, height, width)))
         return AutoEncoder(encoder, decoder)

@@ -9,7 +9,6 @@ dispatches. Both take the whitening solvers of seasonloop.models.core.fastica.WH
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,19 +18,12 @@ import joblib
 import numpy as np
 import torch
 from sklearn.decomposition import FastICA
-from sklearn.exceptions import ConvergenceWarning
 
-from seasonloop.models.core.fastica import WHITEN_SOLVERS, TorchFastICA
+from seasonloop.models.core.fastica import TorchFastICA
 from seasonloop.models.core.fastica_sklearn import fit_fastica
-from seasonloop.models.core.torch_learner import DEVICES, resolve_device
-from seasonloop.models.core.learner import (
-    EpochCallback,
-    FeatureLearner,
-    select_training_subset,
-    to_float,
-    with_contiguous_arrays,
-)
-from seasonloop.params.learners import ICA_ALGORITHMS, ICA_FUNCTIONS
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
+from seasonloop.models.core.torch_learner import resolve_device
+from seasonloop.params.learners import DEVICES, ICA_ALGORITHMS
 
 ESTIMATOR_FILE = "fastica.joblib"
 TORCH_STATE_FILE = "fastica.npz"
@@ -81,10 +73,14 @@ def _fit_torch(learner: ICALearner, flat: np.ndarray, progress: bool) -> dict[st
         raise ValueError(f"{learner.name}: {error}") from error
     learner.estimator = estimator
     assert estimator.n_iter_ is not None, "set by fit"
-    messages = [] if estimator.converged_ else [
-        f"FastICA did not converge in {estimator.n_iter_} iterations (last change "
-        f"{estimator.last_change_:.3g} >= tol {estimator.tol}); raise max_iter or tol"
-    ]
+    messages = (
+        []
+        if estimator.converged_
+        else [
+            f"FastICA did not converge in {estimator.n_iter_} iterations (last change "
+            f"{estimator.last_change_:.3g} >= tol {estimator.tol}); raise max_iter or tol"
+        ]
+    )
     return {
         "solver": "torch",
         "device": str(device),
@@ -145,8 +141,11 @@ class ICALearner(FeatureLearner):
         return ICA_SOLVERS[self.params["solver"]]
 
     def _validate_params(self) -> None:
-        self._check_solver_takes("algorithm", "algorithms", f" (the {self.params['solver']} solver implements the "
-                                                            f"{' and '.join(self.solver.algorithms)} algorithm)")
+        self._check_solver_takes(
+            "algorithm",
+            "algorithms",
+            f" (the {self.params['solver']} solver implements the {' and '.join(self.solver.algorithms)} algorithm)",
+        )
         self._check_solver_takes("device", "devices")
 
     def _check_solver_takes(self, key: str, field: str, why: str = "") -> None:

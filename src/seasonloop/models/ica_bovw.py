@@ -12,9 +12,8 @@ from numpy.lib.stride_tricks import sliding_window_view
 from sklearn.cluster import KMeans, MiniBatchKMeans
 from sklearn.decomposition import FastICA
 
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, to_float, with_contiguous_arrays
 from seasonloop.models.core.fastica_sklearn import fit_fastica
-from seasonloop.params.learners import KMEANS_KINDS
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, to_float, with_contiguous_arrays
 
 ESTIMATORS_FILE = "ica_bovw.joblib"
 KMEANS_N_INIT = 3
@@ -76,9 +75,7 @@ class ICABoVW(FeatureLearner):
         patch_size, stride = self.params["patch_size"], self.params["stride"]
         height, width = self.image_shape
         if patch_size > min(height, width):
-            raise ValueError(
-                f"{self._key('patch_size')} = {patch_size} exceeds the image size {height}x{width}"
-            )
+            raise ValueError(f"{self._key('patch_size')} = {patch_size} exceeds the image size {height}x{width}")
         windows = extract_patches(images, patch_size, stride)
         n_rows, n_cols = windows.shape[1:3]
         n_available = len(images) * n_rows * n_cols
@@ -86,9 +83,7 @@ class ICABoVW(FeatureLearner):
         rng = np.random.default_rng(self.seed)
         n_used = min(self.params["n_train_patches"], n_available)
         if self.params["n_words"] > n_used:
-            raise ValueError(
-                f"{self._key('n_words')} = {self.params['n_words']} exceeds the {n_used} training patches"
-            )
+            raise ValueError(f"{self._key('n_words')} = {self.params['n_words']} exceeds the {n_used} training patches")
         flat_index = np.sort(rng.choice(n_available, size=n_used, replace=False))
         image_index, row_index, col_index = np.unravel_index(flat_index, (len(images), n_rows, n_cols))
         patches = to_float(windows[image_index, row_index, col_index])
@@ -105,9 +100,7 @@ class ICABoVW(FeatureLearner):
         sources = self.ica.transform(remove_dc(patches))
         kmeans_class = MiniBatchKMeans if self.params["kmeans"] == "minibatch" else KMeans
         self.kmeans = with_contiguous_arrays(
-            kmeans_class(n_clusters=self.params["n_words"], n_init=KMEANS_N_INIT, random_state=self.seed).fit(
-                sources
-            )
+            kmeans_class(n_clusters=self.params["n_words"], n_init=KMEANS_N_INIT, random_state=self.seed).fit(sources)
         )
         return {
             "n_train_images": len(images),
@@ -168,4 +161,3 @@ class ICABoVW(FeatureLearner):
     def _load_state(self, directory: Path) -> None:
         estimators = joblib.load(directory / ESTIMATORS_FILE)
         self.ica, self.kmeans = estimators["ica"], estimators["kmeans"]
-

@@ -7,8 +7,8 @@ from typing import Any
 
 import numpy as np
 
+from seasonloop.data.patchnorm import patch_normalise
 from seasonloop.models.core.learner import EpochCallback, FeatureLearner
-from seasonloop.data.patchnorm import PATCH_NORM_MODES, patch_normalise
 
 
 class RawPatchNorm(FeatureLearner):

@@ -37,5 +37,13 @@ from .layout import make_layout
 from .video import render_preview, render_route
 from .world import SyntheticRoute, render_frame
 
-__all__ = ["SEASONS", "RouteDifficulty", "RouteLayout", "SyntheticRoute", "make_layout", "render_frame",
-           "render_preview", "render_route"]
+__all__ = [
+    "SEASONS",
+    "RouteDifficulty",
+    "RouteLayout",
+    "SyntheticRoute",
+    "make_layout",
+    "render_frame",
+    "render_preview",
+    "render_route",
+]

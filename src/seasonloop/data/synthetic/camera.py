@@ -44,8 +44,8 @@ class View:
         self.ground_absx = np.abs(self.ground_x)
         # Texture detail fades out with distance (it would only alias further away).
         self.grain_amp = np.clip(1.0 - self.ground_z / 60.0, 0.0, 1.0).astype(np.float32)[:, None]
-        self.ground_xi_fine = ((self.ground_x * 3.0 + 3000).astype(np.int32) & 255)
-        self.ground_xi_coarse = ((self.ground_x / 6.0 + 1000).astype(np.int32) & 255)
+        self.ground_xi_fine = (self.ground_x * 3.0 + 3000).astype(np.int32) & 255
+        self.ground_xi_coarse = (self.ground_x / 6.0 + 1000).astype(np.int32) & 255
         band = np.searchsorted(GROUND_BANDS, self.ground_absx, side="right")
         stripe = (self.ground_absx / 2.5).astype(np.int64) & 1
         band = np.where((band == N_BANDS - 2) & (stripe == 1), N_BANDS - 1, band)

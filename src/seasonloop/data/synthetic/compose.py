@@ -3,8 +3,7 @@ in painter's order; or the inside of a tunnel."""
 
 from __future__ import annotations
 
-from typing import Callable
-
+from collections.abc import Callable
 from functools import partial
 
 import numpy as np
@@ -56,8 +55,9 @@ def render_codes(view: View, p: float, land: Landscape, placed: RouteObjects, te
     return codes
 
 
-def visible_objects(codes: np.ndarray, view: View, p: float, z_max: float, land: Landscape,
-                    placed: RouteObjects, textures: Textures) -> list[tuple[float, float, Callable[[], None]]]:
+def visible_objects(
+    codes: np.ndarray, view: View, p: float, z_max: float, land: Landscape, placed: RouteObjects, textures: Textures
+) -> list[tuple[float, float, Callable[[], None]]]:
     """Objects ahead as (lateral, distance, draw), sorted far-out first then far-away first."""
     objects: list[tuple[float, float, Callable[[], None]]] = []
     lo, hi = np.searchsorted(placed.house_s, [p - 40.0, p + z_max])
@@ -73,7 +73,7 @@ def visible_objects(codes: np.ndarray, view: View, p: float, z_max: float, land:
             objects.append((1.75, at - p, partial(draw_platform, codes, view, p, at, side)))
     if len(land.bridge_a):
         lo, hi = np.searchsorted(land.bridge_b, [p, p + z_max])
-        for a, b in zip(land.bridge_a[lo:hi + 1], land.bridge_b[lo:hi + 1]):
+        for a, b in zip(land.bridge_a[lo : hi + 1], land.bridge_b[lo : hi + 1]):
             if a - p < z_max and b > p:
                 objects.append((2.6, a - p, partial(draw_truss, codes, view, p, a, b)))
     objects.append((3.6, 0.0, lambda: draw_poles(codes, view, p, z_max, land, textures)))

@@ -36,8 +36,15 @@ class RouteDifficulty:
                 raise ValueError(f"{field.name}: expected {kind}, got {value!r}")
             if field.type == "float":
                 object.__setattr__(self, field.name, float(value))
-        positive = ("cruise_speed", "brake_time", "tunnel_every_s", "stop_every_s", "tunnel_min_s", "stop_min_s",
-                    "winter_contrast")
+        positive = (
+            "cruise_speed",
+            "brake_time",
+            "tunnel_every_s",
+            "stop_every_s",
+            "tunnel_min_s",
+            "stop_min_s",
+            "winter_contrast",
+        )
         for name in positive:
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name}: expected a positive number, got {getattr(self, name)!r}")

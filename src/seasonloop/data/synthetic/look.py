@@ -66,8 +66,9 @@ class SeasonLook:
         matrix = cv2.getRotationMatrix2D((view.cx, view.horizon), angle, 1.0)
         matrix[0, 2] += dx + jitter[0]
         matrix[1, 2] += dy + jitter[1]
-        image = cv2.warpAffine(image, matrix, (view.width, view.height), flags=cv2.INTER_LINEAR,
-                               borderMode=cv2.BORDER_REFLECT_101)
+        image = cv2.warpAffine(
+            image, matrix, (view.width, view.height), flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REFLECT_101
+        )
         gain = 1.0 + 0.04 * float(np.sin(2 * np.pi * t / self.light_period + self.light_phase).sum())
         image = cv2.convertScaleAbs(image, alpha=gain)
         key = mix(self.seed, self.s_index, int(round(t * 1e6)))

@@ -44,8 +44,9 @@ class RouteObjects:
         self.tree_s = np.array([tr[0] for tr in trees])
 
 
-def _village(rng: np.random.Generator, houses: list, trees: list, land: Landscape, side: int, a: float,
-             b: float) -> None:
+def _village(
+    rng: np.random.Generator, houses: list, trees: list, land: Landscape, side: int, a: float, b: float
+) -> None:
     """Houses along [a, b), some with a tree, leaving room for a station building."""
     station_sides = [at for at, station_side in land.stations if station_side == side]
     colours = _HOUSE_COLOURS
@@ -56,8 +57,19 @@ def _village(rng: np.random.Generator, houses: list, trees: list, land: Landscap
             continue
         colour = colours[int(rng.choice(3, p=(0.35, 0.4, 0.25)))]
         roof = "roof_dark" if rng.random() < 0.6 else "roof_red"
-        houses.append((s, side, rng.uniform(9.0, 30.0), rng.uniform(8.0, 14.0), rng.uniform(6.0, 10.0),
-                       rng.uniform(3.0, 5.5), rng.uniform(2.0, 3.5), colour, roof))
+        houses.append(
+            (
+                s,
+                side,
+                rng.uniform(9.0, 30.0),
+                rng.uniform(8.0, 14.0),
+                rng.uniform(6.0, 10.0),
+                rng.uniform(3.0, 5.5),
+                rng.uniform(2.0, 3.5),
+                colour,
+                roof,
+            )
+        )
         if rng.random() < 0.5:
             lateral, height = rng.uniform(6.0, 14.0), rng.uniform(6.0, 14.0)
             trees.append((s + rng.uniform(5.0, 20.0), side, lateral, height, rng.random() < 0.4))

@@ -4,8 +4,8 @@ preview grid of a few places in every season (`render_preview`)."""
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import cv2
 import numpy as np
@@ -30,8 +30,17 @@ def _check_seasons(seasons: Sequence[str]) -> list[str]:
     return seasons
 
 
-def render_route(out_dir: Path, seasons: Sequence[str], seconds: int, fps: int, width: int, height: int, seed: int,
-                 progress: bool = True, difficulty: RouteDifficulty = DEFAULT_DIFFICULTY) -> RouteLayout:
+def render_route(
+    out_dir: Path,
+    seasons: Sequence[str],
+    seconds: int,
+    fps: int,
+    width: int,
+    height: int,
+    seed: int,
+    progress: bool = True,
+    difficulty: RouteDifficulty = DEFAULT_DIFFICULTY,
+) -> RouteLayout:
     """Write out_dir/<season>.mp4 (seconds*fps frames, frame k at time k/fps) and out_dir/layout.json.
 
     All seasons are rendered side by side so each place's geometry is drawn once. On any error the
@@ -75,8 +84,15 @@ def render_route(out_dir: Path, seasons: Sequence[str], seconds: int, fps: int, 
     return route.layout
 
 
-def render_preview(path: Path, seconds: int, seed: int, times: Sequence[float], width: int = 256,
-                   height: int = 144, difficulty: RouteDifficulty = DEFAULT_DIFFICULTY) -> None:
+def render_preview(
+    path: Path,
+    seconds: int,
+    seed: int,
+    times: Sequence[float],
+    width: int = 256,
+    height: int = 144,
+    difficulty: RouteDifficulty = DEFAULT_DIFFICULTY,
+) -> None:
     """PNG grid: one row per place (video time), one labelled column per season."""
     times = list(times)
     if not times:

@@ -64,6 +64,7 @@ class Zones:
         """Force [a, b) to `zone_type`, keeping the attributes of the segments underneath."""
         i_a, i_b = int(self.index(np.array([a]))[0]), int(self.index(np.array([b]))[0])
         before, after = self.starts < a, self.starts > b
+
         def splice(values: np.ndarray, at_a, at_b) -> np.ndarray:
             return np.concatenate([values[before], [at_a, at_b], values[after]])
 

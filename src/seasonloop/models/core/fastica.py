@@ -66,7 +66,9 @@ def _fix_signs(basis: torch.Tensor) -> torch.Tensor:
 Whitening = Callable[["TorchFastICA", np.ndarray, torch.Tensor], tuple[torch.Tensor, torch.Tensor, torch.Tensor]]
 
 
-def _eigh_axes(ica: TorchFastICA, data: np.ndarray, mean: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+def _eigh_axes(
+    ica: TorchFastICA, data: np.ndarray, mean: torch.Tensor
+) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
     n_samples, n_features = data.shape
     # D x D covariance, accumulated block by block: far cheaper than an SVD when n >> D.
     covariance = torch.zeros((n_features, n_features), dtype=torch.float32, device=ica.device)
@@ -82,15 +84,14 @@ def _eigh_axes(ica: TorchFastICA, data: np.ndarray, mean: torch.Tensor) -> tuple
     return computed, axes, computed
 
 
-def _svd_axes(ica: TorchFastICA, data: np.ndarray, mean: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+def _svd_axes(
+    ica: TorchFastICA, data: np.ndarray, mean: torch.Tensor
+) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
     _, computed, axes_t = torch.linalg.svd(torch.cat(list(ica._blocks(data, mean))), full_matrices=False)
     return computed, axes_t.T, computed**2 / data.shape[0]
 
 
-WHITEN_SOLVERS: dict[str, Whitening] = {
-    "eigh": _eigh_axes,
-    "svd": _svd_axes,
-}
+WHITEN_SOLVERS: dict[str, Whitening] = {"eigh": _eigh_axes, "svd": _svd_axes}
 
 
 class TorchFastICA:
@@ -143,8 +144,7 @@ class TorchFastICA:
         n_samples, n_features = data.shape
         if self.n_components > min(n_samples, n_features):
             raise ValueError(
-                f"n_components = {self.n_components} exceeds min(n_samples, n_features) = "
-                f"{min(n_samples, n_features)}"
+                f"n_components = {self.n_components} exceeds min(n_samples, n_features) = {min(n_samples, n_features)}"
             )
         data = np.ascontiguousarray(data, dtype=np.float32)
         if not np.isfinite(data).all():
@@ -195,11 +195,9 @@ class TorchFastICA:
         unmixing = symmetric_decorrelation(torch.from_numpy(initial.astype(np.float32)).to(self.device))
         self.converged_ = False
         bar = tqdm(total=self.max_iter, desc="FastICA iterations", unit="it", disable=not progress)
-        for iteration in range(1, self.max_iter + 1):
+        for iteration in range(1, self.max_iter + 1):  # noqa: B007 (its last value is n_iter_)
             squashed, mean_derivative = nonlinearity(unmixing @ whitened)
-            updated = symmetric_decorrelation(
-                squashed @ whitened.T / n_samples - mean_derivative[:, None] * unmixing
-            )
+            updated = symmetric_decorrelation(squashed @ whitened.T / n_samples - mean_derivative[:, None] * unmixing)
             change = float(((updated * unmixing).sum(dim=1).abs() - 1.0).abs().max())
             unmixing = updated
             bar.update()
@@ -224,9 +222,7 @@ class TorchFastICA:
             raise RuntimeError("TorchFastICA: call fit() (or load_arrays) before transform()")
         data = np.asarray(data, dtype=np.float32)
         if data.ndim != 2 or data.shape[1] != self.components_.shape[1]:
-            raise ValueError(
-                f"data must have shape (n, {self.components_.shape[1]}), got {data.shape}"
-            )
+            raise ValueError(f"data must have shape (n, {self.components_.shape[1]}), got {data.shape}")
         return (data - self.mean_) @ self.components_.T
 
     def to_arrays(self) -> dict[str, np.ndarray]:

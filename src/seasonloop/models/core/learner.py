@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from abc import ABC, abstractmethod
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -30,9 +30,7 @@ def to_float(images: np.ndarray) -> np.ndarray:
     raise ValueError(f"images must be uint8 or float, got dtype {array.dtype}")
 
 
-def select_training_subset(
-    images: np.ndarray, max_images: int, seed: int
-) -> tuple[np.ndarray, dict[str, int]]:
+def select_training_subset(images: np.ndarray, max_images: int, seed: int) -> tuple[np.ndarray, dict[str, int]]:
     """At most max_images images drawn at random (seeded, kept in order); 0 means all.
 
     Returns the images and a JSON-ready record of what was used.
@@ -102,7 +100,7 @@ class FeatureLearner(ABC):
             raise RuntimeError(f"{self.name}: not fitted yet")
         return self.input_shape
 
-    def _validate_params(self) -> None:
+    def _validate_params(self) -> None:  # noqa: B027 (optional hook: most learners need none)
         """Raise ValueError for params that are fine one by one but not together (subclasses override;
         each value's own range and choices are checked by seasonloop.params.learners)."""
 
@@ -121,9 +119,7 @@ class FeatureLearner(ABC):
         """
         images = np.asarray(images)
         if images.ndim != 3 or len(images) < 2:
-            raise ValueError(
-                f"{self.name}: training images must have shape (N, H, W) with N >= 2, got {images.shape}"
-            )
+            raise ValueError(f"{self.name}: training images must have shape (N, H, W) with N >= 2, got {images.shape}")
         places = np.arange(len(images)) if places is None else np.asarray(places)
         if places.shape != (len(images),):
             raise ValueError(f"{self.name}: {len(images)} training images but places of shape {places.shape}")
@@ -160,9 +156,7 @@ class FeatureLearner(ABC):
         """Rebuild a fitted learner written by `save`."""
         record = read_learner_record(directory)
         if record["name"] != cls.name:
-            raise ValueError(
-                f"{Path(directory) / LEARNER_FILE} holds a '{record['name']}' learner, not '{cls.name}'"
-            )
+            raise ValueError(f"{Path(directory) / LEARNER_FILE} holds a '{record['name']}' learner, not '{cls.name}'")
         learner = cls(record["params"], seed=record["seed"])
         learner.input_shape = (int(record["input_shape"][0]), int(record["input_shape"][1]))
         learner.fit_info = record["fit_info"]
@@ -196,7 +190,9 @@ class FeatureLearner(ABC):
         """Apply describe_batch to consecutive batches and stack the (n, D) results as float32."""
         if batch_size < 1:
             raise ValueError(f"batch_size must be >= 1, got {batch_size}")
-        starts = tqdm(range(0, len(images), batch_size), desc=description, unit="batch", disable=not progress, leave=False)
+        starts = tqdm(
+            range(0, len(images), batch_size), desc=description, unit="batch", disable=not progress, leave=False
+        )
         return np.concatenate(
             [np.asarray(describe_batch(images[start : start + batch_size]), dtype=np.float32) for start in starts]
         )

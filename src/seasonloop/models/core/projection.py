@@ -11,7 +11,6 @@ import numpy as np
 from sklearn.decomposition import PCA
 
 from seasonloop.models.core.learner import EpochCallback, FeatureLearner, to_float, with_contiguous_arrays
-from seasonloop.params.learners import SVD_SOLVERS
 
 ESTIMATOR_FILE = "pca.joblib"
 
@@ -39,11 +38,7 @@ class PrincipalComponentLearner(FeatureLearner):
                 f"with svd_solver {self.params['svd_solver']!r}"
             )
         self.estimator = with_contiguous_arrays(
-            PCA(
-                n_components=self.n_components,
-                svd_solver=self.params["svd_solver"],
-                random_state=self.seed,
-            ).fit(flat)
+            PCA(n_components=self.n_components, svd_solver=self.params["svd_solver"], random_state=self.seed).fit(flat)
         )
         ratios = self.estimator.explained_variance_ratio_
         n_discard = self.params["n_discard"]
@@ -63,9 +58,7 @@ class PrincipalComponentLearner(FeatureLearner):
         """(N, H, W) float32 images rebuilt from components [start, stop) only (plus the mean if start == 0)."""
         images = self._check_describe_input(images, "reconstruct")
         if not 0 <= start < stop <= self.n_components:
-            raise ValueError(
-                f"component range [{start}, {stop}) must satisfy 0 <= start < stop <= {self.n_components}"
-            )
+            raise ValueError(f"component range [{start}, {stop}) must satisfy 0 <= start < stop <= {self.n_components}")
         assert self.estimator is not None
         flat = to_float(images).reshape(len(images), -1)
         projections = self.estimator.transform(flat)[:, start:stop]

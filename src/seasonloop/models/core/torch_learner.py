@@ -14,8 +14,9 @@ import numpy as np
 import torch
 from torch import nn
 
+from seasonloop.data.patchnorm import patch_normalise
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
 from seasonloop.models.core.training import (
-    PRECISIONS,
     TrainingConfig,
     autocast,
     cpu_has_native_bfloat16,
@@ -23,9 +24,7 @@ from seasonloop.models.core.training import (
     train_until_plateau,
     validation_places,
 )
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
-from seasonloop.data.patchnorm import patch_normalise
-from seasonloop.params.learners import AE_DESCRIPTORS, DEVICES
+from seasonloop.params.learners import AE_DESCRIPTORS
 
 MODEL_FILE = "model.pt"
 
@@ -92,12 +91,12 @@ class TorchAutoEncoderLearner(FeatureLearner):
         "min_delta": 0.005,
         "lr_patience": 2,
         "lr_factor": 0.5,
-        "budget_seconds": 0,          # wall-clock cap on training (0: none); machine-dependent
-        "validation_fraction": 0.1,   # of the training places (whole blocks), never test places
-        "validation_block": 10,       # consecutive places per held-out block
-        "max_validation_images": 0,   # 0: every image of the validation places
-        "precision": "auto",          # auto | float32 | bfloat16 (autocast of the forward pass)
-        "threads": 0,                 # torch CPU threads; 0: torch's default (recorded either way)
+        "budget_seconds": 0,  # wall-clock cap on training (0: none); machine-dependent
+        "validation_fraction": 0.1,  # of the training places (whole blocks), never test places
+        "validation_block": 10,  # consecutive places per held-out block
+        "max_validation_images": 0,  # 0: every image of the validation places
+        "precision": "auto",  # auto | float32 | bfloat16 (autocast of the forward pass)
+        "threads": 0,  # torch CPU threads; 0: torch's default (recorded either way)
         "descriptor": "output_patchnorm",
         "patch_size": 8,
         "device": "auto",
@@ -138,28 +137,39 @@ class TorchAutoEncoderLearner(FeatureLearner):
 
     def _training_config(self) -> TrainingConfig:
         return TrainingConfig(
-            max_epochs=self.params["max_epochs"], batch_size=self.params["batch_size"],
-            learning_rate=float(self.params["learning_rate"]), patience=self.params["patience"],
-            min_delta=float(self.params["min_delta"]), lr_patience=self.params["lr_patience"],
-            lr_factor=float(self.params["lr_factor"]), budget_seconds=float(self.params["budget_seconds"]),
-            seed=self.seed)
+            max_epochs=self.params["max_epochs"],
+            batch_size=self.params["batch_size"],
+            learning_rate=float(self.params["learning_rate"]),
+            patience=self.params["patience"],
+            min_delta=float(self.params["min_delta"]),
+            lr_patience=self.params["lr_patience"],
+            lr_factor=float(self.params["lr_factor"]),
+            budget_seconds=float(self.params["budget_seconds"]),
+            seed=self.seed,
+        )
 
     def _split_validation(self, images: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
         """(training images, validation images, record): every image of the held-out places goes
         to validation (augmented copies included), so no validation place is ever trained on."""
         places = self.train_places
-        held_out = validation_places(places, self.params["validation_fraction"], self.params["validation_block"],
-                                     self.seed)
+        held_out = validation_places(
+            places, self.params["validation_fraction"], self.params["validation_block"], self.seed
+        )
         is_validation = np.isin(places, held_out)
         train, train_info = select_training_subset(images[~is_validation], self.params["max_train_images"], self.seed)
         validation, validation_info = select_training_subset(
-            images[is_validation], self.params["max_validation_images"], self.seed + 1)
-        return train, validation, {
-            **train_info,
-            "n_validation_places": len(held_out),
-            "n_validation_images_available": validation_info["n_train_images_available"],
-            "n_validation_images": validation_info["n_train_images"],
-        }
+            images[is_validation], self.params["max_validation_images"], self.seed + 1
+        )
+        return (
+            train,
+            validation,
+            {
+                **train_info,
+                "n_validation_places": len(held_out),
+                "n_validation_images_available": validation_info["n_train_images_available"],
+                "n_validation_images": validation_info["n_train_images"],
+            },
+        )
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         height, width = self.image_shape
@@ -210,6 +220,7 @@ class TorchAutoEncoderLearner(FeatureLearner):
             if decode:
                 output = model.decoder(code)[:, 0].float().reshape(len(images), -1).cpu().numpy()
             return code.float().flatten(1).cpu().numpy(), output
+
     def _descriptor_batch(self, images: np.ndarray, descriptor: str) -> np.ndarray:
         code, output = self._forward_batch(images, decode=descriptor != "code")
         if descriptor == "code":
@@ -223,7 +234,8 @@ class TorchAutoEncoderLearner(FeatureLearner):
         """The "output_patchnorm" descriptors (N, H*W) of outputs (N, H*W) of images of (H, W): what
         describe_as gives, for outputs already at hand (describe_code_and_output's)."""
         return patch_normalise(outputs.reshape(len(outputs), *image_shape), self.params["patch_size"]).reshape(
-            len(outputs), -1)
+            len(outputs), -1
+        )
 
     def _describe_batch(self, images: np.ndarray) -> np.ndarray:
         return self._descriptor_batch(images, self.params["descriptor"])
@@ -236,8 +248,13 @@ class TorchAutoEncoderLearner(FeatureLearner):
         if descriptor not in AE_DESCRIPTORS:
             raise ValueError(f"descriptor must be one of {', '.join(AE_DESCRIPTORS)}, got {descriptor!r}")
         images = self._check_describe_input(images, "describe_as")
-        return self._in_batches(images, batch_size, lambda batch: self._descriptor_batch(batch, descriptor),
-                                progress, f"{self.name} {descriptor}")
+        return self._in_batches(
+            images,
+            batch_size,
+            lambda batch: self._descriptor_batch(batch, descriptor),
+            progress,
+            f"{self.name} {descriptor}",
+        )
 
     def describe_code_and_output(
         self, images: np.ndarray, batch_size: int = 1024, progress: bool = False

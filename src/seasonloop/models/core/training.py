@@ -32,7 +32,9 @@ def cpu_has_native_bfloat16() -> bool:
     """True where the CPU computes bfloat16 in hardware (AVX512-BF16 or AMX); elsewhere torch
     emulates it, which is slower than float32."""
     cpu = torch.cpu
-    return any(getattr(cpu, check, lambda: False)() for check in ("_is_avx512_bf16_supported", "_is_amx_tile_supported"))
+    return any(
+        getattr(cpu, check, lambda: False)() for check in ("_is_avx512_bf16_supported", "_is_amx_tile_supported")
+    )
 
 
 def resolve_precision(requested: str, device: torch.device, key: str) -> torch.dtype:
@@ -68,10 +70,10 @@ class TrainingConfig:
     max_epochs: int
     batch_size: int
     learning_rate: float
-    patience: int          # epochs without a relative improvement of min_delta -> plateau
-    min_delta: float       # relative improvement of the validation loss that counts
-    lr_patience: int       # the learning rate is cut at the lr_patience-th epoch without improvement (>= 1)
-    lr_factor: float       # ... by this factor (ReduceLROnPlateau)
+    patience: int  # epochs without a relative improvement of min_delta -> plateau
+    min_delta: float  # relative improvement of the validation loss that counts
+    lr_patience: int  # the learning rate is cut at the lr_patience-th epoch without improvement (>= 1)
+    lr_factor: float  # ... by this factor (ReduceLROnPlateau)
     budget_seconds: float  # 0: no wall-clock budget
     seed: int
 
@@ -103,8 +105,14 @@ class TrainingResult:
         }
 
 
-def mean_loss(model: nn.Module, images: torch.Tensor, batch_size: int, device: torch.device,
-              dtype: torch.dtype, memory_format: torch.memory_format) -> float:
+def mean_loss(
+    model: nn.Module,
+    images: torch.Tensor,
+    batch_size: int,
+    device: torch.device,
+    dtype: torch.dtype,
+    memory_format: torch.memory_format,
+) -> float:
     """Mean squared reconstruction error over `images` (computed in float32)."""
     model.eval()
     summed = 0.0
@@ -117,14 +125,28 @@ def mean_loss(model: nn.Module, images: torch.Tensor, batch_size: int, device: t
     return summed / images[0].numel() / len(images)
 
 
-def _train_epoch(model: nn.Module, train_images: torch.Tensor, order: torch.Tensor, optimiser: torch.optim.Optimizer,
-                 batch_size: int, device: torch.device, dtype: torch.dtype, memory_format: torch.memory_format,
-                 batches_description: str, progress: bool) -> float:
+def _train_epoch(
+    model: nn.Module,
+    train_images: torch.Tensor,
+    order: torch.Tensor,
+    optimiser: torch.optim.Optimizer,
+    batch_size: int,
+    device: torch.device,
+    dtype: torch.dtype,
+    memory_format: torch.memory_format,
+    batches_description: str,
+    progress: bool,
+) -> float:
     """One pass over train_images in `order`; returns the mean training loss."""
     model.train()
     summed = 0.0
-    batches = tqdm(range(0, len(train_images), batch_size), unit="batch", leave=False,
-                   desc=batches_description, disable=not progress)
+    batches = tqdm(
+        range(0, len(train_images), batch_size),
+        unit="batch",
+        leave=False,
+        desc=batches_description,
+        disable=not progress,
+    )
     for first in batches:
         batch = train_images[order[first : first + batch_size]].to(device)
         batch = batch.contiguous(memory_format=memory_format)
@@ -173,14 +195,21 @@ def _stop_reason(epoch: int, diverged: bool, plateau: _Plateau, config: Training
     return None
 
 
-def learning_rate_schedule(optimiser: torch.optim.Optimizer, config: TrainingConfig) -> torch.optim.lr_scheduler.ReduceLROnPlateau:
+def learning_rate_schedule(
+    optimiser: torch.optim.Optimizer, config: TrainingConfig
+) -> torch.optim.lr_scheduler.ReduceLROnPlateau:
     """ReduceLROnPlateau that cuts the rate at the lr_patience-th epoch in a row without a relative
     improvement of min_delta: torch cuts when the bad epochs *exceed* its patience, hence the - 1."""
     if config.lr_patience < 1:
         raise ValueError(f"lr_patience must be an integer >= 1, got {config.lr_patience!r}")
     return torch.optim.lr_scheduler.ReduceLROnPlateau(
-        optimiser, mode="min", factor=config.lr_factor, patience=config.lr_patience - 1,
-        threshold=config.min_delta, threshold_mode="rel")
+        optimiser,
+        mode="min",
+        factor=config.lr_factor,
+        patience=config.lr_patience - 1,
+        threshold=config.min_delta,
+        threshold_mode="rel",
+    )
 
 
 def train_until_plateau(
@@ -219,8 +248,8 @@ def train_until_plateau(
     stop_reason = STOP_MAX_EPOCHS
     for epoch in range(1, config.max_epochs + 1):
         order = torch.randperm(len(train_images), generator=generator)
-        train_loss.append(_train_epoch(model, train_images, order, optimiser, config.batch_size, device, dtype,
-                                       memory_format, f"{description} epoch {epoch}/{config.max_epochs}", progress))
+        batches = (model, train_images, order, optimiser, config.batch_size, device, dtype, memory_format)
+        train_loss.append(_train_epoch(*batches, f"{description} epoch {epoch}/{config.max_epochs}", progress))
         learning_rate.append(optimiser.param_groups[0]["lr"])
         validation_loss.append(mean_loss(model, validation_images, config.batch_size, device, dtype, memory_format))
         diverged = not (np.isfinite(train_loss[-1]) and np.isfinite(validation_loss[-1]))
@@ -228,8 +257,8 @@ def train_until_plateau(
             scheduler.step(validation_loss[-1])
             plateau.update(epoch, validation_loss[-1], model)
         if on_epoch is not None:
-            on_epoch(epoch, {"train_loss": train_loss[-1], "validation_loss": validation_loss[-1],
-                             "learning_rate": learning_rate[-1]})
+            losses = {"train_loss": train_loss[-1], "validation_loss": validation_loss[-1]}
+            on_epoch(epoch, {**losses, "learning_rate": learning_rate[-1]})
         stop = _stop_reason(epoch, diverged, plateau, config, time.perf_counter() - start_time)
         if stop:
             stop_reason = stop
@@ -238,8 +267,10 @@ def train_until_plateau(
         raise RuntimeError(f"{description}: the validation loss was never finite ({validation_loss})")
     model.load_state_dict(plateau.best_state)
     model.eval()
-    return TrainingResult(train_loss, validation_loss, learning_rate, plateau.best_epoch, stop_reason,
-                          time.perf_counter() - start_time, len(train_images) * len(train_loss))
+    seconds, images_seen = time.perf_counter() - start_time, len(train_images) * len(train_loss)
+    return TrainingResult(
+        train_loss, validation_loss, learning_rate, plateau.best_epoch, stop_reason, seconds, images_seen
+    )
 
 
 def validation_places(places: np.ndarray, fraction: float, block: int, seed: int) -> np.ndarray:

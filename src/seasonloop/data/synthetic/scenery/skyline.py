@@ -22,8 +22,9 @@ SKYLINE_CODES = np.array(
 )
 
 
-def skyline_layers(view: View, p: float, land: Landscape,
-                   textures: Textures) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+def skyline_layers(
+    view: View, p: float, land: Landscape, textures: Textures
+) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """Per column (distance, skyline height above rail, position along the ridge) of the
     mountain range ahead (index 0) and of the far and near hill ridges beside the track (1, 2)."""
     distance = np.full(view.width, MOUNTAIN_DISTANCE)
@@ -34,8 +35,11 @@ def skyline_layers(view: View, p: float, land: Landscape,
     m0 = math.floor(morph)
     w = float(smoothstep(np.array(morph - m0)))
     if view.ranges[0] != m0:
-        view.ranges = (m0, fbm(a + 37.0 * m0, 301, textures.table[7], 4),
-                       fbm(a + 37.0 * (m0 + 1.0), 301, textures.table[7], 4))
+        view.ranges = (
+            m0,
+            fbm(a + 37.0 * m0, 301, textures.table[7], 4),
+            fbm(a + 37.0 * (m0 + 1.0), 301, textures.table[7], 4),
+        )
     _, h0, h1 = view.ranges
     assert h0 is not None and h1 is not None, "set just above"
     heights = 250.0 + 1150.0 * np.clip((h0 + (h1 - h0) * w) * 1.6 - 0.45, 0.0, 1.0)

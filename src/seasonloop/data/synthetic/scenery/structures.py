@@ -15,8 +15,20 @@ from ..zones import Landscape
 POLE_SPACING = 50.0  # m between telegraph poles
 
 
-def draw_house(codes: np.ndarray, view: View, p: float, s: float, side: int, lateral: float, length: float,
-                depth: float, wall: float, roof: float, wall_mat: str, roof_mat: str) -> None:
+def draw_house(
+    codes: np.ndarray,
+    view: View,
+    p: float,
+    s: float,
+    side: int,
+    lateral: float,
+    length: float,
+    depth: float,
+    wall: float,
+    roof: float,
+    wall_mat: str,
+    roof_mat: str,
+) -> None:
     """Gabled house with its long side facing the track: facade, near roof slope, front gable."""
     z1, z2 = s - p, s + length - p
     if z2 < Z_NEAR:
@@ -84,8 +96,7 @@ def draw_truss(codes: np.ndarray, view: View, p: float, a: float, b: float) -> N
         fill(codes, view, facing(-2.6, 2.6, 5.85, 6.15, z), shade)
 
 
-def draw_poles(codes: np.ndarray, view: View, p: float, z_max: float, land: Landscape,
-               textures: Textures) -> None:
+def draw_poles(codes: np.ndarray, view: View, p: float, z_max: float, land: Landscape, textures: Textures) -> None:
     """Telegraph poles beside the track, with their wires."""
     first = math.floor((p - 60.0) / POLE_SPACING)
     last = math.ceil((p + min(z_max, 400.0)) / POLE_SPACING)

@@ -38,8 +38,7 @@ TREE_LAYERS = (
 ZONE_TREE_SCALE = np.array([1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.3])  # moorland: low birch scrub
 
 
-def _tallest_crowns(view: View, p: float, layer: TreeLayer, land: Landscape,
-                    textures: Textures) -> tuple | None:
+def _tallest_crowns(view: View, p: float, layer: TreeLayer, land: Landscape, textures: Textures) -> tuple | None:
     """Per column of the row, the tallest crown covering it (or the stand's canopy far away).
 
     Returns (cols, z, s, height, key, spruce, rel, keep) per drawn column, None if none is drawn."""
@@ -99,9 +98,20 @@ def draw_trees(codes: np.ndarray, view: View, p: float, layer: TreeLayer, land: 
         _paint_crowns(codes, view, layer, textures, *crowns)
 
 
-def _paint_crowns(codes: np.ndarray, view: View, layer: TreeLayer, textures: Textures, cols: np.ndarray,
-                  z: np.ndarray, s: np.ndarray, best: np.ndarray, best_key: np.ndarray, best_spruce: np.ndarray,
-                  best_rel: np.ndarray, keep: np.ndarray) -> None:
+def _paint_crowns(
+    codes: np.ndarray,
+    view: View,
+    layer: TreeLayer,
+    textures: Textures,
+    cols: np.ndarray,
+    z: np.ndarray,
+    s: np.ndarray,
+    best: np.ndarray,
+    best_key: np.ndarray,
+    best_spruce: np.ndarray,
+    best_rel: np.ndarray,
+    keep: np.ndarray,
+) -> None:
     """Fill each column's crown span with spruce or birch codes, lit from the left, textured when near."""
     # Columns without a tree get an empty span above the image.
     top = np.where(keep, view.horizon + view.focal * (CAM_HEIGHT - best) / z, -11.0)
@@ -139,8 +149,9 @@ def _paint_crowns(codes: np.ndarray, view: View, layer: TreeLayer, textures: Tex
     codes[r0:r1, cols] = np.where(inside, base + level, block)
 
 
-def draw_single_tree(codes: np.ndarray, view: View, p: float, s: float, side: int, lateral: float, height: float,
-                     spruce: bool) -> None:
+def draw_single_tree(
+    codes: np.ndarray, view: View, p: float, s: float, side: int, lateral: float, height: float, spruce: bool
+) -> None:
     """A tree standing alone: a spruce of three tiers, or a birch with a round crown."""
     z = s - p
     if z < 2.0:

@@ -27,11 +27,6 @@ def training_places(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
     return datasets.training_places(SPLIT, seasons, copies)
 
 
-def test_places() -> np.ndarray:
-    """Place ids of the test images, the same for every season (rows of <season>_test.npy)."""
-    return datasets.test_places(SPLIT)
-
-
 def test_images(seasons: list[str]) -> dict[str, np.ndarray]:
     """season -> its (N_test, H, W) test images."""
     return datasets.test_images(SPLIT, seasons)

@@ -13,8 +13,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from _truths import pair_truths
+
 from _common import data_seasons, load_params, param, stage_main, train_seasons
-from _datasets import test_images, test_places, training_images, training_places
+from _datasets import test_images, training_images, training_places
 from seasonloop.ablations.cae_widths import run_width_sweep, width_channels, write_width_sweep
 from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.raw_patchnorm import RawPatchNorm
@@ -72,7 +74,7 @@ def main() -> None:
         raw,
         (training_images(params, chosen), training_places(params, chosen)),
         test,
-        test_places(),
+        pair_truths(pairs),
         pairs,
         evaluate,
         SequenceConfig.from_params(params),

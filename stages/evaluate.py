@@ -15,7 +15,6 @@ import argparse
 from pathlib import Path
 
 from _common import data_seasons, load_params, stage_main
-from _datasets import test_places
 from seasonloop.evaluation.pair_evaluation import evaluate_learner
 from seasonloop.io import staged_dir
 from seasonloop.params.schema import available_pairs
@@ -30,7 +29,6 @@ def main() -> None:
     params = load_params("data.seasons", "evaluate", "sequence")
     evaluate, sequence = EvaluateConfig.from_params(params), SequenceConfig.from_params(params)
     pairs = available_pairs(data_seasons(params), evaluate.pairs)
-    places = test_places()
     with (
         staged_dir(Path("metrics/eval") / method) as metrics_dir,
         staged_dir(Path("plots/pr") / method) as pr_dir,
@@ -40,7 +38,7 @@ def main() -> None:
             method,
             Path("data/features") / method,
             pairs,
-            places,
+            Path("data/ground_truth"),
             evaluate,
             sequence,
             metrics_dir,

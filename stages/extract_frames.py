@@ -5,17 +5,21 @@ paired by file name when the seasons share names. Then the seasons' alignment is
 by a known one. frames.json records both.
 
 Writes data/frames/<season>.npy (N, h, w, 3) uint8 BGR, data/frames/frames.json and a preview of
-the same places in every season (plots/season_preview.png).
+the same places in every season (plots/season_preview.png). With data.ground_truth positions, also
+data/frames/<season>_positions.npy: each place's position in metres (the renderer's exact ones for
+the synthetic route, else <data.positions_dir>/<season>.csv); seasons that are not aligned
+(ground truth positions or matrix) keep their own frames, lengths and offsets.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from _common import data_seasons, load_params, param, stage_main
+from _common import data_seasons, load_params, stage_main
 from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
+from seasonloop.data.positions import RENDERED, PositionFiles
 from seasonloop.io import read_json, staged_dir, write_json
-from seasonloop.params.settings import ExtractConfig
+from seasonloop.params.settings import DataConfig, ExtractConfig
 from seasonloop.plots import plot_image_grid
 
 SOURCES = Path("data/acquired/sources.json")
@@ -26,17 +30,34 @@ PREVIEW_PLACES = 6
 
 @stage_main
 def main() -> None:
-    params = load_params("data.seasons", "data.frame_step", "data.offsets", "extract")
+    params = load_params("data", "extract")
     seasons = data_seasons(params)
     sources = read_json(SOURCES)["seasons"]
     check_sources(sources, seasons, SOURCES)
-    extract = ExtractConfig.from_params(params)
+    extract, data = ExtractConfig.from_params(params), DataConfig.from_params(params)
+    positions = None
+    if data.ground_truth == "positions":
+        positions = (
+            PositionFiles(SOURCES.parent / RENDERED.folder, RENDERED.columns, RENDERED.units, RENDERED.key)
+            if data.source == "synthetic"
+            else PositionFiles(
+                Path(data.positions_dir), data.position_columns, data.position_units, data.position_key or None
+            )
+        )
     with staged_dir(OUT) as out:
         record = extract_seasons(
-            sources, seasons, extract, int(param(params, "data.frame_step")), param(params, "data.offsets"), out
+            sources,
+            seasons,
+            extract,
+            int(data.frame_step),
+            dict(data.offsets),
+            out,
+            aligned=data.ground_truth == "aligned",
+            positions=positions,
         )
+        record["ground_truth"] = data.ground_truth
         write_json(out / "frames.json", record)
-        grid, row_labels = preview_grid(out, seasons, record["n_places"], PREVIEW_PLACES)
+        grid, row_labels = preview_grid(out, seasons, record["places_per_season"], PREVIEW_PLACES)
         plot_image_grid(
             grid, PREVIEW, row_labels=row_labels, col_labels=seasons, title="The same places in every season"
         )

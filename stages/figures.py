@@ -14,8 +14,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from _truths import all_pair_truths
+
 from _common import data_seasons, load_params, param, stage_main
-from _datasets import test_images, test_places
+from _datasets import test_images
 from seasonloop.io import staged_dir, write_json
 from seasonloop.params.schema import available_pairs
 from seasonloop.params.settings import EvaluateConfig, FeaturesConfig, SequenceConfig
@@ -33,7 +35,7 @@ def main() -> None:
             out,
             list(param(params, "learners")),
             test_images(seasons),
-            test_places(),
+            all_pair_truths(seasons),
             available_pairs(seasons, evaluate.pairs),
             FeaturesConfig.from_params(params).batch_size,
             evaluate,

@@ -9,8 +9,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from _truths import pair_truths
+
 from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main
-from _datasets import test_images, test_places
+from _datasets import test_images
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.io import staged_file
 from seasonloop.params.schema import available_pairs, pair_name, pair_present
@@ -59,7 +61,7 @@ def main() -> None:
         AblationConfig.from_params(params).methods,
         example_pair,
         test_images(list(example_pair)),
-        test_places(),
+        pair_truths([example_pair])[example_pair],
     )
     with staged_file(Path("plots/report.html")) as tmp:
         tmp.write_text(html, encoding="utf-8")

@@ -2,8 +2,10 @@
 
 Writes data/split/split.json (the place ids of every part), data/split/<season>_{train,test}.npy
 and metrics/detection.json: how well tunnel and stop detection matched the renderer's truth when the
-data is synthetic (empty otherwise). The scores live outside data/split so that scoring changes do
-not invalidate the learners, which depend on data/split.
+data is synthetic and aligned (empty otherwise). The scores live outside data/split so that scoring
+changes do not invalidate the learners, which depend on data/split. Seasons that are not aligned
+(data.ground_truth positions or matrix) are split along the first season's places
+(seasonloop.data.season_split), each season with its own parts.
 """
 
 from __future__ import annotations
@@ -15,28 +17,59 @@ import numpy as np
 from _common import data_seasons, load_params, param, stage_main
 from _datasets import SPLIT
 from seasonloop.data.layout import RouteLayout
+from seasonloop.data.season_split import by_matrix, by_position, split_seasons
 from seasonloop.data.split import detection_record, place_seconds, split_route, write_split_sets
-from seasonloop.io import read_json, staged_dir, write_json
+from seasonloop.data.truth_matrix import matrix_between
+from seasonloop.io import load_array, read_json, staged_dir, write_json
 from seasonloop.params.settings import SplitConfig
 
 PREPROCESSED = Path("data/preprocessed")
+FRAMES = Path("data/frames")
 LAYOUT = Path("data/acquired/layout.json")
 DETECTION = Path("metrics/detection.json")
 
 
+def reference_places(kind: str, seasons: list[str], counts: dict[str, int], truth_dir: Path) -> dict[str, np.ndarray]:
+    """season -> the first season's place for each of its frames, by position or by matrix."""
+    if kind == "positions":
+        return by_position({season: load_array(FRAMES / f"{season}_positions.npy") for season in seasons}, seasons[0])
+    first = seasons[0]
+    mapped = {first: np.arange(counts[first])}
+    for season in seasons[1:]:
+        matrix = matrix_between(truth_dir, first, season, counts[first], counts[season])
+        mapped[season] = by_matrix(matrix, f"{first}-{season}")
+    return mapped
+
+
 @stage_main
 def main() -> None:
-    params = load_params("data.source", "data.seasons", "data.frame_step", "extract.fps", "split")
+    params = load_params(
+        "data.source",
+        "data.seasons",
+        "data.frame_step",
+        "data.ground_truth",
+        "data.ground_truth_dir",
+        "extract.fps",
+        "split",
+    )
     seasons = data_seasons(params)
-    split, tunnel, stop = split_route(np.load(PREPROCESSED / "stats.npz"), seasons, SplitConfig.from_params(params))
+    stats = np.load(PREPROCESSED / "stats.npz")
+    config = SplitConfig.from_params(params)
+    kind = param(params, "data.ground_truth")
     detection = {}
-    if param(params, "data.source") == "synthetic" and LAYOUT.is_file():
-        # the renderer knows where its tunnels and stops are: score the image-based detection
-        layout = RouteLayout.from_json(read_json(LAYOUT))
-        seconds = place_seconds(
-            split.n_places, int(param(params, "data.frame_step")), float(param(params, "extract.fps"))
-        )
-        detection = detection_record(tunnel, stop, layout.in_tunnel(), layout.stopped(), seconds)
+    if kind == "aligned":
+        split, tunnel, stop = split_route(stats, seasons, config)
+        if param(params, "data.source") == "synthetic" and LAYOUT.is_file():
+            # the renderer knows where its tunnels and stops are: score the image-based detection
+            layout = RouteLayout.from_json(read_json(LAYOUT))
+            seconds = place_seconds(
+                split.n_places, int(param(params, "data.frame_step")), float(param(params, "extract.fps"))
+            )
+            detection = detection_record(tunnel, stop, layout.in_tunnel(), layout.stopped(), seconds)
+    else:
+        counts = {season: len(stats[f"{season}_brightness"]) for season in seasons}
+        mapped = reference_places(kind, seasons, counts, Path(param(params, "data.ground_truth_dir")))
+        split = split_seasons(stats, seasons, config, mapped)
     with staged_dir(SPLIT) as out:
         write_split_sets(PREPROCESSED, out, seasons, split)
     write_json(DETECTION, detection)

@@ -14,8 +14,10 @@ import argparse
 import functools
 from pathlib import Path
 
+from _truths import pair_truths
+
 from _common import data_seasons, load_params, param, stage_main
-from _datasets import test_images, test_places, training_images, training_places
+from _datasets import test_images, training_images, training_places
 from seasonloop.ablations.training_seasons import plan_ablation, run_ablation, write_learner_record
 from seasonloop.models.registry import get_learner
 from seasonloop.params.settings import AblationConfig, EvaluateConfig, SequenceConfig
@@ -52,7 +54,7 @@ def main() -> None:
         {method: new_learner},
         lambda seasons: (training_images(params, seasons), training_places(params, seasons)),
         test_images(list(plan.pair)),
-        test_places(),
+        pair_truths([plan.pair])[plan.pair],
         evaluate,
         SequenceConfig.from_params(params),
     )

@@ -10,6 +10,7 @@ from seasonloop.ablations.training_seasons import (
     write_ablation,
     write_learner_record,
 )
+from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 STUDY_SETS = [["summer"], ["summer", "winter"], ["summer", "winter", "spring"], ["summer", "winter", "spring", "fall"]]
@@ -81,6 +82,7 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
         confidence="ratio",
         ratio_exclusion=0,
         tolerance_frames=0,
+        tolerance_m=10.0,
         matchers=("single",),
     )
     sequence = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
@@ -95,7 +97,15 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
         return np.zeros((10 * len(seasons), 4, 8)), np.tile(np.repeat(np.arange(5), 2), len(seasons))
 
     MeanLearner.fitted_on, MeanLearner.places = [], []
-    fraction_correct = run_ablation(plan, {"mean": new_learner}, training_set, test, np.arange(6), evaluate, sequence)
+    fraction_correct = run_ablation(
+        plan,
+        {"mean": new_learner},
+        training_set,
+        test,
+        aligned_truth(np.arange(6), np.arange(6), 0),
+        evaluate,
+        sequence,
+    )
     assert len(made) == 2 and MeanLearner.fitted_on == [10, 20]
     # the place ids reach fit: an auto-encoder then validates on places it never trains on
     assert [None if places is None else list(places) for places in MeanLearner.places] == [

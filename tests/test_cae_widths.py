@@ -14,6 +14,7 @@ from seasonloop.ablations.cae_widths import (
     width_table,
     write_width_sweep,
 )
+from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.raw_patchnorm import RawPatchNorm
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
@@ -59,6 +60,7 @@ def test_sweep_record_table_and_figure(tmp_path):
         confidence="distance",
         ratio_exclusion=0,
         tolerance_frames=0,
+        tolerance_m=10.0,
         matchers=("single",),
     )
     sequence = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
@@ -83,7 +85,16 @@ def test_sweep_record_table_and_figure(tmp_path):
 
     training = textured_images(60, 2), np.tile(np.arange(30), 2)
     record = run_width_sweep(
-        [1 / 32, 1 / 48], new_cae, raw, training, test, places, [("summer", "fall")], evaluate, sequence, batch_size=16
+        [1 / 32, 1 / 48],
+        new_cae,
+        raw,
+        training,
+        test,
+        {("summer", "fall"): aligned_truth(places, places, 0)},
+        [("summer", "fall")],
+        evaluate,
+        sequence,
+        batch_size=16,
     )
     assert fitted_channels == [[3, 8, 12], [2, 5, 8]]
     assert list(record["widths"]) == ["1/32", "1/48"]

@@ -34,6 +34,12 @@ DATA = DataConfig(
     frames_dir="frames",
     frame_step=1,
     offsets={},
+    ground_truth="aligned",
+    positions_dir="positions",
+    position_columns=("x", "y"),
+    position_units="metres",
+    position_key="",
+    ground_truth_dir="ground_truth",
 )
 
 

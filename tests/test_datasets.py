@@ -93,6 +93,7 @@ def test_dataset_record():
         "dropped_tunnel",
         "dropped_stop",
         "gap",
+        "ground_truth",
         "place",
         "frame_step",
         "pairing",

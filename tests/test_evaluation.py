@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 import yaml
 
+from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.evaluation.matchers import (
     MATCHER_REGISTRY,
     MATCHERS,
@@ -29,6 +30,7 @@ EVALUATE = replace(
     confidence="ratio",
     ratio_exclusion=2,
     tolerance_frames=0,
+    tolerance_m=10.0,
 )
 SEQUENCE = SequenceConfig(length=3, v_min=1.0, v_max=1.0, v_steps=1, window=4)
 # the raw section, as params.yaml holds it
@@ -85,7 +87,7 @@ def test_the_matcher_registry():
         get_matcher("seq")
     assert str(error.value) == "evaluate.matchers: unknown matcher 'seq' (known: single, sequence)"
     with pytest.raises(ValueError, match="evaluate.matchers: unknown matcher 'seq'"):
-        match_distances(np.ones((3, 3)), np.arange(3), np.arange(3), "seq", EVALUATE, SEQUENCE)
+        match_distances(np.ones((3, 3)), aligned_truth(np.arange(3), np.arange(3), 0), "seq", EVALUATE, SEQUENCE)
 
 
 @pytest.mark.parametrize("matcher", list(MATCHER_REGISTRY))
@@ -94,7 +96,7 @@ def test_every_registered_matcher_evaluates_a_pair(matcher):
     places = np.arange(12)
     database = rng.normal(size=(12, 6))
     queries = database + 0.05 * rng.normal(size=(12, 6))
-    metrics, pr, matched = match_pair(database, queries, places, places, matcher, EVALUATE, SEQUENCE)
+    metrics, pr, matched = match_pair(database, queries, aligned_truth(places, places, 0), matcher, EVALUATE, SEQUENCE)
     assert matched.shape == (12, 12) and len(pr) > 0 and 0 <= metrics["fraction_correct"] <= 1
 
 
@@ -102,7 +104,7 @@ def test_sequence_matching_of_a_pair_restarts_at_the_breaks_of_its_places():
     rng = np.random.default_rng(0)
     places = np.array([0, 1, 2, 3, 20, 21, 22, 23, 24, 50, 51, 52])
     distances = rng.random((12, 12))
-    _, _, matched = match_distances(distances, places, places, "sequence", EVALUATE, SEQUENCE)
+    _, _, matched = match_distances(distances, aligned_truth(places, places, 0), "sequence", EVALUATE, SEQUENCE)
     np.testing.assert_array_equal(matched, sequence_distances(distances, 3, 1.0, 1.0, 1, 4, places, places))
     assert not np.array_equal(matched, sequence_distances(distances, 3, 1.0, 1.0, 1, 4))
 
@@ -110,8 +112,10 @@ def test_sequence_matching_of_a_pair_restarts_at_the_breaks_of_its_places():
 def test_match_pair_uses_the_metric_asked_for():
     rng = np.random.default_rng(1)
     database, queries, places = rng.normal(size=(8, 4)), rng.normal(size=(8, 4)), np.arange(8)
-    _, _, cosine = match_pair(database, queries, places, places, "single", EVALUATE, SEQUENCE)
-    _, _, l1 = match_pair(database, queries, places, places, "single", EVALUATE, SEQUENCE, metric="cityblock")
+    _, _, cosine = match_pair(database, queries, aligned_truth(places, places, 0), "single", EVALUATE, SEQUENCE)
+    _, _, l1 = match_pair(
+        database, queries, aligned_truth(places, places, 0), "single", EVALUATE, SEQUENCE, metric="cityblock"
+    )
     np.testing.assert_allclose(l1, np.abs(queries[:, None] - database[None]).sum(-1), rtol=1e-6)
     assert cosine.max() <= 2.0 < l1.max()
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from seasonloop.data.patchnorm import patch_normalise
+from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.models.registry import get_learner
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 from seasonloop.reporting.figures import AE_DESCRIPTORS, autoencoder_descriptors, draw_figures
@@ -16,6 +17,7 @@ EVALUATE = EvaluateConfig(
     confidence="ratio",
     ratio_exclusion=0,
     tolerance_frames=1,
+    tolerance_m=10.0,
     matchers=("single",),
 )
 SEQUENCE = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
@@ -59,7 +61,7 @@ def test_draw_figures_without_their_learners_draws_nothing(tmp_path):
         tmp_path,
         ["raw_patchnorm"],
         test,
-        np.arange(4),
+        {("summer", "fall"): aligned_truth(np.arange(4), np.arange(4), 0)},
         [("summer", "fall")],
         8,
         EVALUATE,

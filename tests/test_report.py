@@ -6,6 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.plots import plot_image_grid
 from seasonloop.reporting.report import (
     Image,
@@ -106,21 +107,21 @@ def test_select_examples_picks_most_confident_correct_and_wrong():
     # query 0 -> 0 (correct, distance 0.1), query 1 -> 1 (correct, 0.3),
     # query 2 -> 0 (wrong, 0.05), query 3 -> 2 (wrong, 0.2)
     distances = np.array([[0.1, 0.9, 0.9, 0.9], [0.9, 0.3, 0.9, 0.9], [0.05, 0.9, 0.6, 0.9], [0.9, 0.9, 0.2, 0.7]])
-    examples = select_examples(distances, places, places, "distance", tolerance=0, n=1)
+    examples = select_examples(distances, aligned_truth(places, places, 0), "distance", n=1)
     assert [(e.query, e.match, e.truth, e.correct) for e in examples] == [(0, 0, 0, True), (2, 0, 2, False)]
-    examples = select_examples(distances, places, places, "distance", tolerance=1, n=5)
+    examples = select_examples(distances, aligned_truth(places, places, 1), "distance", n=5)
     # within one place query 3's match (place 12 for 13) counts as correct
     assert [e.query for e in examples if e.correct] == [0, 3, 1]
     assert [e.query for e in examples if not e.correct] == [2]
     with pytest.raises(ValueError, match="does not match"):
-        select_examples(distances[:3], places, places, "distance", tolerance=0, n=1)
+        select_examples(distances[:3], aligned_truth(places, places, 0), "distance", n=1)
 
 
 def test_example_grid_is_embedded():
     rng = np.random.default_rng(1)
     images = rng.integers(0, 255, size=(4, 8, 16), dtype=np.uint8)
     places = np.arange(4)
-    examples = select_examples(rng.random((4, 4)), places, places, "distance", tolerance=0, n=2)
+    examples = select_examples(rng.random((4, 4)), aligned_truth(places, places, 0), "distance", n=2)
     png = example_grid_png(images, images, examples, places, places, title="pca")
     page = build_report("r", [examples_section("summer-fall", {"pca": png})])
     assert page.count("data:image/png;base64,") == 1

@@ -10,6 +10,7 @@ import pytest
 # the fake metrics/eval folder of test_results
 from test_results import METHODS, PAIRS, VARIANTS, write_evaluations
 
+from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.io import save_array, write_json
 from seasonloop.params.settings import EvaluateConfig
 from seasonloop.plots import plot_image_grid
@@ -17,6 +18,7 @@ from seasonloop.reporting.report import ReportFiles, study_report
 from seasonloop.reporting.results import load_evaluations
 
 # the main metric, both matchers: the first two of VARIANTS
+TRUTH = aligned_truth(np.arange(5), np.arange(5), 0)
 EVALUATE = EvaluateConfig(
     pairs=tuple(PAIRS),
     metric="cosine",
@@ -24,6 +26,7 @@ EVALUATE = EvaluateConfig(
     confidence="ratio",
     ratio_exclusion=0,
     tolerance_frames=0,
+    tolerance_m=10.0,
     matchers=("single", "sequence"),
 )
 SEASONS = ["summer", "winter", "fall"]
@@ -116,7 +119,7 @@ def test_study_report_from_files(tmp_path):
     results = load_evaluations(tmp_path / "eval", METHODS, PAIRS, VARIANTS[:2], "cosine")
     files = report_files(tmp_path)
     images = {season: np.random.default_rng(2).random((5, 4, 8)) for season in SEASONS}
-    page = study_report(files, results, METHODS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, np.arange(5))
+    page = study_report(files, results, METHODS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, TRUTH)
     assert page.startswith("<!DOCTYPE html>") and "seasonloop: loop-closure detection across seasons" in page
     titles = [
         "Dataset",
@@ -148,4 +151,4 @@ def test_study_report_needs_the_figures_folder(tmp_path):
     shutil.rmtree(files.figures)
     images = {season: np.zeros((5, 4, 8)) for season in SEASONS}
     with pytest.raises(FileNotFoundError, match="run the figures stage first"):
-        study_report(files, results, METHODS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, np.arange(5))
+        study_report(files, results, METHODS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, TRUTH)

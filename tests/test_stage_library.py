@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
+from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.evaluation.pair_evaluation import evaluate_learner
 from seasonloop.params.settings import EvaluateConfig, ExtractConfig, SequenceConfig
 
@@ -36,6 +37,7 @@ def test_extract_seasons_writes_every_season_and_its_record(tmp_path):
     record = extract_seasons(sources_of(tmp_path / "in", ["summer", "fall"]), ["summer", "fall"], EXTRACT, 2, {}, out)
     assert list(record) == [
         "n_places",
+        "places_per_season",
         "seasons",
         "frames_per_season",
         "frame_step",
@@ -48,7 +50,7 @@ def test_extract_seasons_writes_every_season_and_its_record(tmp_path):
     frames = np.load(out / "summer.npy")
     assert frames.shape == (4, 6, 8, 3) and frames.dtype == np.uint8
     json.dumps(record)  # JSON-ready
-    grid, labels = preview_grid(out, ["summer", "fall"], record["n_places"], 2)
+    grid, labels = preview_grid(out, ["summer", "fall"], record["places_per_season"], 2)
     assert len(grid) == 2 and len(grid[0]) == 2 and labels == ["place 1", "place 2"]
     # BGR on disk, RGB in the preview
     assert np.array_equal(grid[0][0], frames[1][..., ::-1])
@@ -89,17 +91,25 @@ def test_evaluate_learner_writes_every_pair_metric_and_matcher(tmp_path):
         confidence="distance",
         ratio_exclusion=2,
         tolerance_frames=0,
+        tolerance_m=10.0,
         matchers=("single", "sequence"),
     )
     sequence = SequenceConfig(length=3, v_min=1.0, v_max=1.0, v_steps=1, window=4)
     dirs = [tmp_path / name for name in ("metrics", "pr", "similarity")]
     for folder in dirs:
         folder.mkdir()
-    evaluate_learner("pca", features, [("summer", "fall")], np.arange(15), evaluate, sequence, *dirs)
+    truths = tmp_path / "truths"
+    truths.mkdir()
+    aligned_truth(np.arange(15), np.arange(15), 0).save(truths / "summer-fall.npz")
+    evaluate_learner("pca", features, [("summer", "fall")], truths, evaluate, sequence, *dirs)
     names = ["summer-fall", "summer-fall+seq", "summer-fall@cityblock", "summer-fall@cityblock+seq"]
     assert sorted(p.stem for p in dirs[0].iterdir()) == sorted(names)
     assert sorted(p.stem for p in dirs[1].iterdir()) == sorted(names)
     assert sorted(p.stem for p in dirs[2].iterdir()) == sorted(names)
     assert json.loads((dirs[0] / "summer-fall.json").read_text())["fraction_correct"] == 1.0
     with pytest.raises(ValueError, match="evaluate.pairs: no pair"):
-        evaluate_learner("pca", features, [], np.arange(15), evaluate, sequence, *dirs)
+        evaluate_learner("pca", features, [], truths, evaluate, sequence, *dirs)
+    # descriptors that do not match the test places: one line naming the file
+    np.save(features / "fall.npy", base[:14])
+    with pytest.raises(ValueError, match=r"fall.npy: 14 descriptors for the 15 test places of fall"):
+        evaluate_learner("pca", features, [("summer", "fall")], truths, evaluate, sequence, *dirs)

@@ -180,7 +180,7 @@ def test_render_route_writes_readable_videos(tmp_path) -> None:
         capture.release()
         assert count == 80
     assert RouteLayout.from_json(json.loads((out / "layout.json").read_text())) == layout
-    assert sorted(p.name for p in out.iterdir()) == ["layout.json", "summer.mp4", "winter.mp4"]
+    assert sorted(p.name for p in out.iterdir()) == ["layout.json", "positions", "summer.mp4", "winter.mp4"]
 
 
 def test_render_route_rejects_unknown_season(tmp_path) -> None:

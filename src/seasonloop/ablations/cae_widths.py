@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matching import best_matches, distance_matrix
 from seasonloop.io import staged_file, write_json
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
@@ -86,7 +87,7 @@ def describe_width(
     learner,
     raw_described: Mapping[str, np.ndarray],
     test: Mapping[str, np.ndarray],
-    places: np.ndarray,
+    truths: Mapping[tuple[str, str], PairTruth],
     pairs: Sequence[tuple[str, str]],
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
@@ -98,7 +99,7 @@ def describe_width(
     described = autoencoder_descriptors(learner, test, batch_size)
     cosines = [mean_cosine(described["output_patchnorm"][season], raw_described[season]) for season in test]
     record: dict[str, Any] = {"cosine_with_input": float(np.mean(cosines))}
-    fraction_correct = descriptor_fraction_correct(described, places, pairs, evaluate, sequence, DESCRIPTORS)
+    fraction_correct = descriptor_fraction_correct(described, truths, pairs, evaluate, sequence, DESCRIPTORS)
     for descriptor in DESCRIPTORS:
         ours = described[descriptor]
         record[descriptor] = {
@@ -117,7 +118,7 @@ def run_width_sweep(
     raw,
     training_set: tuple[np.ndarray, np.ndarray],
     test: Mapping[str, np.ndarray],
-    places: np.ndarray,
+    truths: Mapping[tuple[str, str], PairTruth],
     pairs: Sequence[tuple[str, str]],
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
@@ -136,7 +137,7 @@ def run_width_sweep(
         "metric": evaluate.metric,
         "raw_patchnorm": {
             "fraction_correct": descriptor_fraction_correct(
-                {"raw": raw_test}, places, pairs, evaluate, sequence, ("raw",)
+                {"raw": raw_test}, truths, pairs, evaluate, sequence, ("raw",)
             )["raw"]
         },
         "widths": {},
@@ -153,7 +154,7 @@ def run_width_sweep(
             "channels": channels,
             "reused": width in fitted,
             **{key: learner.fit_info[key] for key in FIT_RECORD},
-            **describe_width(learner, raw_test, test, places, pairs, evaluate, sequence, batch_size),
+            **describe_width(learner, raw_test, test, truths, pairs, evaluate, sequence, batch_size),
         }
     return record
 

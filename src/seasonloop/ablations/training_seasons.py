@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matchers import match_pair
 from seasonloop.io import read_json, write_json
 from seasonloop.params.schema import check_seasons, pair_name, pair_present, parse_pair
@@ -75,7 +76,7 @@ def run_ablation(
     new_learners: Mapping[str, Callable[[], Any]],
     training_set: Callable[[list[str]], tuple[np.ndarray, np.ndarray]],
     test: Mapping[str, np.ndarray],
-    places: np.ndarray,
+    truth: PairTruth,
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
 ) -> dict[str, dict[str, float]]:
@@ -84,7 +85,7 @@ def run_ablation(
     the plan, a learner fitted on training_set(list) = (images, the place id of each image). The
     place ids go to fit, so that an auto-encoder holds out whole places (every season and augmented
     copy of them) for validation. test[season] are the test images of the pair's seasons, both at
-    `places`."""
+    the test places of `truth`, the pair's ground truth."""
     assert plan.pair is not None and plan.labels is not None and plan.season_sets is not None, "a skipped plan"
     database, query = plan.pair
     fraction_correct: dict[str, dict[str, float]] = {}
@@ -95,13 +96,7 @@ def run_ablation(
             images, image_places = training_set(chosen)
             learner.fit(images, progress=True, places=image_places)
             metrics, _, _ = match_pair(
-                learner.describe(test[database]),
-                learner.describe(test[query]),
-                places,
-                places,
-                "single",
-                evaluate,
-                sequence,
+                learner.describe(test[database]), learner.describe(test[query]), truth, "single", evaluate, sequence
             )
             fraction_correct[method][label] = metrics["fraction_correct"]
     return fraction_correct

@@ -35,9 +35,25 @@ def augmented_file(augmented_dir: Path, season: str) -> Path:
     return augmented_dir / f"{season}.npy"
 
 
-def test_places(split_dir: Path) -> np.ndarray:
-    """Place ids of the test images, the same for every season (rows of <season>_test.npy)."""
-    return np.asarray(read_split(split_dir)["test"])
+def season_part(split: Mapping[str, Any], season: str, part: str) -> np.ndarray:
+    """The place ids of `part` ("train", "test", ...) of one season: its own when the seasons are
+    not aligned (split.json's "seasons"), else the shared ones."""
+    if "seasons" in split:
+        if season not in split["seasons"]:
+            raise ValueError(f"{season}: not in the split (rerun the split stage)")
+        return np.asarray(split["seasons"][season][part], dtype=np.int64)
+    return np.asarray(split[part], dtype=np.int64)
+
+
+def test_places(split_dir: Path, season: str | None = None) -> np.ndarray:
+    """Place ids of the test images of `season` (rows of <season>_test.npy); aligned seasons share
+    them, and then `season` may be None."""
+    split = read_split(split_dir)
+    if season is None:
+        if "seasons" in split:
+            raise ValueError("the seasons are not aligned: ask for one season's test places")
+        return np.asarray(split["test"])
+    return season_part(split, season, "test")
 
 
 def test_images(split_dir: Path, seasons: Sequence[str]) -> dict[str, np.ndarray]:
@@ -58,10 +74,20 @@ def training_images(split_dir: Path, augmented_dir: Path | None, seasons: Sequen
 def training_places(split_dir: Path, seasons: Sequence[str], copies: int) -> np.ndarray:
     """The place id of every image that training_images returns, with `copies` augmented copies per
     original (0 for the originals only)."""
-    places = np.asarray(read_split(split_dir)["train"])
+    split = read_split(split_dir)
     if not seasons:
-        return places[:0]
-    return np.concatenate([augmented_places(places, copies) for _ in seasons])
+        return np.asarray(split["train"])[:0]
+    return np.concatenate([augmented_places(_training_place_ids(split, season), copies) for season in seasons])
+
+
+def _training_place_ids(split: Mapping[str, Any], season: str) -> np.ndarray:
+    """The place id of each training image of `season`: when the seasons are not aligned, its
+    frames' reference places, so that held-out validation blocks are the same stretch of track in
+    every season."""
+    train = season_part(split, season, "train")
+    if "seasons" in split:
+        return np.asarray(split["seasons"][season]["reference_place"], dtype=np.int64)[train]
+    return train
 
 
 def write_augmented_sets(
@@ -83,11 +109,12 @@ def write_augmented_sets(
             float(config.height_shift),
         )
         save_array(augmented_file(out_dir, season), augmented)
+        own = split["seasons"][season] if "seasons" in split else split
         per_season[season] = {
-            "frames": split["n_places"],
-            "train": len(split["train"]),
+            "frames": own["n_places"],
+            "train": len(own["train"]),
             "train_augmented": len(augmented),
-            "test": len(split["test"]),
+            "test": len(own["test"]),
         }
     return per_season
 
@@ -96,18 +123,21 @@ def dataset_record(
     split: Mapping[str, Any], per_season: Mapping[str, dict], frames: Mapping[str, Any], detection: Mapping[str, Any]
 ) -> dict[str, Any]:
     """The dataset table (study Table 3): image counts per season and in all, what the split left
-    out, what a place is (frames.json of the frames step) and the detection scores when there are
-    any. The key order is the JSON file's."""
+    out, what a place is (frames.json of the frames step), which ground truth says what is correct
+    and the detection scores when there are any. The key order is the JSON file's."""
     n_seasons = len(per_season)
+    # aligned seasons share the split's counts; traverses that are not give each season its own
+    own = [split["seasons"][season] for season in per_season] if "seasons" in split else [split] * n_seasons
     return {
         "seasons": dict(per_season),
-        "total_images": split["n_places"] * n_seasons,
-        "total_train": len(split["train"]) * n_seasons,
-        "total_test": len(split["test"]) * n_seasons,
+        "total_images": sum(part["n_places"] for part in own),
+        "total_train": sum(len(part["train"]) for part in own),
+        "total_test": sum(len(part["test"]) for part in own),
         "dropped_tunnel": len(split["dropped_tunnel"]),
         "dropped_stop": len(split["dropped_stop"]),
         "gap": len(split["gap"]),
-        # what a place (and so a tolerance of one place) is
+        # what a place (and so a tolerance of one place) is, and what makes a match correct
+        "ground_truth": frames.get("ground_truth", "aligned"),
         "place": frames["place"],
         "frame_step": frames["frame_step"],
         "pairing": frames["pairing"],

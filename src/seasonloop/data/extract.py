@@ -14,6 +14,8 @@ from typing import Any
 import numpy as np
 
 from seasonloop.data.alignment import apply_offsets, check_alignment
+from seasonloop.data.frames import list_frame_files
+from seasonloop.data.positions import PositionFiles, degrees_to_metres, season_positions
 from seasonloop.data.sources import check_aligned, pair_season_files, place_description, read_season
 from seasonloop.io import load_array, save_array
 from seasonloop.params.settings import ExtractConfig
@@ -33,61 +35,101 @@ def extract_seasons(
     frame_step: int,
     offsets: Mapping[str, int],
     out: Path,
+    aligned: bool = True,
+    positions: PositionFiles | None = None,
 ) -> dict[str, Any]:
     """Write out/<season>.npy, (N, h, w, 3) uint8 BGR at the storage size, one season in memory at a
     time (the full-scale route is ~1 GB a season at 72x128), and return the record of frames.json:
-    place count, frames per season, pairing, measured alignment, offsets and what a place is."""
+    place count, frames per season, pairing, measured alignment, offsets and what a place is.
+
+    aligned: frame i of every season is the same place, so the seasons are paired and cut to one
+    length and their alignment is measured; otherwise (ground truth from positions or a matrix)
+    each season keeps its own frames. positions: where the seasons' positions are; each season's
+    kept places' positions (metres) go to out/<season>_positions.npy.
+    """
     fps, height, width = float(extract.fps), int(extract.height), int(extract.width)
     kinds = {sources[season]["kind"] for season in seasons}
-    files, pairing = pair_season_files(
-        {season: (sources[season]["kind"], Path(sources[season]["path"])) for season in seasons}
-    )
+    paths = {season: (sources[season]["kind"], Path(sources[season]["path"])) for season in seasons}
+    files, pairing = pair_season_files(paths) if aligned else (None, "each season its own frames (not aligned)")
     print(f"extract_frames: {pairing}")
-    counts = {}
+    counts, coordinates = {}, {}
     for season in seasons:
+        kind, path = paths[season]
         frames = read_season(
-            sources[season]["kind"],
-            Path(sources[season]["path"]),
-            fps,
-            height,
-            width,
-            frame_step=frame_step,
-            files=files[season] if files else None,
+            kind, path, fps, height, width, frame_step=frame_step, files=files[season] if files else None
         )
         counts[season] = len(frames)
         save_array(out / f"{season}.npy", frames)
         del frames
-    n_places = check_aligned(
-        counts, bool(extract.trim_to_shortest), {season: sources[season]["path"] for season in seasons}
-    )
-    # known offsets drop a season's first places; every season is then cut to one length
-    kept = apply_offsets({season: n_places for season in seasons}, dict(offsets))
+        if positions is not None:
+            listing = list_frame_files(path) if kind == "frames" else []
+            coordinates[season] = season_positions(kind, positions, season, counts[season], fps, frame_step, listing)
+    kept = kept_places(counts, offsets, aligned, bool(extract.trim_to_shortest), sources)
     for season in seasons:
         if kept[season] != slice(0, counts[season]):
             save_array(
                 out / f"{season}.npy", np.ascontiguousarray(load_array(out / f"{season}.npy", mmap=True)[kept[season]])
             )
-    n_places = kept[seasons[0]].stop - kept[seasons[0]].start
-    alignment = check_alignment(
-        {season: load_array(out / f"{season}.npy", mmap=True) for season in seasons}, int(extract.max_offset)
-    )
+    if positions is not None:
+        metres = degrees_to_metres(coordinates) if positions.units == "degrees" else coordinates
+        for season in seasons:
+            save_array(out / f"{season}_positions.npy", np.ascontiguousarray(metres[season][kept[season]]))
+    places = {season: kept[season].stop - kept[season].start for season in seasons}
+    stored = {season: load_array(out / f"{season}.npy", mmap=True) for season in seasons}
     return {
-        "n_places": n_places,
+        "n_places": places[seasons[0]] if aligned else None,
+        "places_per_season": places,
         "seasons": list(seasons),
         "frames_per_season": counts,
         "frame_step": frame_step,
         "pairing": pairing,
-        "alignment": alignment,
+        "alignment": check_alignment(stored, int(extract.max_offset)) if aligned else {},
         "offsets": dict(offsets),
         "place": place_description(kinds, fps, frame_step),
     }
 
 
+def kept_places(
+    counts: Mapping[str, int],
+    offsets: Mapping[str, int],
+    aligned: bool,
+    trim_to_shortest: bool,
+    sources: Mapping[str, Mapping[str, str]],
+) -> dict[str, slice]:
+    """season -> its places kept: aligned seasons must have one length (or are trimmed to the
+    shortest) and are cut to one length after their offsets; others only lose their offsets."""
+    if not aligned:
+        return {season: own_offset(season, count, offsets.get(season, 0)) for season, count in counts.items()}
+    n_places = check_aligned(counts, trim_to_shortest, {season: sources[season]["path"] for season in counts})
+    # known offsets drop a season's first places; every season is then cut to one length
+    return apply_offsets({season: n_places for season in counts}, dict(offsets))
+
+
+def own_offset(season: str, count: int, offset: int) -> slice:
+    """The places of a season that is not aligned with the others, its first `offset` dropped."""
+    if not 0 <= offset < count:
+        raise ValueError(f"data.offsets.{season}: {offset} is not in [0, {count})")
+    return slice(offset, count)
+
+
 def preview_grid(
-    folder: Path, seasons: Sequence[str], n_places: int, n_shown: int
+    folder: Path, seasons: Sequence[str], places_per_season: Mapping[str, int], n_shown: int
 ) -> tuple[list[list[np.ndarray]], list[str]]:
-    """(rows of RGB images, row labels): `n_shown` places spread along the route, one column per season."""
-    places = np.linspace(0, n_places - 1, n_shown + 2).round().astype(int)[1:-1]
+    """(rows of RGB images, row labels): `n_shown` places spread along the first season's route,
+    one column per season. Seasons that are not aligned show the place nearest in position
+    (<season>_positions.npy), or the same fraction of their frames when there are no positions."""
+    first = seasons[0]
+    places = np.linspace(0, places_per_season[first] - 1, n_shown + 2).round().astype(int)[1:-1]
     stored = {season: load_array(folder / f"{season}.npy", mmap=True) for season in seasons}
-    grid = [[stored[season][place][..., ::-1] for season in seasons] for place in places]
-    return grid, [f"place {p}" for p in places]
+    shown = {}
+    for season in seasons:
+        if places_per_season[season] == places_per_season[first] and len(set(places_per_season.values())) == 1:
+            shown[season] = places
+        elif (folder / f"{first}_positions.npy").is_file():
+            reference = load_array(folder / f"{first}_positions.npy")[places]
+            own = load_array(folder / f"{season}_positions.npy")
+            shown[season] = np.linalg.norm(own[None, :, :] - reference[:, None, :], axis=2).argmin(axis=1)
+        else:
+            shown[season] = (places / max(1, places_per_season[first] - 1) * (places_per_season[season] - 1)).round()
+    grid = [[stored[season][int(shown[season][row])][..., ::-1] for season in seasons] for row in range(len(places))]
+    return grid, [f"{first} place {p}" if len(set(places_per_season.values())) > 1 else f"place {p}" for p in places]

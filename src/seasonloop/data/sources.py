@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from seasonloop.data.frames import align_frame_files, list_frame_files, read_frame_files, sample_video
-from seasonloop.data.synthetic import RouteDifficulty, render_route
+from seasonloop.data.synthetic import RouteDifficulty, SeasonRide, render_route
 from seasonloop.params.settings import DataConfig, SyntheticConfig
 
 
@@ -68,6 +68,8 @@ def _render_synthetic(
 ) -> dict[str, Path]:
     # the difficulty knobs are keys of the synthetic section with RouteDifficulty's field names
     difficulty = RouteDifficulty(**{knob: getattr(synthetic, knob) for knob in RouteDifficulty.knobs()})
+    # seasons without a ride ride the reference; rides of seasons not rendered are not used
+    rides = {season: SeasonRide(**synthetic.rides[season]) for season in seasons if season in synthetic.rides}
     render_route(
         out,
         seasons,
@@ -77,6 +79,7 @@ def _render_synthetic(
         synthetic.height,
         synthetic.seed,
         difficulty=difficulty,
+        rides=rides or None,  # {}: today's aligned data, no rides.json
     )
     return {season: out / f"{season}.mp4" for season in seasons}
 

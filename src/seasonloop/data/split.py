@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -28,6 +29,10 @@ class Split:
     gap: np.ndarray  # place ids in the gaps around test blocks
     dropped_tunnel: np.ndarray  # test-block places left out as tunnel (dark) frames
     dropped_stop: np.ndarray  # test-block places left out as station stops (not already tunnels)
+
+    def season(self, season: str) -> Split:
+        """The split of `season`: aligned seasons share one."""
+        return self
 
     def to_json(self) -> dict:
         return {
@@ -68,40 +73,53 @@ def detect_stops(change: Mapping[str, np.ndarray], stop_threshold: float) -> np.
     return np.any([values < stop_threshold for values in change.values()], axis=0)
 
 
-def make_split(
-    n_places: int, section_length: int, test_fraction: float, gap: int, tunnel: np.ndarray, stop: np.ndarray
-) -> Split:
+def split_masks(
+    n_places: int, section_length: int, test_fraction: float, gap: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(in a test block, in a gap, training) masks over n_places places."""
     if gap < 0:
         raise ValueError(f"split.gap: must be >= 0, got {gap}")
-    if tunnel.shape != (n_places,) or stop.shape != (n_places,):
-        raise ValueError(f"tunnel/stop masks must have shape ({n_places},)")
     in_test_block = np.zeros(n_places, bool)
     near_test = np.zeros(n_places, bool)
     for start, end in section_blocks(n_places, section_length, test_fraction):
         in_test_block[start:end] = True
         near_test[max(0, start - gap) : min(n_places, end + gap)] = True
-    gap_mask = near_test & ~in_test_block
     train_mask = ~near_test
     if not train_mask.any():
         raise ValueError(
             f"split: no training places left ({n_places} places, section_length {section_length}, gap {gap})"
         )
-    places = np.arange(n_places)
-    dropped_tunnel = in_test_block & tunnel
-    dropped_stop = in_test_block & stop & ~tunnel
+    return in_test_block, near_test & ~in_test_block, train_mask
+
+
+def masks_to_split(
+    in_test_block: np.ndarray, gap_mask: np.ndarray, train_mask: np.ndarray, tunnel: np.ndarray, stop: np.ndarray
+) -> Split:
+    """The Split of one season's places from its part masks and its tunnel and stop masks."""
+    places = np.arange(len(in_test_block))
     test_mask = in_test_block & ~tunnel & ~stop
     if not test_mask.any():
         raise ValueError(
             "split: every test place is a tunnel or a stop; check split.dark_threshold / split.stop_threshold"
         )
     return Split(
-        n_places=n_places,
+        n_places=len(in_test_block),
         train=places[train_mask],
         test=places[test_mask],
         gap=places[gap_mask],
-        dropped_tunnel=places[dropped_tunnel],
-        dropped_stop=places[dropped_stop],
+        dropped_tunnel=places[in_test_block & tunnel],
+        dropped_stop=places[in_test_block & stop & ~tunnel],
     )
+
+
+def make_split(
+    n_places: int, section_length: int, test_fraction: float, gap: int, tunnel: np.ndarray, stop: np.ndarray
+) -> Split:
+    """Sections of `section_length` places, each ending in a test block, with `gap` places unused
+    on either side; tunnels and stops left out of the test blocks."""
+    if tunnel.shape != (n_places,) or stop.shape != (n_places,):
+        raise ValueError(f"tunnel/stop masks must have shape ({n_places},)")
+    return masks_to_split(*split_masks(n_places, section_length, test_fraction, gap), tunnel, stop)
 
 
 def split_route(
@@ -117,13 +135,14 @@ def split_route(
     return split, tunnel, stop
 
 
-def write_split_sets(images_dir: Path, out_dir: Path, seasons: Sequence[str], split: Split) -> None:
+def write_split_sets(images_dir: Path, out_dir: Path, seasons: Sequence[str], split: Any) -> None:
     """The split folder: each season's <season>.npy of `images_dir` cut into its train and test
-    images, and split.json."""
+    images (its own parts when the seasons are not aligned), and split.json."""
     for season in seasons:
+        own = split.season(season)  # a Split, or seasonloop.data.season_split.SeasonSplits
         images = load_array(images_dir / f"{season}.npy")
-        save_array(split_images_file(out_dir, season, "train"), images[split.train])
-        save_array(split_images_file(out_dir, season, "test"), images[split.test])
+        save_array(split_images_file(out_dir, season, "train"), images[own.train])
+        save_array(split_images_file(out_dir, season, "test"), images[own.test])
     write_json(out_dir / SPLIT_FILE, split.to_json())
 
 

@@ -20,8 +20,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matching import distance_matrix
-from seasonloop.evaluation.metrics import evaluate_pair
+from seasonloop.evaluation.metrics import evaluate_truth
 from seasonloop.evaluation.sequence import sequence_distances
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
@@ -88,26 +89,16 @@ def evaluations(evaluate: EvaluateConfig) -> list[tuple[str, str, str]]:
 
 
 def match_distances(
-    distances: np.ndarray,
-    database_places: np.ndarray,
-    query_places: np.ndarray,
-    matcher: str,
-    evaluate: EvaluateConfig,
-    sequence: SequenceConfig,
+    distances: np.ndarray, truth: PairTruth, matcher: str, evaluate: EvaluateConfig, sequence: SequenceConfig
 ) -> tuple[dict[str, Any], pd.DataFrame, np.ndarray]:
-    """(metrics, PR curve, distance matrix used for matching) from one pair's descriptor distances.
+    """(metrics, PR curve, distance matrix used for matching) from one pair's descriptor distances
+    and its ground truth (whose place ids tell the sequence matcher where the route breaks).
 
-    evaluate gives the confidence, ratio exclusion and tolerance; sequence the sequence matcher's
-    settings.
+    evaluate gives the confidence and ratio exclusion; sequence the sequence matcher's settings.
     """
-    distances = get_matcher(matcher).distances(distances, database_places, query_places, sequence)
-    metrics, pr = evaluate_pair(
-        distances,
-        database_places,
-        query_places,
-        tolerance=int(evaluate.tolerance_frames),
-        confidence=evaluate.confidence,
-        ratio_exclusion=int(evaluate.ratio_exclusion),
+    distances = get_matcher(matcher).distances(distances, truth.database_places, truth.query_places, sequence)
+    metrics, pr = evaluate_truth(
+        distances, truth, confidence=evaluate.confidence, ratio_exclusion=int(evaluate.ratio_exclusion)
     )
     return metrics, pr, distances
 
@@ -115,8 +106,7 @@ def match_distances(
 def match_pair(
     database: np.ndarray,
     queries: np.ndarray,
-    database_places: np.ndarray,
-    query_places: np.ndarray,
+    truth: PairTruth,
     matcher: str,
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
@@ -125,4 +115,4 @@ def match_pair(
     """(metrics, PR curve, distance matrix used for matching) of one pair with one matcher, under
     `metric` (default evaluate.metric)."""
     distances = distance_matrix(database, queries, metric=evaluate.metric if metric is None else metric)
-    return match_distances(distances, database_places, query_places, matcher, evaluate, sequence)
+    return match_distances(distances, truth, matcher, evaluate, sequence)

@@ -1,7 +1,9 @@
 """Place-recognition metrics: correct matches, the study's PR curve, recall@N, per-pair summary.
 
-Places are frame indices (frame i of every season is the same place); the database and query
-place ids of a test pair need not be contiguous because test sets drop tunnel and station frames.
+Which database places are correct for a query is the pair's ground truth
+(seasonloop.evaluation.ground_truth.PairTruth: aligned frame indices, positions or a matrix);
+evaluate_pair is the aligned shorthand (frame i of every season is the same place). The place ids
+of a test pair need not be contiguous because test sets drop tunnel and station frames.
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 
+from seasonloop.evaluation.ground_truth import PairTruth, aligned_truth
 from seasonloop.evaluation.matching import best_matches
 
 METRIC_KEYS = (
@@ -65,13 +68,16 @@ def correct_matches(matched_places, query_places, tolerance: int) -> np.ndarray:
     return np.abs(matched_places - query_places) <= tolerance
 
 
-def pr_curve(confidence: np.ndarray, correct: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def pr_curve(
+    confidence: np.ndarray, correct: np.ndarray, has_match: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Precision-recall curve in the study's (Lowry & Milford) convention.
 
     One threshold per distinct confidence, from the highest down: the queries whose best match is at
     least that confident are accepted, tied queries together (so the curve does not depend on the
     order of the queries). TP = accepted and correct, FP = accepted and wrong, FN = queries not
-    accepted (every query has a true match, so there are no true negatives). Returns (recall,
+    accepted (every query has a true match, so there are no true negatives; where `has_match` says
+    a query has none, leaving it out is a true negative, not a FN). Returns (recall,
     precision), one entry per distinct confidence (N entries when no two queries tie).
     Recall = TP / (TP + FN) is 0 where TP = 0 (including 0/0 at the last threshold when every match
     is wrong); otherwise recall is 1 at the last threshold, where every query is accepted and
@@ -87,6 +93,7 @@ def pr_curve(confidence: np.ndarray, correct: np.ndarray) -> tuple[np.ndarray, n
         raise ValueError(f"correct must be a boolean array, got dtype {correct.dtype}")
     if np.isnan(confidence).any():
         raise ValueError("confidence contains NaN values")
+    has_match = np.ones(confidence.shape, bool) if has_match is None else np.asarray(has_match, bool)
 
     order = np.argsort(-confidence, kind="stable")
     sorted_confidence = confidence[order]
@@ -94,18 +101,22 @@ def pr_curve(confidence: np.ndarray, correct: np.ndarray) -> tuple[np.ndarray, n
     threshold_ends = np.flatnonzero(np.append(sorted_confidence[1:] != sorted_confidence[:-1], True))
     true_positives = np.cumsum(correct[order], dtype=np.int64)[threshold_ends]
     accepted = threshold_ends + 1
-    false_negatives = confidence.size - accepted
+    positives_accepted = np.cumsum(has_match[order], dtype=np.int64)[threshold_ends]
+    false_negatives = int(has_match.sum()) - positives_accepted
     precision = true_positives / accepted
     found = true_positives + false_negatives
     recall = np.divide(true_positives, found, out=np.zeros(accepted.size), where=true_positives > 0)
     return recall, precision
 
 
-def auc_pr_vpr_tutorial(confidence: np.ndarray, correct: np.ndarray, n_thresholds: int = 100) -> float:
+def auc_pr_vpr_tutorial(
+    confidence: np.ndarray, correct: np.ndarray, n_thresholds: int = 100, n_positives: int | None = None
+) -> float:
     """Area under the PR curve as VPR_Tutorial (Schubert et al. 2023, evaluation/metrics.py
     createPR with single-best-match, then np.trapz(P, R)) computes it.
 
-    Its convention differs from the study's: recall = TP / N (a wrong accepted match is a missed
+    Its convention differs from the study's: recall = TP / N, N the queries that have a true match
+    (n_positives, default all; a wrong accepted match is a missed
     true match, so recall ends at the fraction correct, not at 1), the curve starts at (recall 0,
     precision 1), and precision/recall are taken at n_thresholds confidence thresholds evenly
     spaced from the highest confidence to the lowest; the area is the trapezoidal rule.
@@ -119,23 +130,31 @@ def auc_pr_vpr_tutorial(confidence: np.ndarray, correct: np.ndarray, n_threshold
     accepted = confidence[None, :] >= thresholds[:, None]
     true_positives = (accepted & correct[None, :]).sum(axis=1)
     precision = np.concatenate(([1.0], true_positives / accepted.sum(axis=1)))
-    recall = np.concatenate(([0.0], true_positives / confidence.size))
+    positives = confidence.size if n_positives is None else max(1, int(n_positives))
+    recall = np.concatenate(([0.0], true_positives / positives))
     return float(np.trapezoid(precision, recall))
 
 
 def recall_at_n(
     distances: np.ndarray, database_places, query_places, tolerance: int, ns: Sequence[int] = (1, 5, 10)
 ) -> dict[int, float]:
-    """Fraction of queries with a database image within tolerance among their N nearest, per N.
+    """Fraction of queries with a database image within tolerance among their N nearest, per N
+    (aligned places; truth_recall_at_n for any ground truth)."""
+    database_places = _as_places(database_places, "database_places")
+    query_places = _as_places(query_places, "query_places")
+    tolerance = _check_tolerance(tolerance)
+    distances = _check_distances(distances, database_places, query_places)
+    return truth_recall_at_n(distances, aligned_truth(database_places, query_places, tolerance), ns)
+
+
+def truth_recall_at_n(distances: np.ndarray, truth: PairTruth, ns: Sequence[int] = (1, 5, 10)) -> dict[int, float]:
+    """Fraction of queries with a correct database image among their N nearest, per N.
 
     N larger than the database size is capped at the database size. The nearest max(ns) columns
     are found with np.argpartition and ordered by (distance, column), so ties at the top resolve to
     the lowest column like np.argmin; which tied columns enter at the max(ns) boundary is unspecified.
     """
-    database_places = _as_places(database_places, "database_places")
-    query_places = _as_places(query_places, "query_places")
-    tolerance = _check_tolerance(tolerance)
-    distances = _check_distances(distances, database_places, query_places)
+    distances = _check_distances(distances, truth.database_places, truth.query_places)
     ns = [int(n) for n in ns]
     if not ns or min(ns) < 1:
         raise ValueError(f"ns must be a non-empty sequence of integers >= 1, got {ns}")
@@ -150,7 +169,7 @@ def recall_at_n(
     # lexsort keys: last is primary, so rows sort by distance, then by column index.
     rank = np.lexsort((nearest, nearest_distances), axis=1)
     nearest = np.take_along_axis(nearest, rank, axis=1)
-    hits = np.abs(database_places[nearest] - query_places[:, None]) <= tolerance
+    hits = np.take_along_axis(truth.correct, nearest, axis=1)
     hit_within = np.logical_or.accumulate(hits, axis=1)
     return {n: float(hit_within[:, min(n, n_database) - 1].mean()) for n in ns}
 
@@ -163,7 +182,20 @@ def evaluate_pair(
     confidence: str = "distance",
     ratio_exclusion: int = 0,
 ) -> tuple[dict[str, float | int], pd.DataFrame]:
-    """Summary metrics and the PR curve of one test pair from its (N queries, M database) distances.
+    """evaluate_truth with aligned places: correct within `tolerance` frames of the query's place."""
+    database_places = _as_places(database_places, "database_places")
+    query_places = _as_places(query_places, "query_places")
+    tolerance = _check_tolerance(tolerance)
+    distances = _check_distances(distances, database_places, query_places)
+    truth = aligned_truth(database_places, query_places, tolerance)
+    return evaluate_truth(distances, truth, confidence, ratio_exclusion)
+
+
+def evaluate_truth(
+    distances: np.ndarray, truth: PairTruth, confidence: str = "distance", ratio_exclusion: int = 0
+) -> tuple[dict[str, float | int], pd.DataFrame]:
+    """Summary metrics and the PR curve of one test pair from its (N queries, M database) distances
+    and its ground truth.
 
     Metrics (keys in METRIC_KEYS): fraction_correct of best matches, in [0, 1];
     precision_at_full_recall (precision with every query accepted); recall_at_100_precision
@@ -173,17 +205,18 @@ def evaluate_pair(
     threshold; auc_pr_vpr_tutorial, the same area in VPR_Tutorial's convention (recall = TP / N,
     ending at the fraction correct; see auc_pr_vpr_tutorial), so at most fraction_correct;
     recall_at_1/5/10; n_queries; n_database. confidence and ratio_exclusion (in place ids) are
-    passed to seasonloop.evaluation.matching.best_matches. The PR DataFrame has columns recall, precision (one
-    row per distinct confidence).
+    passed to seasonloop.evaluation.matching.best_matches. Cells the truth ignores (soft ground
+    truth) are never picked. The PR DataFrame has columns recall, precision (one row per distinct
+    confidence).
     """
-    database_places = _as_places(database_places, "database_places")
-    query_places = _as_places(query_places, "query_places")
-    tolerance = _check_tolerance(tolerance)
-    distances = _check_distances(distances, database_places, query_places)
+    distances = _check_distances(distances, truth.database_places, truth.query_places)
+    if truth.ignored is not None and truth.ignored.any():
+        distances = np.where(truth.ignored, np.inf, distances).astype(distances.dtype)
 
-    best_columns, match_confidence = best_matches(distances, confidence, database_places, ratio_exclusion)
-    correct = correct_matches(database_places[best_columns], query_places, tolerance)
-    recall, precision = pr_curve(match_confidence, correct)
+    best_columns, match_confidence = best_matches(distances, confidence, truth.database_places, ratio_exclusion)
+    correct = truth.correct[np.arange(len(best_columns)), best_columns]
+    has_match = truth.has_match
+    recall, precision = pr_curve(match_confidence, correct, has_match)
 
     perfect = precision == 1.0  # a prefix: once a wrong match is accepted precision stays < 1
     recall_at_100_precision = float(recall[perfect].max()) if perfect.any() else 0.0
@@ -191,14 +224,14 @@ def evaluate_pair(
     # recall never decreases along the curve, so this is sklearn.metrics.auc's area (its trapezoid),
     # without importing scikit-learn (1.4 s at every evaluate stage's start)
     auc_pr = float(np.trapezoid(np.concatenate(([precision[0]], precision)), np.concatenate(([0.0], recall))))
-    recalls = recall_at_n(distances, database_places, query_places, tolerance, ns=(1, 5, 10))
+    recalls = truth_recall_at_n(distances, truth, ns=(1, 5, 10))
 
     metrics: dict[str, float | int] = {
         "fraction_correct": float(correct.mean()),
         "precision_at_full_recall": float(precision[-1]),
         "recall_at_100_precision": recall_at_100_precision,
         "auc_pr": auc_pr,
-        "auc_pr_vpr_tutorial": auc_pr_vpr_tutorial(match_confidence, correct),
+        "auc_pr_vpr_tutorial": auc_pr_vpr_tutorial(match_confidence, correct, n_positives=int(has_match.sum())),
         "recall_at_1": recalls[1],
         "recall_at_5": recalls[5],
         "recall_at_10": recalls[10],

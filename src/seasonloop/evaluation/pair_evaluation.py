@@ -12,8 +12,10 @@ from pathlib import Path
 
 import numpy as np
 
+from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matchers import evaluations, match_distances
 from seasonloop.evaluation.matching import distance_matrix
+from seasonloop.evaluation.pair_truths import truth_file
 from seasonloop.io import load_array, write_json
 from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
@@ -24,20 +26,22 @@ def evaluate_learner(
     method: str,
     features: Path,
     pairs: Sequence[tuple[str, str]],
-    places: np.ndarray,
+    truths: Path,
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
     metrics_dir: Path,
     pr_dir: Path,
     similarity_dir: Path,
 ) -> None:
-    """Evaluate the descriptors features/<season>.npy of `method` on `pairs` (database, query);
-    writes <pair><suffix>.json to metrics_dir, .csv to pr_dir and .png to similarity_dir."""
+    """Evaluate the descriptors features/<season>.npy of `method` on `pairs` (database, query)
+    against their ground truth truths/<database>-<query>.npz; writes <pair><suffix>.json to metrics_dir, .csv to pr_dir and .png to similarity_dir."""
     if not pairs:
         raise ValueError("evaluate.pairs: no pair has both of its seasons in data.seasons")
     variants = evaluations(evaluate)
     for database, query in pairs:
         descriptors = [load_array(features / f"{season}.npy") for season in (database, query)]
+        truth = PairTruth.load(truth_file(truths, database, query))
+        check_rows(descriptors, truth, features, (database, query))
         # One distance matrix per metric, shared by its matchers.
         distances = {
             metric: distance_matrix(descriptors[0], descriptors[1], metric=metric)
@@ -45,9 +49,19 @@ def evaluate_learner(
         }
         for metric, matcher, suffix in variants:
             name = pair_name(database, query) + suffix
-            metrics, pr, matched = match_distances(distances[metric], places, places, matcher, evaluate, sequence)
+            metrics, pr, matched = match_distances(distances[metric], truth, matcher, evaluate, sequence)
             write_json(metrics_dir / f"{name}.json", metrics)
             pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
             plot_distance_matrix(
                 matched, f"{method}{suffix}: {database} (database) vs {query} (queries)", similarity_dir / f"{name}.png"
+            )
+
+
+def check_rows(descriptors: Sequence[np.ndarray], truth: PairTruth, features: Path, seasons: Sequence[str]) -> None:
+    """One descriptor per test place of each season, or one line saying which file is off."""
+    for rows, places, season in zip(descriptors, (truth.database_places, truth.query_places), seasons):
+        if len(rows) != len(places):
+            raise ValueError(
+                f"{features / season}.npy: {len(rows)} descriptors for the {len(places)} test places of {season} "
+                "(rerun the features stage)"
             )

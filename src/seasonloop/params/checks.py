@@ -67,6 +67,11 @@ def text(key: str, value: Any) -> None:
         _fail(key, "a non-empty string", value)
 
 
+def optional_text(key: str, value: Any) -> None:
+    if not isinstance(value, str):
+        _fail(key, "a string ('' for none)", value)
+
+
 def one_of(*choices: str) -> Check:
     def check(key: str, value: Any) -> None:
         if value not in choices:
@@ -105,5 +110,19 @@ def season_map(item: Check) -> Check:
             if season not in SEASONS:
                 raise ValueError(f"{key}: unknown season '{season}' (known: {', '.join(SEASONS)})")
             item(f"{key}.{season}", entry)
+
+    return check
+
+
+def record(fields: Mapping[str, Check]) -> Check:
+    """A mapping holding some of `fields` (each optional), each checked as `<key>.<field>`."""
+
+    def check(key: str, value: Any) -> None:
+        if not isinstance(value, Mapping):
+            _fail(key, f"a mapping of some of {', '.join(fields)}", value)
+        for name, entry in value.items():
+            if name not in fields:
+                raise ValueError(f"{key}.{name}: unknown key (known: {', '.join(fields)})")
+            fields[name](f"{key}.{name}", entry)
 
     return check

@@ -10,7 +10,20 @@ from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 # re-exported, so that `from seasonloop.params.schema import SEASONS, parse_pair, ...` keeps working
-from seasonloop.params.checks import Check, boolean, integer, list_of, number, one_of, pair, season_map, seasons, text  # noqa: F401
+from seasonloop.params.checks import (  # noqa: F401
+    Check,
+    boolean,
+    integer,
+    list_of,
+    number,
+    one_of,
+    optional_text,
+    pair,
+    record,
+    season_map,
+    seasons,
+    text,
+)
 from seasonloop.params.learners import LEARNER_SCHEMA, check_learner
 from seasonloop.params.seasons import (  # noqa: F401
     SEASONS,
@@ -34,11 +47,23 @@ CONFIDENCES = ("distance", "ratio")
 MATCHER_NAMES = ("single", "sequence")
 CONTRAST_METHODS = ("clahe", "equalize", "none")
 SOURCES = ("synthetic", "videos", "frames")
+GROUND_TRUTHS = ("aligned", "positions", "matrix")
+POSITION_UNITS = ("metres", "degrees")
 # the learner sections: their keys and checks are in seasonloop.params.learners
 LEARNER_SECTIONS = tuple(LEARNER_SCHEMA)
 
 # SeqSLAM's contrast-enhancement window spans at least 2 database columns
 MIN_SEQUENCE_WINDOW = 2
+
+# synthetic.rides.<season>: seasonloop.data.synthetic.SeasonRide's fields and ranges, each optional
+# (tests/test_synthetic_rides.py keeps them in step)
+RIDE_SCHEMA: dict[str, Check] = {
+    "speed": number(0.2, 5, low_open=True),
+    "stop_scale": number(0, 10, low_open=True),
+    "start_s": number(0),  # and at most synthetic.seconds - RIDE_ROUTE_LEFT_S (_check_synthetic)
+    "swing": number(0, 0.9, high_open=True),
+}
+RIDE_ROUTE_LEFT_S = 10  # seconds of route a season's ride must have left after its start
 
 SCHEMA: dict[str, dict[str, Check]] = {
     "data": {
@@ -49,6 +74,13 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "frames_dir": text,
         "frame_step": integer(1),
         "offsets": season_map(integer(0)),
+        # what makes a match correct (seasonloop.evaluation.ground_truth)
+        "ground_truth": one_of(*GROUND_TRUTHS),
+        "positions_dir": text,
+        "position_columns": list_of(text),
+        "position_units": one_of(*POSITION_UNITS),
+        "position_key": optional_text,
+        "ground_truth_dir": text,
     },
     "synthetic": {
         "seconds": integer(10),
@@ -70,6 +102,7 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "edge_margin_s": integer(0),
         "winter_contrast": number(0, 2, low_open=True),
         "winter_shading": number(0, 2),
+        "rides": season_map(record(RIDE_SCHEMA)),
     },
     "extract": {
         "fps": number(0, None, low_open=True),
@@ -109,6 +142,7 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "confidence": one_of(*CONFIDENCES),
         "ratio_exclusion": integer(0),
         "tolerance_frames": integer(0),
+        "tolerance_m": number(0),
         "matchers": list_of(one_of(*MATCHER_NAMES)),
     },
     "sequence": {
@@ -147,11 +181,24 @@ def _check_synthetic(section: Mapping[str, Any]) -> None:
         low, high = section[f"{kind}_min_s"], section[f"{kind}_max_s"]
         if high < low:
             raise ValueError(f"synthetic.{kind}_max_s: {high} is below synthetic.{kind}_min_s {low}")
+    for season, ride in section["rides"].items():
+        start = ride.get("start_s", 0)
+        if start > section["seconds"] - RIDE_ROUTE_LEFT_S:
+            raise ValueError(
+                f"synthetic.rides.{season}.start_s: {start} leaves less than {RIDE_ROUTE_LEFT_S} s "
+                f"of the {section['seconds']} s route (synthetic.seconds)"
+            )
 
 
 def _check_sequence(section: Mapping[str, Any]) -> None:
     if section["v_max"] < section["v_min"]:
         raise ValueError(f"sequence.v_max: {section['v_max']} is below sequence.v_min {section['v_min']}")
+
+
+def _check_data(section: Mapping[str, Any]) -> None:
+    degrees = section["ground_truth"] == "positions" and section["position_units"] == "degrees"
+    if degrees and len(section["position_columns"]) != 2:
+        raise ValueError("data.position_columns: degrees need two columns, latitude then longitude")
 
 
 def _check_evaluate(section: Mapping[str, Any]) -> None:
@@ -161,6 +208,7 @@ def _check_evaluate(section: Mapping[str, Any]) -> None:
 
 # Checks across the keys of one section, run when the whole section is checked.
 SECTION_CHECKS: dict[str, Callable[[Mapping[str, Any]], None]] = {
+    "data": _check_data,
     "synthetic": _check_synthetic,
     "split": _check_split,
     "evaluate": _check_evaluate,

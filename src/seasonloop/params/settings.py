@@ -59,6 +59,12 @@ class DataConfig(Section):
     frames_dir: str
     frame_step: int
     offsets: dict[str, int]
+    ground_truth: str
+    positions_dir: str
+    position_columns: tuple[str, ...]
+    position_units: str
+    position_key: str
+    ground_truth_dir: str
 
 
 @dataclass(frozen=True)
@@ -82,6 +88,8 @@ class SyntheticConfig(Section):
     edge_margin_s: int
     winter_contrast: float
     winter_shading: float
+    # season -> some of SeasonRide's fields: that season's own ride (absent: the reference ride)
+    rides: dict[str, dict[str, float]]
 
 
 @dataclass(frozen=True)
@@ -146,6 +154,7 @@ class EvaluateConfig(Section):
     confidence: str
     ratio_exclusion: int
     tolerance_frames: int
+    tolerance_m: float
     matchers: tuple[str, ...]
 
 

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
+from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matching import best_matches, distance_matrix
-from seasonloop.evaluation.metrics import correct_matches
 from seasonloop.io import load_array
 from seasonloop.params.settings import EvaluateConfig
 from seasonloop.plots import plot_image_grid
@@ -31,20 +31,15 @@ class Example:
 
 
 def select_examples(
-    distances: np.ndarray,
-    database_places: np.ndarray,
-    query_places: np.ndarray,
-    confidence: str,
-    tolerance: int,
-    n: int,
-    ratio_exclusion: int = 0,
+    distances: np.ndarray, truth: PairTruth, confidence: str, n: int, ratio_exclusion: int = 0
 ) -> list[Example]:
     """The n most confident correct matches, then the n most confident failures (fewer if there are not n).
 
-    distances is (queries, database); the true match is the database image nearest the query's place.
-    Ties in confidence keep query order, so the choice is deterministic.
+    distances is (queries, database); the true match is the truth's exact match of the query (the
+    query's own column when it has none). Ties in confidence keep query order, so the choice is
+    deterministic.
     """
-    database_places, query_places = np.asarray(database_places), np.asarray(query_places)
+    database_places, query_places = truth.database_places, truth.query_places
     if np.shape(distances) != (len(query_places), len(database_places)):
         raise ValueError(
             f"distances shape {np.shape(distances)} does not match "
@@ -53,14 +48,14 @@ def select_examples(
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
     matches, scores = best_matches(distances, confidence, database_places, ratio_exclusion)
-    correct = correct_matches(database_places[matches], query_places, tolerance)
+    correct = truth.correct[np.arange(len(matches)), matches]
     order = np.argsort(-scores, kind="stable")
     chosen = [*order[correct[order]][:n], *order[~correct[order]][:n]]
     return [
         Example(
             query=int(q),
             match=int(matches[q]),
-            truth=int(np.abs(database_places - query_places[q]).argmin()),
+            truth=int(truth.exact[q]) if truth.exact[q] >= 0 else int(matches[q]),
             correct=bool(correct[q]),
             confidence=float(scores[q]),
         )
@@ -99,34 +94,26 @@ def example_grids(
     database: str,
     query: str,
     images: Mapping[str, np.ndarray],
-    places: np.ndarray,
+    truth: PairTruth,
     evaluate: EvaluateConfig,
     n: int,
 ) -> dict[str, bytes]:
     """method -> PNG bytes of its example grid on the pair (database, query): single-image best
     matches of the descriptors features_dir/<method>/<season>.npy under evaluate.metric, the n
-    most confident correct ones and n most confident failures. Both seasons share `places`."""
+    most confident correct ones and n most confident failures, by the pair's ground truth."""
     grids = {}
     for method in methods:
         features = features_dir / method
         distances = distance_matrix(
             load_array(features / f"{database}.npy"), load_array(features / f"{query}.npy"), metric=evaluate.metric
         )
-        examples = select_examples(
-            distances,
-            places,
-            places,
-            evaluate.confidence,
-            int(evaluate.tolerance_frames),
-            n,
-            int(evaluate.ratio_exclusion),
-        )
+        examples = select_examples(distances, truth, evaluate.confidence, n, int(evaluate.ratio_exclusion))
         grids[method] = example_grid_png(
             images[database],
             images[query],
             examples,
-            places,
-            places,
+            truth.database_places,
+            truth.query_places,
             title=f"{method}: {query} queries vs {database} database",
         )
     return grids

@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matchers import match_pair
 from seasonloop.models.registry import load_learner
 from seasonloop.params.learners import AE_DESCRIPTORS
@@ -72,16 +73,27 @@ def autoencoder_descriptors(
     return described
 
 
+def same_place(truths: Mapping[tuple[str, str], PairTruth], first: str, second: str, row: int) -> int:
+    """The test row of `second` that shows test row `row` of `first` (its exact match; the same row
+    when the seasons are aligned, or when the truth knows of none)."""
+    if first == second:
+        return row
+    exact = int(truths[(second, first)].exact[row])
+    return exact if exact >= 0 else row
+
+
 def pca_projection_figure(
-    pca, test: Mapping[str, np.ndarray], places: np.ndarray, seasons: Sequence[str], path: Path
+    pca, test: Mapping[str, np.ndarray], truths: Mapping[tuple[str, str], PairTruth], seasons: Sequence[str], path: Path
 ) -> None:
     """Figure 2: the middle test place in two seasons and its projection on the first,
     condition-dependent principal components vs the kept ones."""
     # the study contrasts summer and winter; fall back to the first and last season present
     shown = ["summer" if "summer" in seasons else seasons[0], "winter" if "winter" in seasons else seasons[-1]]
-    middle = len(places) // 2
+    middle = len(test[shown[0]]) // 2
+    rows_shown = [same_place(truths, shown[0], season, middle) for season in shown]
+    places = [int(truths[(shown[1], shown[0])].query_places[middle]) if shown[0] != shown[1] else middle]
     first, kept = int(pca.params["n_discard"]), int(pca.params["n_keep"])
-    images = np.stack([test[season][middle] for season in shown])
+    images = np.stack([test[season][row] for season, row in zip(shown, rows_shown)])
     rows = [
         [image, low, high]
         for image, low, high in zip(
@@ -91,7 +103,7 @@ def pca_projection_figure(
     plot_image_grid(
         rows,
         path,
-        row_labels=[f"{s}, place {places[middle]}" for s in shown],
+        row_labels=[f"{s}, place {places[0]}" if i == 0 else f"{s}, same place" for i, s in enumerate(shown)],
         col_labels=["image", f"PCs 1-{first}", f"PCs {first + 1}-{first + kept}"],
         title="Projection on the first vs the kept principal components (study Fig. 2)",
     )
@@ -116,7 +128,7 @@ def ica_figures(bovw, images: np.ndarray, season: str, out: Path) -> None:
 
 def descriptor_fraction_correct(
     described: Mapping[str, Mapping[str, np.ndarray]],
-    places: np.ndarray,
+    truths: Mapping[tuple[str, str], PairTruth],
     pairs: Sequence[tuple[str, str]],
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
@@ -127,7 +139,7 @@ def descriptor_fraction_correct(
     return {
         descriptor: {
             pair_name(a, b): match_pair(
-                described[descriptor][a], described[descriptor][b], places, places, "single", evaluate, sequence
+                described[descriptor][a], described[descriptor][b], truths[(a, b)], "single", evaluate, sequence
             )[0]["fraction_correct"]
             for a, b in pairs
         }
@@ -139,7 +151,7 @@ def autoencoder_figures(
     models_dir: Path,
     methods: Sequence[str],
     test: Mapping[str, np.ndarray],
-    places: np.ndarray,
+    truths: Mapping[tuple[str, str], PairTruth],
     pairs: Sequence[tuple[str, str]],
     batch_size: int,
     evaluate: EvaluateConfig,
@@ -152,7 +164,7 @@ def autoencoder_figures(
     fraction_correct: dict[str, dict[str, dict[str, float]]] = {}
     training: dict[str, dict[str, Any]] = {}
     losses: dict[str, dict[str, list[float]]] = {}
-    shown_places = np.linspace(0, len(places) - 1, N_RECONSTRUCTIONS + 2).astype(int)[1:-1]
+    shown_places = np.linspace(0, len(test[seasons[0]]) - 1, N_RECONSTRUCTIONS + 2).astype(int)[1:-1]
     reconstructions = {season: [list(test[season][shown_places])] for season in seasons}
     for method in methods:
         # loaded one at a time: loading sets the learner's torch threads for its describe
@@ -166,7 +178,7 @@ def autoencoder_figures(
             reconstructions[season].append(
                 list(described["output"][season][shown_places].reshape(-1, *test[season].shape[1:]))
             )
-        fraction_correct[method] = descriptor_fraction_correct(described, places, pairs, evaluate, sequence)
+        fraction_correct[method] = descriptor_fraction_correct(described, truths, pairs, evaluate, sequence)
     plot_series(
         {
             f"{method} {pair_name(a, b)}": (
@@ -185,7 +197,7 @@ def autoencoder_figures(
     plot_image_grid(
         [images for season in seasons for images in zip(*reconstructions[season])],
         out / "fig19b_autoencoder_reconstructions.png",
-        row_labels=[f"{season}, place {places[index]}" for season in seasons for index in shown_places],
+        row_labels=[f"{season}, test image {index}" for season in seasons for index in shown_places],
         col_labels=["input", *(f"{method} output" for method in methods)],
         title="Test images and the auto-encoders' reconstructions",
     )
@@ -202,7 +214,7 @@ def draw_figures(
     out: Path,
     learners: Sequence[str],
     test: Mapping[str, np.ndarray],
-    places: np.ndarray,
+    truths: Mapping[tuple[str, str], PairTruth],
     pairs: Sequence[tuple[str, str]],
     batch_size: int,
     evaluate: EvaluateConfig,
@@ -213,7 +225,7 @@ def draw_figures(
     seasons = list(test)
     notes = []
     if "pca" in learners:
-        pca_projection_figure(load_learner(models_dir / "pca"), test, places, seasons, out / "fig02_pca_projection.png")
+        pca_projection_figure(load_learner(models_dir / "pca"), test, truths, seasons, out / "fig02_pca_projection.png")
     else:
         notes.append("pca is not in learners: no Figure 2")
     if "ica_bovw" in learners:
@@ -225,6 +237,6 @@ def draw_figures(
         notes.append("neither fae nor cae is in learners: no Figures 19, 19b, 19c")
         return FigureRecords(notes=notes)
     fraction_correct, training = autoencoder_figures(
-        models_dir, autoencoders, test, places, pairs, batch_size, evaluate, sequence, out
+        models_dir, autoencoders, test, truths, pairs, batch_size, evaluate, sequence, out
     )
     return FigureRecords(fraction_correct, training, notes)

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.io import read_json
 from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig
@@ -114,14 +115,14 @@ def study_report(
     ablation_methods: Sequence[str],
     example_pair: tuple[str, str],
     test_images: Mapping[str, np.ndarray],
-    test_places: np.ndarray,
+    truth: PairTruth,
 ) -> str:
     """The report's HTML. results: every evaluation of `methods` (seasonloop.reporting.results.load_evaluations);
     example_pair: the (database, query) seasons of the example matches, both in test_images."""
     database, query = example_pair
     pairs = results.pairs
     extra_metrics = list(evaluate.extra_metrics)
-    grids = example_grids(files.features, methods, database, query, test_images, test_places, evaluate, N_EXAMPLES)
+    grids = example_grids(files.features, methods, database, query, test_images, truth, evaluate, N_EXAMPLES)
     sections = [
         dataset_section(load_dataset(files.dataset, seasons), files.season_preview),
         fraction_correct_section(

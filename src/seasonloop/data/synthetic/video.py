@@ -1,10 +1,11 @@
-"""Rendering a whole route: one video per season plus the layout (`render_route`), and a
-preview grid of a few places in every season (`render_preview`)."""
+"""Rendering a whole route: one video per season plus the layout and each frame's position
+(`render_route`), and a preview grid of a few places in every season (`render_preview`)."""
 
 from __future__ import annotations
 
 import json
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
+from functools import partial
 from pathlib import Path
 
 import cv2
@@ -14,6 +15,7 @@ from tqdm import tqdm
 from ...params.seasons import SEASONS
 from ..layout import RouteLayout
 from .difficulty import DEFAULT_DIFFICULTY, RouteDifficulty
+from .ride import SeasonRide
 from .world import SyntheticRoute
 
 
@@ -30,6 +32,37 @@ def _check_seasons(seasons: Sequence[str]) -> list[str]:
     return seasons
 
 
+Frames = Callable[[float, int, int], np.ndarray]  # (season's time, width, height) -> image
+
+
+def _season_clocks(
+    route: SyntheticRoute, seasons: list[str], fps: int, rides: Mapping[str, SeasonRide] | None
+) -> dict[str, tuple[int, Frames, np.ndarray]]:
+    """Season -> (frames of its video, its frame at its own time, the position of each frame).
+
+    Without rides every season rides the reference (`route.frame`, seconds*fps frames)."""
+    clocks: dict[str, tuple[int, Frames, np.ndarray]] = {}
+    for season in seasons:
+        if not rides:
+            n_frames = route.seconds * fps
+            times = np.arange(n_frames) / fps
+            clocks[season] = (n_frames, partial(route.frame, season), np.asarray(route.position(times)))
+            continue
+        ride = rides.get(season, SeasonRide())
+        if not isinstance(ride, SeasonRide):
+            raise ValueError(f"rides.{season}: expected a SeasonRide, got {ride!r}")
+        n_frames = route.timeline(season, ride).n_frames(fps)
+        positions = np.asarray(route.ride_position(season, ride, np.arange(n_frames) / fps))
+        clocks[season] = (n_frames, partial(route.ride_frame, season, ride), positions)
+    return clocks
+
+
+def _write_positions(path: Path, positions: np.ndarray, fps: int) -> None:
+    """CSV `time_s,distance_m`: one row per video frame, its time k/fps and exact route position."""
+    table = np.column_stack([np.arange(len(positions)) / fps, positions])
+    np.savetxt(path, table, fmt=["%.6f", "%.4f"], delimiter=",", header="time_s,distance_m", comments="")
+
+
 def render_route(
     out_dir: Path,
     seasons: Sequence[str],
@@ -40,48 +73,80 @@ def render_route(
     seed: int,
     progress: bool = True,
     difficulty: RouteDifficulty = DEFAULT_DIFFICULTY,
+    rides: Mapping[str, SeasonRide] | None = None,
 ) -> RouteLayout:
-    """Write out_dir/<season>.mp4 (seconds*fps frames, frame k at time k/fps) and out_dir/layout.json.
+    """Write out_dir/<season>.mp4 (frame k at time k/fps), out_dir/positions/<season>.csv (each
+    frame's exact distance along the route) and out_dir/layout.json (the reference ride's layout).
 
-    All seasons are rendered side by side so each place's geometry is drawn once. On any error the
-    files this call was writing are removed. `difficulty`: see `RouteDifficulty`.
+    Without `rides` (None or empty) frame k of every season is the same place, seconds*fps frames.
+    With `rides` (season -> SeasonRide; seasons not in it ride the reference) each season rides at
+    its own pace for its own number of frames, and out_dir/rides.json records each ride with its
+    stops and tunnels in its own video seconds. All seasons are rendered side by side so a place's
+    geometry is drawn once. On any error the files this call was writing are removed.
     """
     seasons = _check_seasons(seasons)
     if int(fps) != fps or fps < 1:
         raise ValueError(f"fps must be a positive integer, got {fps!r}")
+    fps = int(fps)
+    unknown = [season for season in rides or {} if season not in seasons]
+    if unknown:
+        raise ValueError(f"rides: season {unknown[0]!r} is not rendered (seasons: {seasons})")
     route = SyntheticRoute(seconds, seed, difficulty)
     route.frame(seasons[0], 0.0, width, height)  # validates the size before any file is created
+    clocks = _season_clocks(route, seasons, fps, rides)  # validates the rides too
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     video_paths = [out_dir / f"{season}.mp4" for season in seasons]
-    layout_path = out_dir / "layout.json"
+    positions_dir = out_dir / "positions"
+    made_positions_dir = not positions_dir.exists()
+    written = [*video_paths, out_dir / "layout.json", *(positions_dir / f"{s}.csv" for s in seasons)]
+    written += [out_dir / "rides.json"] if rides else []
+    try:
+        _write_videos(video_paths, [clocks[season] for season in seasons], fps, width, height, progress)
+        positions_dir.mkdir(exist_ok=True)
+        for season in seasons:
+            _write_positions(positions_dir / f"{season}.csv", clocks[season][2], fps)
+        (out_dir / "layout.json").write_text(json.dumps(route.layout.to_json(), indent=1))
+        if rides:
+            record = {
+                season: route.timeline(season, rides.get(season, SeasonRide())).to_json(fps) for season in seasons
+            }
+            (out_dir / "rides.json").write_text(json.dumps({"fps": fps, "seasons": record}, indent=1))
+        else:
+            (out_dir / "rides.json").unlink(missing_ok=True)  # an earlier render's would describe other videos
+    except BaseException:
+        for path in written:
+            path.unlink(missing_ok=True)
+        if made_positions_dir and positions_dir.is_dir() and not any(positions_dir.iterdir()):
+            positions_dir.rmdir()
+        raise
+    return route.layout
+
+
+def _write_videos(
+    paths: list[Path], clocks: list[tuple[int, Frames, np.ndarray]], fps: int, width: int, height: int, progress: bool
+) -> None:
+    """One video per (path, clock): frame k of each at its time k/fps, all seasons side by side."""
     writers: list[cv2.VideoWriter] = []
     try:
-        for path in video_paths:
+        for path in paths:
             writer = cv2.VideoWriter(str(path), cv2.VideoWriter.fourcc(*"mp4v"), float(fps), (int(width), int(height)))
             if not writer.isOpened():
                 raise OSError(f"cannot open video writer for {path}")
             writers.append(writer)
-        n_frames = route.seconds * int(fps)
+        n_frames = max(count for count, _, _ in clocks)
         for k in tqdm(range(n_frames), desc="render route", unit="frame", disable=not progress):
             t = k / fps
-            for season, writer in zip(seasons, writers):
-                writer.write(route.frame(season, t, width, height))
+            for (count, frame, _), writer in zip(clocks, writers):
+                if k < count:
+                    writer.write(frame(t, width, height))
+    finally:
         for writer in writers:
             writer.release()
-        writers.clear()
-        # OpenCV's writer does not raise when the disk fills: check what it left
-        for path in video_paths:
-            if not path.is_file() or path.stat().st_size == 0:
-                raise OSError(f"{path}: the video was not written (is the disk full?)")
-        layout_path.write_text(json.dumps(route.layout.to_json(), indent=1))
-    except BaseException:
-        for writer in writers:
-            writer.release()
-        for path in [*video_paths, layout_path]:
-            path.unlink(missing_ok=True)
-        raise
-    return route.layout
+    # OpenCV's writer does not raise when the disk fills: check what it left
+    for path in paths:
+        if not path.is_file() or path.stat().st_size == 0:
+            raise OSError(f"{path}: the video was not written (is the disk full?)")
 
 
 def render_preview(

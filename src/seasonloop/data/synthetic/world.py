@@ -6,6 +6,8 @@ drawn on demand as codes (`compose`) and coloured per season (`look`).
 
 from __future__ import annotations
 
+from collections import OrderedDict
+
 import numpy as np
 
 from ...params.seasons import SEASONS
@@ -16,6 +18,7 @@ from .layout import make_layout
 from .look import SeasonLook
 from .motion import Motion
 from .objects import RouteObjects
+from .ride import RideTimeline, SeasonRide
 from .textures import Textures
 from .zones import Landscape
 
@@ -23,7 +26,8 @@ from .zones import Landscape
 class SyntheticRoute:
     """A synthetic Nordland-style route: layout, speed profile and world, all from (seconds, seed).
 
-    `frame(season, t, width, height)` renders the cab view at video time t (seconds).
+    `frame(season, t, width, height)` renders the cab view at video time t (seconds);
+    `ride_frame(season, ride, tau, width, height)` at a season's own time tau along its `SeasonRide`.
     Memory is independent of image count: only small per-second/per-segment arrays are kept.
     `difficulty` sets speed, tunnels, stops and winter's light (default: the built-in route).
     """
@@ -42,7 +46,9 @@ class SyntheticRoute:
         self.objects = RouteObjects(rng, self.land, self.length)
         self._views: dict[tuple[int, int], View] = {}
         self._looks: dict[tuple[int, int, int], SeasonLook] = {}
-        self._cached_codes: tuple[tuple[float, int, int], np.ndarray] | None = None
+        # Geometry by (position, width, height): seasons at the same place share one drawing.
+        self._codes: OrderedDict[tuple[float, int, int], np.ndarray] = OrderedDict()
+        self._timelines: dict[tuple[str, SeasonRide], RideTimeline] = {}
 
     def position(self, t: float | np.ndarray) -> float | np.ndarray:
         """Train position along the route (m) at video time t (s); the same for every season."""
@@ -60,24 +66,63 @@ class SyntheticRoute:
             self._looks[key] = SeasonLook(self.seed, season, self._view(width, height), self.difficulty)
         return self._looks[key]
 
-    def frame(self, season: str, t: float, width: int, height: int) -> np.ndarray:
-        """Cab view of `season` at video time t: (height, width, 3) uint8 BGR."""
+    def _check(self, season: str, width: int, height: int) -> tuple[int, int]:
+        """The frame size as ints, after checking the season and the size."""
         if season not in SEASONS:
             raise ValueError(f"unknown season {season!r}; expected one of {SEASONS}")
-        if not 0.0 <= t <= self.seconds:
-            raise ValueError(f"time t={t!r} is outside the route [0, {self.seconds}] s")
         if int(width) != width or int(height) != height or width < 16 or height < 16:
             raise ValueError(f"frame size must be integers >= 16, got width={width!r} height={height!r}")
-        width, height = int(width), int(height)
-        key = (float(t), width, height)
-        if self._cached_codes is None or self._cached_codes[0] != key:
-            # Geometry is shared by all seasons at the same time: render it once.
-            p = float(self.position(float(t)))
-            codes = render_codes(self._view(width, height), p, self.land, self.objects, self.textures)
-            self._cached_codes = (key, codes)
+        return int(width), int(height)
+
+    _CODES_KEPT = 8  # places kept: one per season riding its own pace, and then some
+
+    def _geometry(self, p: float, width: int, height: int) -> np.ndarray:
+        """Codes of the view from route position p (m), drawn once per place and size."""
+        key = (p, width, height)
+        if key in self._codes:
+            self._codes.move_to_end(key)
+        else:
+            self._codes[key] = render_codes(self._view(width, height), p, self.land, self.objects, self.textures)
+            if len(self._codes) > self._CODES_KEPT:
+                self._codes.popitem(last=False)
+        return self._codes[key]
+
+    def _colour(self, season: str, codes: np.ndarray, t: float, speed: float, width: int, height: int) -> np.ndarray:
+        """`season`'s look of `codes` at its own video time t, riding at `speed` (m/s)."""
         # The cab shakes with the track: hardly at all while the train stands still.
-        shake = 0.1 + 0.9 * min(self.motion.speed(t) / 25.0, 1.0)
-        return self._look(season, width, height).colourise(self._cached_codes[1], float(t), shake)
+        shake = 0.1 + 0.9 * min(speed / 25.0, 1.0)
+        return self._look(season, width, height).colourise(codes, t, shake)
+
+    def frame(self, season: str, t: float, width: int, height: int) -> np.ndarray:
+        """Cab view of `season` at video time t of the reference ride: (height, width, 3) uint8 BGR."""
+        width, height = self._check(season, width, height)
+        if not 0.0 <= t <= self.seconds:
+            raise ValueError(f"time t={t!r} is outside the route [0, {self.seconds}] s")
+        codes = self._geometry(float(self.position(float(t))), width, height)
+        return self._colour(season, codes, float(t), self.motion.speed(t), width, height)
+
+    def timeline(self, season: str, ride: SeasonRide) -> RideTimeline:
+        """`season`'s clock when it rides `ride` (tau -> reference time), built once."""
+        key = (season, ride)
+        if key not in self._timelines:
+            self._timelines[key] = RideTimeline(ride, self.layout, self.seed, season)
+        return self._timelines[key]
+
+    def ride_position(self, season: str, ride: SeasonRide, tau: float | np.ndarray) -> float | np.ndarray:
+        """Position along the route (m) of `season` riding `ride` at its own video time tau (s)."""
+        return self.motion.position(self.timeline(season, ride).reference_time(tau))
+
+    def ride_frame(self, season: str, ride: SeasonRide, tau: float, width: int, height: int) -> np.ndarray:
+        """Cab view of `season` riding `ride` at its own video time tau: (height, width, 3) uint8 BGR.
+
+        The place is the reference's at g(tau); the shake follows the season's own speed and the
+        slow light changes its own time. `SeasonRide()` gives `frame(season, tau, ...)`."""
+        width, height = self._check(season, width, height)
+        clock = self.timeline(season, ride)
+        g = float(clock.reference_time(float(tau)))
+        codes = self._geometry(float(self.motion.position(g)), width, height)
+        speed = self.motion.speed(g) * clock.rate(float(tau))
+        return self._colour(season, codes, float(tau), speed, width, height)
 
 
 def render_frame(world: SyntheticRoute, season: str, t: float, width: int, height: int) -> np.ndarray:

@@ -1,0 +1,116 @@
+"""The geographic split of traverses that are not frame-aligned (different lengths, speeds, starts).
+
+Each frame of every season is mapped onto the first season's places (the reference): the reference
+place nearest it in position, or, with a ground-truth matrix, the middle of the reference places
+that the matrix says show it (-1: none, and the frame is used for nothing). The sections, test
+blocks and gaps are cut along the reference's places (seasonloop.data.split.split_masks), so they
+are the same stretches of track in every season, and a frame takes the part of its reference place:
+no season trains on a test stretch of any other. A reference place is a tunnel (a stop) when a frame
+of any season mapped to it is dark (stands still); a frame is left out of the test set when it or
+its reference place is.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from seasonloop.data.split import Split, detect_stops, detect_tunnels, masks_to_split, split_masks
+from seasonloop.params.settings import SplitConfig
+
+# reference columns handled at once when mapping through a ground-truth matrix (bounds memory)
+_MATRIX_COLUMNS_PER_BLOCK = 2048
+
+
+@dataclass(frozen=True)
+class SeasonSplits:
+    """Every season's own Split, and the reference place of each of its frames."""
+
+    reference: str
+    splits: dict[str, Split]
+    reference_place: dict[str, np.ndarray]
+
+    def season(self, season: str) -> Split:
+        """The split of one season."""
+        return self.splits[season]
+
+    def to_json(self) -> dict:
+        """split.json: the reference season's parts at the top level (the aligned layout), and every
+        season's own under "seasons"."""
+        return {
+            **self.splits[self.reference].to_json(),
+            "reference": self.reference,
+            "seasons": {
+                season: {**split.to_json(), "reference_place": self.reference_place[season].tolist()}
+                for season, split in self.splits.items()
+            },
+        }
+
+
+def by_position(positions: Mapping[str, np.ndarray], reference: str) -> dict[str, np.ndarray]:
+    """season -> the reference place nearest each of its places ((n, k) metres each)."""
+    from sklearn.neighbors import NearestNeighbors  # here: only traverses that are not aligned need it
+
+    index = NearestNeighbors(n_neighbors=1).fit(positions[reference])
+    return {
+        season: index.kneighbors(own, return_distance=False)[:, 0].astype(np.int64) for season, own in positions.items()
+    }
+
+
+def by_matrix(truth: np.ndarray, name: str) -> np.ndarray:
+    """The reference place of each frame of a season from a (reference places, season places)
+    boolean matrix: the middle of its true rows, -1 where it has none."""
+    if truth.ndim != 2:
+        raise ValueError(f"{name}: the ground-truth matrix must be 2-D, got shape {truth.shape}")
+    mapped = np.full(truth.shape[1], -1, dtype=np.int64)
+    for start in range(0, truth.shape[1], _MATRIX_COLUMNS_PER_BLOCK):
+        block = np.asarray(truth[:, start : start + _MATRIX_COLUMNS_PER_BLOCK], dtype=bool)
+        counts = block.sum(axis=0)
+        middle = np.argmax(np.cumsum(block, axis=0, dtype=np.int64) >= ((counts + 1) // 2)[None, :], axis=0)
+        mapped[start : start + block.shape[1]] = np.where(counts > 0, middle, -1)
+    return mapped
+
+
+def _scatter(n_reference: int, reference_place: np.ndarray, flags: np.ndarray) -> np.ndarray:
+    marked = np.zeros(n_reference, dtype=bool)
+    marked[reference_place[flags & (reference_place >= 0)]] = True
+    return marked
+
+
+def split_seasons(
+    stats: Mapping[str, np.ndarray],
+    seasons: Sequence[str],
+    config: SplitConfig,
+    reference_place: Mapping[str, np.ndarray],
+) -> SeasonSplits:
+    """Every season's split from its frame statistics ("<season>_brightness", "<season>_change")
+    and the reference place of each of its frames (by_position / by_matrix)."""
+    reference = seasons[0]
+    n_reference = len(stats[f"{reference}_brightness"])
+    own_tunnel = {s: detect_tunnels({s: stats[f"{s}_brightness"]}, float(config.dark_threshold)) for s in seasons}
+    own_stop = {s: detect_stops({s: stats[f"{s}_change"]}, float(config.stop_threshold)) for s in seasons}
+    for season in seasons:
+        if reference_place[season].shape != own_tunnel[season].shape:
+            raise ValueError(
+                f"{season}: {len(reference_place[season])} reference places for {len(own_tunnel[season])} frames"
+            )
+    tunnel = np.any([_scatter(n_reference, reference_place[s], own_tunnel[s]) for s in seasons], axis=0)
+    stop = np.any([_scatter(n_reference, reference_place[s], own_stop[s]) for s in seasons], axis=0)
+    test_block, gap, train = split_masks(
+        n_reference, int(config.section_length), float(config.test_fraction), int(config.gap)
+    )
+    splits = {}
+    for season in seasons:
+        place = reference_place[season]
+        mapped = place >= 0
+        at = np.where(mapped, place, 0)
+        splits[season] = masks_to_split(
+            test_block[at] & mapped,
+            gap[at] & mapped,
+            train[at] & mapped,
+            own_tunnel[season] | (tunnel[at] & mapped),
+            own_stop[season] | (stop[at] & mapped),
+        )
+    return SeasonSplits(reference, splits, {s: np.asarray(reference_place[s], np.int64) for s in seasons})

@@ -1,0 +1,98 @@
+"""The ground truth of every season pair of a run, from its split and data.ground_truth, and the
+record of it (metrics/ground_truth.json): which kind, what tolerance, how many queries have no
+correct database place at all."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from itertools import permutations
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from seasonloop.data.datasets import season_part
+from seasonloop.data.truth_matrix import matrix_file, read_matrix
+from seasonloop.evaluation.ground_truth import KINDS, PairTruth, aligned_truth, matrix_truth, position_truth
+from seasonloop.io import load_array
+from seasonloop.params.schema import pair_name
+from seasonloop.params.settings import EvaluateConfig
+
+
+def truth_file(folder: Path, database: str, query: str) -> Path:
+    """Where the ground_truth stage writes the truth of (database, query)."""
+    return Path(folder) / f"{pair_name(database, query)}.npz"
+
+
+def build_truths(
+    kind: str,
+    split: Mapping[str, Any],
+    seasons: Sequence[str],
+    evaluate: EvaluateConfig,
+    frames_dir: Path,
+    matrix_dir: Path,
+) -> dict[tuple[str, str], PairTruth]:
+    """(database, query) -> its ground truth on the test places, for every ordered pair of seasons.
+
+    positions are read from frames_dir/<season>_positions.npy, matrices from
+    matrix_dir/<database>-<query>.npz (seasonloop.data.truth_matrix)."""
+    if kind not in KINDS:
+        raise ValueError(f"data.ground_truth: unknown kind '{kind}' (known: {', '.join(KINDS)})")
+    test = {season: season_part(split, season, "test") for season in seasons}
+    build: Callable[[str, str], PairTruth]
+    if kind == "aligned":
+
+        def build(database: str, query: str) -> PairTruth:
+            return aligned_truth(test[database], test[query], int(evaluate.tolerance_frames))
+
+    elif kind == "positions":
+        positions = {season: load_array(frames_dir / f"{season}_positions.npy") for season in seasons}
+
+        def build(database: str, query: str) -> PairTruth:
+            return position_truth(
+                positions[database][test[database]],
+                positions[query][test[query]],
+                test[database],
+                test[query],
+                float(evaluate.tolerance_m),
+            )
+
+    else:
+        counts = {
+            season: int(split["seasons"][season]["n_places"] if "seasons" in split else split["n_places"])
+            for season in seasons
+        }
+
+        def build(database: str, query: str) -> PairTruth:
+            path = matrix_file(matrix_dir, database, query)
+            hard, soft = read_matrix(path, counts[database], counts[query])
+            return matrix_truth(hard, soft, test[database], test[query], str(path))
+
+    return {(database, query): build(database, query) for database, query in permutations(seasons, 2)}
+
+
+def tolerance_text(kind: str, evaluate: EvaluateConfig) -> str:
+    """What makes a match correct, in words, for the dataset table."""
+    if kind == "aligned":
+        return f"the query's own frame index +- {evaluate.tolerance_frames} places"
+    if kind == "positions":
+        return f"a database place within {float(evaluate.tolerance_m):g} m of the query's position"
+    return "the ground-truth matrix given with the data ('hard'; 'soft' cells neither right nor wrong)"
+
+
+def truth_record(kind: str, evaluate: EvaluateConfig, truths: Mapping[tuple[str, str], PairTruth]) -> dict[str, Any]:
+    """metrics/ground_truth.json: the kind, what is correct, and per pair the queries, database
+    places and queries without any correct database place."""
+    return {
+        "kind": kind,
+        "correct": tolerance_text(kind, evaluate),
+        "pairs": {
+            pair_name(database, query): {
+                "n_queries": len(truth.query_places),
+                "n_database": len(truth.database_places),
+                "n_without_match": truth.n_without_match,
+                "mean_correct_per_query": float(np.mean(truth.correct.sum(axis=1))),
+            }
+            for (database, query), truth in truths.items()
+        },
+    }

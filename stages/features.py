@@ -3,7 +3,10 @@
 Writes data/features/<method>/<season>.npy (N_test, D) float32 and
 metrics/features/<method>/<season>.json (feature time per image, the study's Table 7) for each
 season of data.seasons. One process per learner, not per learner and season: the model is loaded
-once, and a stage's start-up (torch, scikit-learn, DVC) costs seconds on a slow CPU.
+once, and a stage's start-up (torch, scikit-learn, DVC) costs seconds on a slow CPU. A learner of
+descriptors computed elsewhere (precomputed) looks up the test places' rows of its files instead
+of describing images; so this stage depends on precomputed.dir for every learner (rerunning them
+when those files change gives identical features, and nothing after them reruns).
 """
 
 from __future__ import annotations
@@ -12,11 +15,25 @@ import argparse
 import time
 from pathlib import Path
 
+import numpy as np
+
 from _common import data_seasons, load_params, stage_main
-from _datasets import test_images
-from seasonloop.io import save_array, staged_dir, write_json
+from _datasets import SPLIT, test_images
+from seasonloop.data.datasets import read_split, season_part
+from seasonloop.io import read_json, save_array, staged_dir, write_json
+from seasonloop.models.core.learner import PlaceRows
 from seasonloop.models.registry import load_learner
 from seasonloop.params.settings import FeaturesConfig
+
+FRAMES_RECORD = Path("data/frames/frames.json")
+
+
+def place_rows(season: str, frames: dict, split: dict) -> PlaceRows:
+    """The source frames the test places of `season` show: place p is the (offset + p)-th kept
+    frame, every frame_step-th frame of the source."""
+    offset = int(frames["offsets"].get(season, 0))
+    rows = (offset + season_part(split, season, "test")) * int(frames["frame_step"])
+    return PlaceRows(season, rows.astype(np.int64), int(frames["source_frames"][season]))
 
 
 @stage_main
@@ -29,13 +46,16 @@ def main() -> None:
     seasons = data_seasons(params)
     learner = load_learner(Path("models") / args.method)
     test = test_images(seasons)
+    frames, split = read_json(FRAMES_RECORD), read_split(SPLIT)
     with (
         staged_dir(Path("data/features") / args.method) as features_dir,
         staged_dir(Path("metrics/features") / args.method) as metrics_dir,
     ):
         for season in seasons:
             start = time.perf_counter()
-            features = learner.describe(test[season], batch_size=int(settings.batch_size), progress=True)
+            features = learner.describe_places(
+                test[season], place_rows(season, frames, split), batch_size=int(settings.batch_size), progress=True
+            )
             seconds = time.perf_counter() - start
             save_array(features_dir / f"{season}.npy", features)
             write_json(

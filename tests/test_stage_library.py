@@ -40,6 +40,7 @@ def test_extract_seasons_writes_every_season_and_its_record(tmp_path):
         "places_per_season",
         "seasons",
         "frames_per_season",
+        "source_frames",
         "frame_step",
         "pairing",
         "alignment",

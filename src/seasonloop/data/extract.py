@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from seasonloop.data.alignment import apply_offsets, check_alignment
-from seasonloop.data.frames import list_frame_files
+from seasonloop.data.frames import list_frame_files, video_sample_count
 from seasonloop.data.positions import PositionFiles, degrees_to_metres, season_positions
 from seasonloop.data.sources import check_aligned, pair_season_files, place_description, read_season
 from seasonloop.io import load_array, save_array
@@ -52,9 +52,10 @@ def extract_seasons(
     paths = {season: (sources[season]["kind"], Path(sources[season]["path"])) for season in seasons}
     files, pairing = pair_season_files(paths) if aligned else (None, "each season its own frames (not aligned)")
     print(f"extract_frames: {pairing}")
-    counts, coordinates = {}, {}
+    counts, coordinates, source_frames = {}, {}, {}
     for season in seasons:
         kind, path = paths[season]
+        source_frames[season] = len(list_frame_files(path)) if kind == "frames" else video_sample_count(path, fps)
         frames = read_season(
             kind, path, fps, height, width, frame_step=frame_step, files=files[season] if files else None
         )
@@ -71,9 +72,7 @@ def extract_seasons(
                 out / f"{season}.npy", np.ascontiguousarray(load_array(out / f"{season}.npy", mmap=True)[kept[season]])
             )
     if positions is not None:
-        metres = degrees_to_metres(coordinates) if positions.units == "degrees" else coordinates
-        for season in seasons:
-            save_array(out / f"{season}_positions.npy", np.ascontiguousarray(metres[season][kept[season]]))
+        write_positions(out, coordinates, positions.units, kept)
     places = {season: kept[season].stop - kept[season].start for season in seasons}
     stored = {season: load_array(out / f"{season}.npy", mmap=True) for season in seasons}
     return {
@@ -81,12 +80,21 @@ def extract_seasons(
         "places_per_season": places,
         "seasons": list(seasons),
         "frames_per_season": counts,
+        # frames of each source before data.frame_step (rows of descriptors computed elsewhere)
+        "source_frames": source_frames,
         "frame_step": frame_step,
         "pairing": pairing,
         "alignment": check_alignment(stored, int(extract.max_offset)) if aligned else {},
         "offsets": dict(offsets),
         "place": place_description(kinds, fps, frame_step),
     }
+
+
+def write_positions(out: Path, coordinates: Mapping[str, np.ndarray], units: str, kept: Mapping[str, slice]) -> None:
+    """out/<season>_positions.npy: the kept places' positions in metres."""
+    metres = degrees_to_metres(coordinates) if units == "degrees" else coordinates
+    for season, slice_ in kept.items():
+        save_array(out / f"{season}_positions.npy", np.ascontiguousarray(metres[season][slice_]))
 
 
 def kept_places(

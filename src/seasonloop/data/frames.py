@@ -73,6 +73,18 @@ def sample_video(path: Path, fps: float, height: int, width: int, progress: bool
     return samples
 
 
+def video_sample_count(path: Path, fps: float) -> int:
+    """How many samples sample_video takes of the video at `path` at `fps` (from its header)."""
+    capture = cv2.VideoCapture(str(path))
+    try:
+        video_fps, n_frames = capture.get(cv2.CAP_PROP_FPS), int(capture.get(cv2.CAP_PROP_FRAME_COUNT))
+    finally:
+        capture.release()
+    if video_fps <= 0 or n_frames <= 0:
+        raise ValueError(f"{path}: video reports no frame rate or no frames")
+    return int(np.floor((n_frames - 1) / (video_fps / fps) + 1e-9)) + 1
+
+
 def natural_key(name: str) -> tuple:
     """Sort key that orders digit runs by value: 2.png before 10.png (plain sorting scrambles them)."""
     return tuple(

@@ -21,6 +21,7 @@ LEARNERS: dict[str, str] = {
     "ica_bovw": "ICABoVW",
     "fae": "FullyConnectedAutoEncoder",
     "cae": "ConvolutionalAutoEncoder",
+    "precomputed": "PrecomputedDescriptors",
 }
 
 

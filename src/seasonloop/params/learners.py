@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from seasonloop.params.checks import Check, integer, number, one_of
+from seasonloop.params.checks import Check, integer, number, one_of, text
 
 SVD_SOLVERS = ("auto", "full", "covariance_eigh", "arpack", "randomized")
 ICA_ALGORITHMS = ("parallel", "deflation")
@@ -89,6 +89,7 @@ LEARNER_SCHEMA: dict[str, dict[str, Check]] = {
         "output_kernel": integer(1),
         **TRAINING,
     },
+    "precomputed": {"dir": text},
 }
 
 

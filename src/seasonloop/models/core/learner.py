@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -16,6 +17,17 @@ from seasonloop.params.learners import check_learner
 LEARNER_FILE = "learner.json"
 
 EpochCallback = Callable[[int, dict[str, float]], None]
+
+
+@dataclass(frozen=True)
+class PlaceRows:
+    """Which frames of a season's source a batch of test images shows: the season, each image's
+    row among the source's frames (before data.frame_step and data.offsets) and how many frames the
+    source has; for learners whose descriptors exist per frame already (models/precomputed.py)."""
+
+    season: str
+    rows: np.ndarray
+    n_frames: int
 
 
 def to_float(images: np.ndarray) -> np.ndarray:
@@ -135,6 +147,13 @@ class FeatureLearner(ABC):
         over the batches, for learners such as the CAE that take minutes per season)."""
         images = self._check_describe_input(images, "describe")
         return self._in_batches(images, batch_size, self._describe_batch, progress, f"{self.name} describe")
+
+    def describe_places(
+        self, images: np.ndarray, rows: PlaceRows, batch_size: int = 1024, progress: bool = False
+    ) -> np.ndarray:
+        """Descriptors of a season's test images, which show the source frames `rows`: the learners
+        describe the images; a learner of descriptors computed elsewhere looks the rows up."""
+        return self.describe(images, batch_size=batch_size, progress=progress)
 
     def save(self, directory: Path) -> None:
         """Write directory/learner.json plus the learned state."""

@@ -1,0 +1,192 @@
+"""Ground truth as data: aligned, positions and matrix truths, the metrics under each, the split
+of traverses that are not aligned, positions files, truth matrices and precomputed descriptors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from seasonloop.data.positions import (
+    PositionFiles,
+    at_times,
+    degrees_to_metres,
+    for_files,
+    read_table,
+    season_positions,
+)
+from seasonloop.data.season_split import by_matrix, by_position, split_seasons
+from seasonloop.data.truth_matrix import matrix_between, read_matrix
+from seasonloop.evaluation.ground_truth import PairTruth, aligned_truth, matrix_truth, position_truth
+from seasonloop.evaluation.metrics import evaluate_pair, evaluate_truth, pr_curve
+from seasonloop.models.core.learner import PlaceRows
+from seasonloop.models.precomputed import PrecomputedDescriptors
+from seasonloop.params.settings import SplitConfig
+
+
+def noisy_distances(n: int, seed: int = 0) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return rng.random((n, n)) + np.where(np.eye(n, dtype=bool), 0.0, 0.3) * rng.random((n, n))
+
+
+@pytest.mark.parametrize("tolerance", [0, 1, 3])
+def test_positions_derived_from_aligned_frames_give_the_aligned_numbers(tolerance):
+    places = np.array([3, 4, 5, 6, 9, 10, 11, 20, 21, 22, 23])
+    distances = noisy_distances(len(places))
+    aligned_metrics, aligned_pr = evaluate_pair(distances, places, places, tolerance, "ratio", 2)
+    # 21 m per place; the tolerance in metres covers the same places
+    positions = 21.0 * places[:, None]
+    truth = position_truth(positions, positions, places, places, 21.0 * tolerance + 1.0)
+    metrics, pr = evaluate_truth(distances, truth, "ratio", 2)
+    assert metrics == aligned_metrics
+    pd.testing.assert_frame_equal(pr, aligned_pr)
+
+
+def test_position_truth_takes_the_nearest_as_exact_and_counts_queries_without_a_match():
+    database = np.array([[0.0], [20.0], [40.0], [60.0]])
+    queries = np.array([[19.0], [41.0], [500.0]])
+    truth = position_truth(database, queries, np.arange(4), np.arange(3), 10.0)
+    assert truth.correct.tolist() == [[False, True, False, False], [False, False, True, False], [False] * 4]
+    assert truth.exact.tolist() == [1, 2, -1] and truth.n_without_match == 1
+
+
+def test_queries_without_a_match_are_wrong_and_not_positives():
+    # query 2 has no correct database place: matched, it is a false positive; it is no positive
+    truth = PairTruth(
+        "positions",
+        np.arange(3),
+        np.arange(3),
+        np.array([[1, 0, 0], [0, 1, 0], [0, 0, 0]], dtype=bool),
+        np.array([0, 1, -1]),
+    )
+    distances = np.array([[0.1, 0.9, 0.9], [0.9, 0.2, 0.9], [0.9, 0.9, 0.3]])
+    metrics, pr = evaluate_truth(distances, truth)
+    assert metrics["fraction_correct"] == pytest.approx(2 / 3)
+    # the two positives are found before the third, wrong match is accepted: recall reaches 1
+    assert pr["recall"].tolist() == [0.5, 1.0, 1.0] and pr["precision"].tolist()[-1] == pytest.approx(2 / 3)
+    assert metrics["auc_pr_vpr_tutorial"] <= metrics["fraction_correct"] * 3 / 2
+    recall, _ = pr_curve(np.array([3.0, 2.0, 1.0]), np.array([True, True, False]), np.array([True, True, False]))
+    assert recall.tolist() == [0.5, 1.0, 1.0]
+
+
+def test_matrix_truth_takes_the_test_block_and_never_picks_soft_cells():
+    hard = np.zeros((6, 5), bool)  # (database places, query places)
+    hard[np.arange(5), np.arange(5)] = True
+    soft = hard.copy()
+    soft[4, 1] = True  # database place 4 is near query place 1
+    truth = matrix_truth(hard, soft, np.array([1, 2, 4]), np.array([1, 2, 4]), "x.npz")
+    assert truth.correct.tolist() == [[True, False, False], [False, True, False], [False, False, True]]
+    assert truth.ignored is not None and truth.ignored[0].tolist() == [False, False, True]
+    # query place 1 is closest to database place 4 (a soft cell): it is skipped, not counted wrong
+    distances = np.array([[0.5, 0.9, 0.1], [0.9, 0.2, 0.9], [0.9, 0.9, 0.3]])
+    metrics, _ = evaluate_truth(distances, truth)
+    assert metrics["fraction_correct"] == 1.0
+
+
+def test_a_pair_truth_survives_saving(tmp_path):
+    truth = aligned_truth(np.arange(4), np.arange(4), 1)
+    truth.save(tmp_path / "t.npz")
+    loaded = PairTruth.load(tmp_path / "t.npz")
+    assert loaded.kind == "aligned" and np.array_equal(loaded.correct, truth.correct) and loaded.ignored is None
+    with pytest.raises(FileNotFoundError, match="rerun the ground_truth stage"):
+        PairTruth.load(tmp_path / "missing.npz")
+
+
+def test_positions_files_are_read_checked_and_converted(tmp_path):
+    good = tmp_path / "summer.csv"
+    good.write_text("name,lat,lon\n2.png,63.0,10.0\n1.png,63.001,10.0\n")
+    coordinates, names = read_table(good, ["lat", "lon"], "name")
+    assert coordinates.shape == (2, 2) and list(names) == ["2.png", "1.png"]
+    metres = degrees_to_metres({"summer": coordinates})["summer"]
+    # 0.001 degree of latitude is ~111 m
+    assert metres[1, 0] - metres[0, 0] == pytest.approx(111.2, abs=0.5) and metres[1, 1] == pytest.approx(0.0)
+    files = [tmp_path / "1.png", tmp_path / "2.png"]
+    assert for_files(coordinates, names, files, good)[0, 0] == pytest.approx(63.001)
+    with pytest.raises(ValueError, match="no position for 1 frames"):
+        for_files(coordinates, names, [*files, tmp_path / "3.png"], good)
+    with pytest.raises(ValueError, match=r"2 positions for 3 frames"):
+        for_files(coordinates, None, [*files, tmp_path / "3.png"], good)
+    with pytest.raises(ValueError, match="no column 'x'"):
+        read_table(good, ["x", "y"], None)
+    bad = tmp_path / "fall.csv"
+    bad.write_text("x,y\n1,2\nnan,3\nabc,4\n")
+    with pytest.raises(ValueError, match=r"fall.csv: 2 rows with a missing, non-numeric or infinite coordinate"):
+        read_table(bad, ["x", "y"], None)
+    with pytest.raises(FileNotFoundError, match="positions file not found"):
+        read_table(tmp_path / "winter.csv", ["x"], None)
+    with pytest.raises(ValueError, match=r"positions cover 0-10 s, but frames are kept from 0 to 12 s"):
+        at_times(np.zeros((2, 1)), np.array([0.0, 10.0]), np.array([0.0, 12.0]), good)
+
+
+def test_season_positions_of_a_video_are_interpolated_at_the_kept_samples(tmp_path):
+    (tmp_path / "summer.csv").write_text("time_s,distance_m\n0,0\n10,100\n")
+    files = PositionFiles(tmp_path, ("distance_m",), "metres", "time_s")
+    positions = season_positions("video", files, "summer", 4, 1.0, 2, [])
+    assert positions[:, 0].tolist() == [0.0, 20.0, 40.0, 60.0]
+
+
+def test_truth_matrices_are_checked(tmp_path):
+    np.savez(tmp_path / "summer-fall.npz", hard=np.eye(3, 4, dtype=bool))
+    hard, soft = read_matrix(tmp_path / "summer-fall.npz", 3, 4)
+    assert hard.shape == (3, 4) and soft is None
+    assert matrix_between(tmp_path, "fall", "summer", 4, 3).shape == (4, 3)
+    with pytest.raises(ValueError, match=r"'hard' has shape \(3, 4\), expected .* = \(4, 4\)"):
+        read_matrix(tmp_path / "summer-fall.npz", 4, 4)
+    np.savez(tmp_path / "summer-winter.npz", soft=np.eye(3, dtype=bool))
+    with pytest.raises(ValueError, match="no array 'hard'"):
+        read_matrix(tmp_path / "summer-winter.npz", 3, 3)
+    np.savez(tmp_path / "spring-fall.npz", hard=np.full((2, 2), 0.5))
+    with pytest.raises(ValueError, match="must be boolean"):
+        read_matrix(tmp_path / "spring-fall.npz", 2, 2)
+    with pytest.raises(FileNotFoundError, match="the split maps every season onto summer's places"):
+        matrix_between(tmp_path, "summer", "spring", 3, 3)
+
+
+def test_traverses_at_different_speeds_share_their_test_stretches():
+    # summer: 1 m per frame over 0..599 m; fall: 2 m per frame from 100 m, standing at 300 m for 20 frames
+    summer = np.arange(600.0)[:, None]
+    fall = np.concatenate([np.arange(100.0, 300.0, 2.0), np.full(20, 300.0), np.arange(302.0, 600.0, 2.0)])[:, None]
+    positions = {"summer": summer, "fall": fall}
+    mapped = by_position(positions, "summer")
+    stats = {
+        "summer_brightness": np.full(600, 100.0),
+        "summer_change": np.full(600, 5.0),
+        "fall_brightness": np.full(len(fall), 100.0),
+        "fall_change": np.where(np.diff(fall[:, 0], prepend=-1.0) == 0, 0.0, 5.0),
+    }
+    config = SplitConfig(section_length=100, test_fraction=0.2, gap=5, dark_threshold=40, stop_threshold=1.0)
+    splits = split_seasons(stats, ["summer", "fall"], config, mapped)
+    test_stretch = summer[splits.splits["summer"].test, 0]
+    fall_test, fall_train = fall[splits.splits["fall"].test, 0], fall[splits.splits["fall"].train, 0]
+    blocks = [(start, start + 20) for start in range(80, 600, 100)]
+    assert all(any(a <= p < b for a, b in blocks) for p in fall_test)
+    # no fall training frame lies on a test stretch or within its gap
+    assert not any(a - 5 <= p < b + 5 for p in fall_train for a, b in blocks)
+    # the stop at 300 m (standing still in fall) leaves that place out of every season's test set
+    assert 300.0 not in fall_test and 300.0 not in test_stretch
+    assert splits.to_json()["seasons"]["fall"]["n_places"] == len(fall)
+
+
+def test_a_truth_matrix_maps_a_season_to_the_middle_of_its_true_reference_places():
+    truth = np.zeros((5, 3), bool)
+    truth[[0, 1, 2], 0] = True
+    truth[[3], 1] = True
+    assert by_matrix(truth, "m").tolist() == [1, 3, -1]
+
+
+def test_precomputed_descriptors_are_looked_up_by_place(tmp_path):
+    np.save(tmp_path / "summer.npy", np.arange(20, dtype=np.float32).reshape(10, 2))
+    learner = PrecomputedDescriptors({"dir": str(tmp_path)})
+    learner.fit(np.zeros((2, 4, 4), np.uint8), progress=False)
+    images = np.zeros((3, 4, 4), np.uint8)
+    described = learner.describe_places(images, PlaceRows("summer", np.array([0, 4, 9]), 10))
+    assert described.tolist() == [[0, 1], [8, 9], [18, 19]]
+    with pytest.raises(ValueError, match=r"summer.npy: 10 rows of descriptors for the 12 frames of season 'summer'"):
+        learner.describe_places(images, PlaceRows("summer", np.array([0, 4, 9]), 12))
+    with pytest.raises(FileNotFoundError, match="no precomputed descriptors for season 'fall'"):
+        learner.describe_places(images, PlaceRows("fall", np.array([0]), 10))
+    with pytest.raises(ValueError, match="describe a season's places, not new images"):
+        learner.describe(images)
+    np.save(tmp_path / "winter.npy", np.full((10, 2), np.nan))
+    with pytest.raises(ValueError, match="NaN or infinite descriptors at 1 test places"):
+        learner.describe_places(images[:1], PlaceRows("winter", np.array([3]), 10))

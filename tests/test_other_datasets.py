@@ -1,0 +1,157 @@
+"""End to end: the README's recipes for data that is not Nordland-aligned, as a new user runs them.
+
+Each test makes its own small data: the synthetic route ridden at a different speed in each season
+(so frame i of one season is not frame i of another), written as frame folders with a positions
+CSV, a ground-truth matrix, or descriptors computed "elsewhere"; then `dvc exp run -S ...` with the
+README's settings, in a fresh copy of the repository.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pandas as pd
+import pytest
+from test_pipeline import TINY, dvc, make_workspace
+
+from seasonloop.data.frames import sample_video
+from seasonloop.data.synthetic import SeasonRide, render_route
+
+SECONDS = 240  # of the reference ride
+SEASONS = ["summer", "fall", "winter"]
+# fall runs faster and starts 15 s down the line; winter runs slower, stands twice as long and swings
+RIDES = {"fall": SeasonRide(speed=1.25, start_s=15.0), "winter": SeasonRide(speed=0.8, stop_scale=2.0, swing=0.2)}
+# the sequence matcher must search the speeds the seasons differ by (places per query step)
+SEQUENCE = ["sequence.v_min=0.5", "sequence.v_max=2.0", "sequence.v_steps=7"]
+BASE = {
+    **{key: value for key, value in TINY.items() if key not in ("ablation", "data", "train")},
+    "data": {"seasons": SEASONS},
+    "train": {"seasons": SEASONS},
+    "learners": ["raw_patchnorm", "pca"],
+    "ablation": {"methods": ["pca"], "pair": "summer-fall", "training_seasons": [["summer"]]},
+}
+
+
+def write_rides(folder: Path) -> dict[str, np.ndarray]:
+    """Frame folders <folder>/<season>/1.png ... (1 fps) of the seasons ridden at their own speeds;
+    season -> each frame's distance along the route (m), from the renderer."""
+    videos = folder / "videos"
+    render_route(videos, SEASONS, SECONDS, 1, 128, 72, seed=3, progress=False, rides=RIDES)
+    distances = {}
+    for season in SEASONS:
+        (folder / season).mkdir(parents=True)
+        frames = sample_video(videos / f"{season}.mp4", 1, 72, 128, progress=False)
+        for i, frame in enumerate(frames):
+            cv2.imwrite(str(folder / season / f"{i + 1}.png"), frame)
+        distances[season] = pd.read_csv(videos / "positions" / f"{season}.csv")["distance_m"].to_numpy()[: len(frames)]
+    return distances
+
+
+def run(root: Path, *settings: str):
+    arguments = [part for setting in settings for part in ("-S", setting)]
+    return dvc(root, "exp", "run", *arguments)
+
+
+def stage(root: Path, script: str, *args: str) -> subprocess.CompletedProcess:
+    """One stage's script run by hand, as DVC runs it."""
+    return subprocess.run([sys.executable, f"stages/{script}", *args], cwd=root, capture_output=True, text=True)
+
+
+def fraction_correct(root: Path, learner: str, pair: str) -> float:
+    return json.loads((root / f"metrics/eval/{learner}/{pair}.json").read_text())["fraction_correct"]
+
+
+@pytest.mark.e2e
+def test_the_synthetic_route_ridden_at_different_speeds_with_positions(tmp_path):
+    root = make_workspace(tmp_path / "repo", {**BASE, "synthetic": {**TINY["synthetic"], "seconds": SECONDS}})
+    rides = "synthetic.rides={fall: {speed: 1.25, start_s: 15}, winter: {speed: 0.8, stop_scale: 2, swing: 0.2}}"
+    result = run(root, rides, "data.ground_truth=positions", "evaluate.tolerance_m=15", *SEQUENCE)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    dataset = json.loads((root / "metrics/dataset.json").read_text())
+    frames = {season: dataset["seasons"][season]["frames"] for season in SEASONS}
+    assert dataset["ground_truth"] == "positions" and len(set(frames.values())) == 3, frames
+    truth = json.loads((root / "metrics/ground_truth.json").read_text())
+    assert truth["kind"] == "positions" and "15 m" in truth["correct"]
+    # not aligned: matching frame i to frame i would be wrong almost everywhere, yet the learners
+    # find the places, and sequences (over the speeds searched) lift them further
+    for pair in ("summer-fall", "winter-summer"):
+        assert fraction_correct(root, "raw_patchnorm", pair) > 0.3
+        assert fraction_correct(root, "raw_patchnorm", pair + "+seq") >= fraction_correct(root, "raw_patchnorm", pair)
+    assert "positions" in (root / "plots/report.html").read_text()
+
+
+@pytest.mark.e2e
+def test_frames_with_a_positions_csv_and_precomputed_descriptors(tmp_path):
+    data = tmp_path / "route"  # outside the repository, given by absolute path as the README says
+    distances = write_rides(data)
+    for season, metres in distances.items():
+        # latitude/longitude along a meridian, keyed by file name, rows shuffled
+        table = pd.DataFrame(
+            {"image": [f"{i + 1}.png" for i in range(len(metres))], "lat": 63.0 + metres / 111_195.0, "lon": 10.0}
+        )
+        (data / "positions").mkdir(exist_ok=True)
+        table.sample(frac=1.0, random_state=0).to_csv(data / "positions" / f"{season}.csv", index=False)
+        # "descriptors computed elsewhere": a small grey thumbnail of every frame, in frame order
+        images = [cv2.imread(str(data / season / f"{i + 1}.png"), cv2.IMREAD_GRAYSCALE) for i in range(len(metres))]
+        (data / "descriptors").mkdir(exist_ok=True)
+        np.save(data / "descriptors" / f"{season}.npy", np.stack([cv2.resize(im, (16, 8)).ravel() for im in images]))
+    root = make_workspace(tmp_path / "repo", BASE)
+    result = run(
+        root,
+        "data.source=frames",
+        f"data.frames_dir={data}",
+        "data.ground_truth=positions",
+        f"data.positions_dir={data / 'positions'}",
+        "data.position_columns=[lat,lon]",
+        "data.position_units=degrees",
+        "data.position_key=image",
+        "evaluate.tolerance_m=15",
+        "learners=[raw_patchnorm,pca,precomputed]",
+        f"precomputed.dir={data / 'descriptors'}",
+        *SEQUENCE,
+    )
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    assert "each season its own frames" in result.stdout
+    summary = json.loads((root / "metrics/summary.json").read_text())
+    assert {"precomputed", "precomputed+seq"} <= set(summary["fraction_correct"])
+    assert fraction_correct(root, "precomputed", "summer-fall") > 0.2
+    assert "precomputed" in (root / "plots/summary/fraction_correct.csv").read_text()
+    report = (root / "plots/report.html").read_text()
+    assert "precomputed" in report
+    # descriptors that do not match the frames: one line naming the season and the counts
+    kept = (root / "data/features/precomputed/fall.npy").read_bytes()
+    np.save(data / "descriptors" / "fall.npy", np.zeros((5, 128)))
+    result = stage(root, "features.py", "precomputed")
+    assert result.returncode == 1 and len(result.stderr.strip().splitlines()) == 1, result.stderr
+    assert "fall.npy: 5 rows of descriptors for the" in result.stderr and "frames of season 'fall'" in result.stderr
+    assert (root / "data/features/precomputed/fall.npy").read_bytes() == kept
+
+
+@pytest.mark.e2e
+def test_frames_with_a_ground_truth_matrix(tmp_path):
+    data = tmp_path / "route"
+    distances = write_rides(data)
+    (data / "truth").mkdir()
+    for database in SEASONS:
+        for query in SEASONS:
+            if database != query:
+                gap = np.abs(distances[database][:, None] - distances[query][None, :])
+                np.savez(data / "truth" / f"{database}-{query}.npz", hard=gap <= 15, soft=gap <= 40)
+    root = make_workspace(tmp_path / "repo", BASE)
+    settings = ["data.source=frames", f"data.frames_dir={data}", "data.ground_truth=matrix", *SEQUENCE]
+    result = run(root, *settings, f"data.ground_truth_dir={data / 'truth'}")
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    assert json.loads((root / "metrics/ground_truth.json").read_text())["kind"] == "matrix"
+    assert fraction_correct(root, "raw_patchnorm", "summer-fall") > 0.3
+    # a matrix of the wrong shape: one line naming the file and both shapes, nothing half-written
+    kept = (root / "data/split/split.json").read_bytes()
+    np.savez(data / "truth" / "summer-fall.npz", hard=np.zeros((3, 3), bool))
+    result = stage(root, "split.py")
+    assert result.returncode == 1 and len(result.stderr.strip().splitlines()) == 1, result.stderr
+    assert "summer-fall.npz: 'hard' has shape (3, 3), expected (database places, query places)" in result.stderr
+    assert (root / "data/split/split.json").read_bytes() == kept

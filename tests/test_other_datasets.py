@@ -69,7 +69,7 @@ def fraction_correct(root: Path, learner: str, pair: str) -> float:
 @pytest.mark.e2e
 def test_the_synthetic_route_ridden_at_different_speeds_with_positions(tmp_path):
     root = make_workspace(tmp_path / "repo", {**BASE, "synthetic": {**TINY["synthetic"], "seconds": SECONDS}})
-    rides = "synthetic.rides={fall: {speed: 1.25, start_s: 15}, winter: {speed: 0.8, stop_scale: 2, swing: 0.2}}"
+    rides = "++synthetic.rides={fall: {speed: 1.25, start_s: 15}, winter: {speed: 0.8, stop_scale: 2, swing: 0.2}}"
     result = run(root, rides, "data.ground_truth=positions", "evaluate.tolerance_m=15", *SEQUENCE)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     dataset = json.loads((root / "metrics/dataset.json").read_text())

@@ -36,6 +36,7 @@ FILES = ReportFiles(
     cae_widths_figure=Path("plots/cae_widths.png"),
     figures=Path("plots/figures"),
     fits=Path("metrics/fit"),
+    ground_truth=Path("metrics/ground_truth.json"),
 )
 
 

@@ -190,3 +190,10 @@ def test_precomputed_descriptors_are_looked_up_by_place(tmp_path):
     np.save(tmp_path / "winter.npy", np.full((10, 2), np.nan))
     with pytest.raises(ValueError, match="NaN or infinite descriptors at 1 test places"):
         learner.describe_places(images[:1], PlaceRows("winter", np.array([3]), 10))
+
+
+def test_the_schema_knows_every_kind_of_ground_truth():
+    from seasonloop.evaluation.ground_truth import KINDS
+    from seasonloop.params.schema import GROUND_TRUTHS
+
+    assert GROUND_TRUTHS == KINDS

@@ -52,6 +52,17 @@ def report_files(root) -> ReportFiles:
         cae_widths_figure=png,
         figures=root / "figures",
         fits=root / "fit",
+        ground_truth=root / "ground_truth.json",
+    )
+    write_json(
+        files.ground_truth,
+        {
+            "kind": "aligned",
+            "correct": "the query's own frame index +- 0 places",
+            "pairs": {
+                "summer-fall": {"n_queries": 5, "n_database": 5, "n_without_match": 0, "mean_correct_per_query": 1.0}
+            },
+        },
     )
     files.params.write_text("seed: 0\n")
     write_json(
@@ -121,6 +132,7 @@ def test_study_report_from_files(tmp_path):
     images = {season: np.random.default_rng(2).random((5, 4, 8)) for season in SEASONS}
     page = study_report(files, results, METHODS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, TRUTH)
     assert page.startswith("<!DOCTYPE html>") and "seasonloop: loop-closure detection across seasons" in page
+    assert "Ground truth (aligned): a match is correct when it is the query&#x27;s own frame index" in page
     titles = [
         "Dataset",
         "Fraction correct",

@@ -97,6 +97,7 @@ class ReportFiles:
     cae_widths_figure: Path  # a PNG
     figures: Path  # a folder of the study's other figures, *.png
     fits: Path  # <method>.json fit records, each with the environment it was fitted in
+    ground_truth: Path  # seasonloop.evaluation.pair_truths.truth_record
 
 
 def _figures(folder: Path) -> dict[str, Path]:
@@ -124,7 +125,7 @@ def study_report(
     extra_metrics = list(evaluate.extra_metrics)
     grids = example_grids(files.features, methods, database, query, test_images, truth, evaluate, N_EXAMPLES)
     sections = [
-        dataset_section(load_dataset(files.dataset, seasons), files.season_preview),
+        dataset_section(load_dataset(files.dataset, seasons), files.season_preview, read_json(files.ground_truth)),
         fraction_correct_section(
             results.metrics,
             methods,

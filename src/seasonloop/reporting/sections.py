@@ -41,8 +41,9 @@ def _labelled(frame: pd.DataFrame, columns: Mapping[str, str]) -> pd.DataFrame:
     return frame[order].rename(columns=columns)
 
 
-def dataset_section(dataset: Mapping[str, Any], preview: Png) -> Section:
-    """Table 3 of the study (places, train, test per season; what the split dropped) and a preview."""
+def dataset_section(dataset: Mapping[str, Any], preview: Png, truth: Mapping[str, Any] | None = None) -> Section:
+    """Table 3 of the study (places, train, test per season; what the split dropped), which ground
+    truth says what is correct (truth: metrics/ground_truth.json) and a preview."""
     seasons = _labelled(pd.DataFrame.from_dict(dataset["seasons"], orient="index"), DATASET_COLUMNS)
     route = pd.DataFrame(
         {
@@ -61,6 +62,11 @@ def dataset_section(dataset: Mapping[str, Any], preview: Png) -> Section:
                 "Tunnel and stop detection against the route's true tunnels and stops", detection, float_format="{:.3f}"
             )
         )
+    if truth is not None:
+        blocks.append(Text(f"Ground truth ({truth['kind']}): a match is correct when it is {truth['correct']}."))
+        pairs = pd.DataFrame.from_dict(truth["pairs"], orient="index")
+        pairs.columns = ["queries", "database places", "queries without a correct place", "correct places per query"]
+        blocks.append(Table("Ground truth per pair (database-queries)", pairs, float_format="{:.2f}"))
     blocks.append(Image("The same places in every season", preview))
     return Section("Dataset", blocks)
 

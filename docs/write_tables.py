@@ -76,6 +76,15 @@ def _autoencoder_training(path: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _dataset_seasons(path: Path) -> str:
+    """Images per season of metrics/dataset.json, and which ground truth the run used."""
+    record = json.loads(path.read_text())
+    lines = ["| season | frames | train | train augmented | test |", "|---|---|---|---|---|"]
+    for season, row in record["seasons"].items():
+        lines.append(f"| {season} | {row['frames']} | {row['train']} | {row['train_augmented']} | {row['test']} |")
+    return "\n".join(lines) + f"\n\nGround truth: {record.get('ground_truth', 'aligned')}.\n"
+
+
 def _cae_widths(path: Path) -> str:
     return width_table(json.loads(path.read_text()))
 
@@ -181,6 +190,10 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "runtime": ("plots/summary/runtime.md", "runtime.md", _fraction_correct),
     "autoencoder_training": ("metrics/autoencoder_training.json", "autoencoder_training.json", _autoencoder_training),
     "cae_widths": ("metrics/cae_widths.json", "cae_widths_sweep.json", _cae_widths),
+    # the synthetic route ridden at a different speed in each season, ground truth from positions
+    # (docs/other-datasets.md; a run in another clone: --from)
+    "rides_dataset": ("metrics/dataset.json", "rides_dataset.json", _dataset_seasons),
+    "rides_fraction_correct": ("plots/summary/fraction_correct.md", "rides_fraction_correct.md", _headline),
     # three runs of the benchmark (its file is rewritten by each): Table 5's width, the default
     # width, and the default width trained to its plateau in float32 and bfloat16
     "bench_autoencoders_table5": (
@@ -204,6 +217,9 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "bench_matching": ("benchmarks/results/bench_matching.json", "bench_matching.json", _bench_headline),
 }
 
+
+# tables of runs with other params, made in another clone (--snapshot NAMES --from CLONE)
+OTHER_RUNS = ("rides_dataset", "rides_fraction_correct")
 
 # figures copied beside a table's snapshot (the README shows the copy): table name -> (figure, copy)
 FIGURES = {"cae_widths": ("plots/cae_widths.png", "cae_widths_sweep.png")}
@@ -243,9 +259,10 @@ def rewrite(text: str, provenance: dict, folder: str = "docs/results") -> str:
     return re.sub(r"<!-- table: (\w+) -->\n.*?<!-- /table -->", replace, text, flags=re.S)
 
 
-def snapshot(names: list[str], command: str) -> None:
-    """Copy the named tables' output files into docs/results/ and record where they came from."""
-    git = ["git", "-C", str(ROOT)]
+def snapshot(names: list[str], command: str, workspace: Path = ROOT) -> None:
+    """Copy the named tables' output files of `workspace` (this repository, or a clone that ran
+    other params) into docs/results/ and record where they came from."""
+    git = ["git", "-C", str(workspace)]
     commit = subprocess.run(
         [*git, "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
     ).stdout.strip()
@@ -258,9 +275,9 @@ def snapshot(names: list[str], command: str) -> None:
     RESULTS.mkdir(parents=True, exist_ok=True)
     for name in names:
         source, copy, _ = TABLES[name]
-        if not (ROOT / source).is_file():
-            raise FileNotFoundError(f"{source}: not found (run the pipeline first)")
-        shutil.copyfile(ROOT / source, RESULTS / copy)
+        if not (workspace / source).is_file():
+            raise FileNotFoundError(f"{workspace / source}: not found (run the pipeline first)")
+        shutil.copyfile(workspace / source, RESULTS / copy)
         if name in FIGURES:
             shutil.copyfile(ROOT / FIGURES[name][0], RESULTS / FIGURES[name][1])
         provenance[name] = {"commit": commit, "dirty": dirty, "command": command, "cpu": cpu_model()}
@@ -276,9 +293,15 @@ def main() -> None:
         help=f"copy these tables' output files first (none named: all of {', '.join(TABLES)})",
     )
     parser.add_argument("--command", default="dvc repro", help="the command that produced the outputs (recorded)")
+    parser.add_argument(
+        "--from", dest="workspace", type=Path, default=ROOT, help="the clone whose outputs to copy (default: this one)"
+    )
     args = parser.parse_args()
     if args.snapshot is not None:
-        snapshot(args.snapshot or list(TABLES), args.command)
+        # none named: every table of this clone's default run and benchmarks, not the runs of other params
+        snapshot(
+            args.snapshot or [name for name in TABLES if name not in OTHER_RUNS], args.command, args.workspace.resolve()
+        )
     provenance = json.loads(PROVENANCE.read_text()) if PROVENANCE.is_file() else {}
     for document in DOCUMENTS:
         document.write_text(rewrite(document.read_text(), provenance, results_folder(document)))

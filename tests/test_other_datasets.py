@@ -27,7 +27,7 @@ SEASONS = ["summer", "fall", "winter"]
 # fall runs faster and starts 15 s down the line; winter runs slower, stands twice as long and swings
 RIDES = {"fall": SeasonRide(speed=1.25, start_s=15.0), "winter": SeasonRide(speed=0.8, stop_scale=2.0, swing=0.2)}
 # the sequence matcher must search the speeds the seasons differ by (places per query step)
-SEQUENCE = ["sequence.v_min=0.5", "sequence.v_max=2.0", "sequence.v_steps=7"]
+SEQUENCE = ["sequence.v_min=1.0", "sequence.v_max=1.6", "sequence.v_steps=7"]
 BASE = {
     **{key: value for key, value in TINY.items() if key not in ("ablation", "data", "train")},
     "data": {"seasons": SEASONS},

@@ -10,7 +10,13 @@ import pytest
 from test_results import METHODS, PAIRS, VARIANTS, write_evaluations
 
 from seasonloop.reporting.results import load_evaluations
-from seasonloop.reporting.summary_files import summary_record, write_dvc_plots, write_summary_files, write_tables
+from seasonloop.reporting.summary_files import (
+    compare_records,
+    summary_record,
+    write_dvc_plots,
+    write_summary_files,
+    write_tables,
+)
 
 RUNTIME = {
     "pca": {"fit_seconds": 1.23456, "n_train_images": 100, "feature_ms_per_image": 0.5, "descriptor_dimension": 16},
@@ -45,6 +51,12 @@ def test_summary_record(results):
     assert isinstance(record["mean_fraction_correct"]["ica"], float)
     # the study's landmarks for summer-fall pca and ica, ours beside them
     assert record["pr_landmarks"]["summer-fall"]["pca"]["recall_at_100_precision"] == {"ours": 0.5, "study": 0.67}
+
+
+def test_compare_records_hold_the_main_distance_only(results):
+    record = compare_records(results)
+    assert list(record) == [label for label in results.labels if "@" not in label]
+    assert record["ica"] == {"summer-fall": 0.1, "winter-fall": 0.11}
 
 
 def test_write_summary_files(tmp_path, results):

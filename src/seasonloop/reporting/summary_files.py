@@ -41,6 +41,16 @@ def summary_record(results: EvaluationResults) -> dict[str, Any]:
     }
 
 
+def compare_records(results: EvaluationResults) -> dict[str, dict[str, float]]:
+    """label -> {pair: fraction correct} under the main distance, single and sequence matching: the
+    compact set DVC compares across experiments (short column names in `dvc exp show`)."""
+    return {
+        label: {pair: float(results.metrics[label][pair]["fraction_correct"]) for pair in results.pairs}
+        for label in results.labels
+        if results.metric_of[label] == results.main_metric
+    }
+
+
 def write_tables(out: Path, results: EvaluationResults, runtime: Mapping[str, Mapping[str, Any]]) -> None:
     """fraction_correct.md (ours beside the study's numbers) and .csv, pr_landmarks.md, runtime.md."""
     ours = fraction_correct_table(results.metrics, results.pairs)

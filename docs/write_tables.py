@@ -85,6 +85,34 @@ def _dataset_seasons(path: Path) -> str:
     return "\n".join(lines) + f"\n\nGround truth: {record.get('ground_truth', 'aligned')}.\n"
 
 
+# outputs whose size grows with the number of places (frames, their arrays, descriptors), and the
+# places per season of the default run and of presets/full.yaml (the study's 35,768 a season)
+# (data/acquired: the rendered videos; real data is read where it lies, not an output)
+PLACE_SCALED = ("data/frames", "data/preprocessed", "data/split", "data/augmented", "data/features")
+DEFAULT_PLACES, FULL_PLACES = 1800, 35768
+
+
+def _output_sizes(path: Path) -> str:
+    """The outputs of a run by folder, in MB, from its dvc.lock (DVC records each output's size),
+    with a full-scale estimate for those that grow with the places."""
+    import yaml
+
+    lock = yaml.safe_load(path.read_text())
+    sizes: dict[str, int] = {}
+    for stage in lock["stages"].values():
+        for out in stage.get("outs", []):
+            parts = out["path"].split("/")
+            group = "/".join(parts[:2]) if parts[0] == "data" else parts[0]
+            sizes[group] = sizes.get(group, 0) + int(out.get("size", 0))
+    lines = ["| output | this run (MB) | full scale, estimated (GB) |", "|---|---|---|"]
+    for group, size in sorted(sizes.items(), key=lambda item: -item[1]):
+        estimate = f"{size * FULL_PLACES / DEFAULT_PLACES / 1e9:.1f}" if group in PLACE_SCALED else "-"
+        lines.append(f"| `{group}` | {size / 1e6:.1f} | {estimate} |")
+    total = sum(sizes.values())
+    lines.append(f"| all | {total / 1e6:.1f} | |")
+    return "\n".join(lines) + "\n"
+
+
 def _cae_widths(path: Path) -> str:
     return width_table(json.loads(path.read_text()))
 
@@ -190,6 +218,7 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "runtime": ("plots/summary/runtime.md", "runtime.md", _fraction_correct),
     "autoencoder_training": ("metrics/autoencoder_training.json", "autoencoder_training.json", _autoencoder_training),
     "cae_widths": ("metrics/cae_widths.json", "cae_widths_sweep.json", _cae_widths),
+    "output_sizes": ("dvc.lock", "dvc_lock_sizes.yaml", _output_sizes),
     # the synthetic route ridden at a different speed in each season, ground truth from positions
     # (docs/other-datasets.md; a run in another clone: --from)
     "rides_dataset": ("metrics/dataset.json", "rides_dataset.json", _dataset_seasons),

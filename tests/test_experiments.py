@@ -1,0 +1,72 @@
+"""End to end: the README's ablations as queued experiments run two at a time, compared in a
+readable `dvc exp show` and in `dvc plots diff`; and `dvc exp run <target>` in a fresh clone."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import pytest
+from test_pipeline import dvc, make_workspace
+from test_remote import SMALL, git
+
+
+def wait_for_the_queue(root: Path, timeout_s: float = 1200) -> str:
+    """`dvc queue status` once nothing is queued or running any more."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        status = dvc(root, "queue", "status").stdout
+        if not any(word in status for word in ("Queued", "Running")):
+            return status
+        time.sleep(5)
+    pytest.fail(f"the queue did not finish in {timeout_s:.0f} s:\n{status}")
+
+
+@pytest.mark.e2e
+def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path):
+    root = make_workspace(tmp_path / "repo", SMALL)
+    baseline = dvc(root, "repro")
+    assert baseline.returncode == 0, baseline.stderr[-2000:]
+    git(root, "add", "-A")
+    git(root, "commit", "-qm", "baseline")
+    for name, discard in (("discard-1", 1), ("discard-5", 5)):
+        queued = dvc(root, "exp", "run", "--queue", "-n", name, "-S", f"pca.n_discard={discard}")
+        assert queued.returncode == 0, queued.stderr
+    assert dvc(root, "queue", "start", "-j", "2").returncode == 0
+    status = wait_for_the_queue(root)
+    assert "Failed" not in status, status + dvc(root, "queue", "logs", "discard-1").stdout[-3000:]
+    shown = json.loads(dvc(root, "exp", "show", "--json").stdout)
+    experiments = {
+        exp["name"]: exp["data"]
+        for baseline_row in shown
+        for exp in (baseline_row.get("experiments") or [])
+        for exp in exp["revs"]
+        if exp.get("name")
+    }
+    assert {"discard-1", "discard-5"} <= set(experiments), list(experiments)
+    fractions = {
+        name: experiments[name]["metrics"]["metrics/fraction_correct.json"]["data"]["pca"]["summer-fall"]
+        for name in ("discard-1", "discard-5")
+    }
+    assert all(0 <= value <= 1 for value in fractions.values())
+    # readable: only what differs, in short columns that fit a terminal
+    table = dvc(root, "exp", "show", "--only-changed", "--no-pager").stdout
+    assert "pca.n_discard" in table and "pca.summer-fall" in table and "raw_patchnorm.summer-fall" not in table
+    assert max(len(line) for line in table.splitlines()) <= 250, table
+    diff = dvc(root, "plots", "diff", "discard-1", "discard-5", "--json")
+    assert diff.returncode == 0 and "plots/summary/pr/summer-fall.csv" in json.loads(diff.stdout)["data"]
+
+
+@pytest.mark.e2e
+def test_exp_run_of_one_target_in_a_fresh_clone(tmp_path):
+    origin = make_workspace(tmp_path / "origin", SMALL)
+    assert dvc(origin, "repro").returncode == 0
+    git(origin, "add", "-A")
+    git(origin, "commit", "-qm", "run")
+    clone = tmp_path / "clone"
+    assert git(tmp_path, "clone", "-q", str(origin), str(clone)).returncode == 0
+    # a fresh clone has none of the run's outputs in its cache
+    result = dvc(clone, "exp", "run", "evaluate@pca", "-S", "pca.n_discard=2")
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    assert (clone / "metrics/eval/pca/summer-fall.json").is_file()

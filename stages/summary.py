@@ -1,10 +1,10 @@
 """Stage summary: the study's tables and comparison figures from every learner's pair metrics.
 
-Writes metrics/fraction_correct.json, {label: {pair: fraction correct}} for every learner and
-matcher under evaluate.metric: the only file dvc.yaml declares as metrics, so that `dvc metrics
-diff` and `dvc exp show --only-changed` compare a compact, stable set with short names
-("pca.summer-fall"); the per-pair files of metrics/eval/ hold the rest (`dvc metrics show
-metrics/eval/pca` reads them).
+Writes metrics/mean_fraction_correct.json, {label: fraction correct averaged over the pairs} for
+every learner and matcher under evaluate.metric: the only file dvc.yaml declares as metrics, so
+that `dvc exp show` and `dvc metrics diff` compare a compact, stable set in short columns ("pca",
+"pca+seq"); metrics/summary.json holds the same per pair and metrics/eval/ every metric of every
+pair (`dvc metrics show metrics/summary.json`, `dvc metrics show metrics/eval/pca`).
 
 Rows are labelled <learner><suffix> (seasonloop.evaluation.matchers.result_suffix: "pca", "pca+seq",
 "pca@cityblock", ...). Writes metrics/summary.json (fraction correct per label and pair, its mean,
@@ -30,10 +30,10 @@ from seasonloop.params.schema import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig
 from seasonloop.reporting.dvcplots import training_curves
 from seasonloop.reporting.results import load_evaluations, load_runtime
-from seasonloop.reporting.summary_files import compare_records, summary_record, write_summary_files
+from seasonloop.reporting.summary_files import compare_record, summary_record, write_summary_files
 
 # the metrics DVC compares across experiments (dvc.yaml declares only these)
-COMPARE = Path("metrics/fraction_correct.json")
+COMPARE = Path("metrics/mean_fraction_correct.json")
 
 
 @stage_main
@@ -48,7 +48,7 @@ def main() -> None:
     )
     runtime = load_runtime(Path("metrics/fit"), Path("metrics/features"), methods, seasons)
     write_json(Path("metrics/summary.json"), summary_record(results))
-    write_json(COMPARE, compare_records(results))
+    write_json(COMPARE, compare_record(results))
     write_json(Path("metrics/runtime.json"), runtime)
     with staged_dir(Path("plots/summary")) as out:
         write_summary_files(out, results, runtime, training_curves(Path("logs"), methods))

@@ -41,11 +41,12 @@ def summary_record(results: EvaluationResults) -> dict[str, Any]:
     }
 
 
-def compare_records(results: EvaluationResults) -> dict[str, dict[str, float]]:
-    """label -> {pair: fraction correct} under the main distance, single and sequence matching: the
-    compact set DVC compares across experiments (short column names in `dvc exp show`)."""
+def compare_record(results: EvaluationResults) -> dict[str, float]:
+    """label -> fraction correct averaged over the run's pairs, under the main distance, single and
+    sequence matching: the compact set DVC compares across experiments (one short column per
+    learner and matcher in `dvc exp show`; the per-pair values are in metrics/summary.json)."""
     return {
-        label: {pair: float(results.metrics[label][pair]["fraction_correct"]) for pair in results.pairs}
+        label: float(np.mean([results.metrics[label][pair]["fraction_correct"] for pair in results.pairs]))
         for label in results.labels
         if results.metric_of[label] == results.main_metric
     }

@@ -124,3 +124,29 @@ def test_an_ssh_remote_carries_a_run_to_a_fresh_clone(pushed_run, sshd, tmp_path
     pushed = dvc(pushed_run, "push", "-r", "ssh")
     assert pushed.returncode == 0, pushed.stdout[-2000:] + pushed.stderr[-2000:]
     pull_into_a_fresh_clone(pushed_run, tmp_path / "clone", "ssh", ("keyfile", str(key)))
+
+
+@pytest.mark.e2e
+def test_an_experiment_run_on_one_machine_is_read_on_another(pushed_run, tmp_path):
+    """docs/sharing.md's big-machine workflow on small data: clone A runs an experiment and pushes
+    it (git ref to the shared repository, outputs to the DVC remote); clone B pulls and applies it."""
+    store = tmp_path / "store"
+    assert dvc(pushed_run, "remote", "add", "-d", "shared", str(store)).returncode == 0
+    git(pushed_run, "commit", "-qam", "default remote")
+    assert dvc(pushed_run, "push").returncode == 0
+    big = tmp_path / "big"
+    assert git(tmp_path, "clone", "-q", str(pushed_run), str(big)).returncode == 0
+    assert dvc(big, "pull").returncode == 0
+    ran = dvc(big, "exp", "run", "-n", "bigger", "-S", "pca.n_keep=10")
+    assert ran.returncode == 0, ran.stdout[-2000:] + ran.stderr[-2000:]
+    pushed = dvc(big, "exp", "push", "origin", "bigger")
+    assert pushed.returncode == 0, pushed.stdout[-2000:] + pushed.stderr[-2000:]
+    laptop = tmp_path / "laptop"
+    assert git(tmp_path, "clone", "-q", str(pushed_run), str(laptop)).returncode == 0
+    pulled = dvc(laptop, "exp", "pull", "origin", "bigger")
+    assert pulled.returncode == 0, pulled.stdout[-2000:] + pulled.stderr[-2000:]
+    assert dvc(laptop, "exp", "apply", "bigger").returncode == 0
+    assert dvc(laptop, "metrics", "show").stdout == dvc(big, "metrics", "show").stdout
+    assert (laptop / "plots/report.html").read_bytes() == (big / "plots/report.html").read_bytes()
+    status = dvc(laptop, "status")
+    assert status.returncode == 0 and "up to date" in status.stdout, status.stdout

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 from test_pipeline import dvc, make_workspace
+from test_real_frames import write_frame_folders
 from test_remote import SMALL, git
 
 
@@ -98,3 +99,19 @@ def test_exp_run_of_one_target_in_a_fresh_clone(tmp_path):
     result = dvc(pulled, "exp", "run", "--pull", "evaluate@pca", "-S", "pca.n_discard=2")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     assert (pulled / "metrics/eval/pca/summer-fall.json").is_file()
+
+
+@pytest.mark.e2e
+def test_a_queued_experiment_reads_real_frames_given_by_absolute_path(tmp_path):
+    """A queued experiment runs in a copy holding only git-tracked files: real data is given by
+    absolute path (README), and then it runs like any other."""
+    frames = tmp_path / "nordland_png"
+    write_frame_folders(frames)
+    root = make_workspace(tmp_path / "repo", {**SMALL, "data": {"seasons": ["summer", "winter"]}})
+    settings = ["-S", "data.source=frames", "-S", f"data.frames_dir={frames}", "-S", "train.seasons=[summer,winter]"]
+    assert dvc(root, "exp", "run", "--queue", "-n", "real", *settings).returncode == 0
+    assert dvc(root, "queue", "start").returncode == 0
+    status = wait_for_the_queue(root)
+    assert "Success" in status and "Failed" not in status, status + dvc(root, "queue", "logs", "real").stdout[-3000:]
+    shown = dvc(root, "exp", "show", "--json")
+    assert shown.returncode == 0 and '"real"' in shown.stdout

@@ -35,14 +35,19 @@ def augmented_file(augmented_dir: Path, season: str) -> Path:
     return augmented_dir / f"{season}.npy"
 
 
+def season_split(split: Mapping[str, Any], season: str) -> Mapping[str, Any]:
+    """One season's split (n_places and the place ids of every part): its own when the seasons are
+    not aligned (split.json's "seasons"), else the shared one."""
+    if "seasons" not in split:
+        return split
+    if season not in split["seasons"]:
+        raise ValueError(f"{season}: not in the split (rerun the split stage)")
+    return split["seasons"][season]
+
+
 def season_part(split: Mapping[str, Any], season: str, part: str) -> np.ndarray:
-    """The place ids of `part` ("train", "test", ...) of one season: its own when the seasons are
-    not aligned (split.json's "seasons"), else the shared ones."""
-    if "seasons" in split:
-        if season not in split["seasons"]:
-            raise ValueError(f"{season}: not in the split (rerun the split stage)")
-        return np.asarray(split["seasons"][season][part], dtype=np.int64)
-    return np.asarray(split[part], dtype=np.int64)
+    """The place ids of `part` ("train", "test", ...) of one season (season_split)."""
+    return np.asarray(season_split(split, season)[part], dtype=np.int64)
 
 
 def test_places(split_dir: Path, season: str | None = None) -> np.ndarray:
@@ -109,7 +114,7 @@ def write_augmented_sets(
             float(config.height_shift),
         )
         save_array(augmented_file(out_dir, season), augmented)
-        own = split["seasons"][season] if "seasons" in split else split
+        own = season_split(split, season)
         per_season[season] = {
             "frames": own["n_places"],
             "train": len(own["train"]),
@@ -125,9 +130,8 @@ def dataset_record(
     """The dataset table (study Table 3): image counts per season and in all, what the split left
     out, what a place is (frames.json of the frames step), which ground truth says what is correct
     and the detection scores when there are any. The key order is the JSON file's."""
-    n_seasons = len(per_season)
     # aligned seasons share the split's counts; traverses that are not give each season its own
-    own = [split["seasons"][season] for season in per_season] if "seasons" in split else [split] * n_seasons
+    own = [season_split(split, season) for season in per_season]
     return {
         "seasons": dict(per_season),
         "total_images": sum(part["n_places"] for part in own),

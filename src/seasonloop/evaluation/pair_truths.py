@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.data.datasets import season_part
+from seasonloop.data.datasets import season_part, season_split
 from seasonloop.data.truth_matrix import matrix_file, read_matrix
 from seasonloop.evaluation.ground_truth import KINDS, PairTruth, aligned_truth, matrix_truth, position_truth
 from seasonloop.io import load_array
@@ -58,10 +58,7 @@ def build_truths(
             )
 
     else:
-        counts = {
-            season: int(split["seasons"][season]["n_places"] if "seasons" in split else split["n_places"])
-            for season in seasons
-        }
+        counts = {season: int(season_split(split, season)["n_places"]) for season in seasons}
 
         def build(database: str, query: str) -> PairTruth:
             path = matrix_file(matrix_dir, database, query)

@@ -15,7 +15,7 @@ from seasonloop.data import preprocess, sources
 from seasonloop.evaluation import matching
 from seasonloop.evaluation.matchers import MATCHER_REGISTRY, MATCHERS
 from seasonloop.evaluation.sequence import enhance_distance_contrast
-from seasonloop.models.core.fastica import WHITEN_SOLVERS
+from seasonloop.models.core.torch_ica import WHITEN_SOLVERS
 from seasonloop.models.fae import ACTIVATIONS
 from seasonloop.models.ica import ICA_SOLVERS
 from seasonloop.models.registry import LEARNERS, get_learner

@@ -1,10 +1,21 @@
-"""Global ICA: FastICA on whole training images; descriptor = projection on the unmixing matrix.
+"""Global ICA on whole training images; descriptor = projection on the unmixing matrix.
 
-ICA_SOLVERS is the registry of ica.solver values, two solvers of the same algorithm: "torch"
-(default; seasonloop.models.core.fastica.TorchFastICA, float32, CUDA when present, parallel algorithm only;
-benchmarks/bench_ica.py compares them) or "sklearn" (scikit-learn's FastICA, which also offers the
-deflation algorithm). Each says what it implements, fits, saves and loads; ICALearner only
-dispatches. Both take the whitening solvers of seasonloop.models.core.fastica.WHITEN_SOLVERS (eigh, svd).
+ICA_SOLVERS is the registry of ica.solver values. All of them centre, whiten to n_components
+principal axes and look for the orthogonal unmixing of the whitened data that is a stationary
+point of the same contrast (log cosh for fun "logcosh"); they differ in how they get there:
+
+- "picard" (default): Picard-O, L-BFGS under the orthogonal constraint, in torch (float32 or
+  float64, CUDA when present; seasonloop.models.core.picard.TorchPicard). It stops when the
+  relative gradient is below ica.tol.
+- "python_picard": the same algorithm by python-picard itself (float64 numpy, the CPU).
+- "fastica": FastICA's parallel fixed point in torch (seasonloop.models.core.fastica).
+- "sklearn": scikit-learn's FastICA (parallel or deflation).
+
+FastICA stops on its own test, the change of W between iterations below ica.change_tol, which
+says how far one step moves W, not how far W is from a stationary point. So every solver's fit
+record reports the same stationarity measure, the max |entry| of the relative gradient
+(seasonloop.models.core.torch_ica.relative_gradient), and `converged` means exactly that it is
+below ica.tol; the solver's own test is recorded beside it. benchmarks/bench_ica.py compares them.
 """
 
 from __future__ import annotations
@@ -16,44 +27,83 @@ from typing import Any
 
 import joblib
 import numpy as np
-import torch
 from sklearn.decomposition import FastICA
 
 from seasonloop.models.core.fastica import TorchFastICA
 from seasonloop.models.core.fastica_sklearn import fit_fastica
 from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
+from seasonloop.models.core.picard import LibraryPicard, TorchPicard
+from seasonloop.models.core.torch_ica import TorchICA, relative_gradient
 from seasonloop.models.core.torch_learner import resolve_device
-from seasonloop.params.learners import DEVICES, ICA_ALGORITHMS
+from seasonloop.params.learners import DEVICES, ICA_ALGORITHMS, ICA_PRECISIONS
 
 ESTIMATOR_FILE = "fastica.joblib"
-TORCH_STATE_FILE = "fastica.npz"
+TORCH_STATE_FILE = "ica.npz"
 
 
 @dataclass(frozen=True)
 class ICASolver:
-    """One value of ica.solver: the ica.algorithm and ica.device values it takes; fit(learner,
-    flat images, progress) sets learner.estimator and returns its fit record (from "solver" on);
-    save(estimator, directory) and load(learner, directory) -> estimator keep it on disk."""
+    """One value of ica.solver: the ica.algorithm, ica.device and ica.precision values it takes;
+    fit(learner, flat images, progress) sets learner.estimator and returns its fit record (from
+    "solver" on); save(estimator, directory) and load(learner, directory) -> estimator keep it on disk."""
 
     algorithms: tuple[str, ...]
     devices: tuple[str, ...]
+    precisions: tuple[str, ...]
     fit: Callable[[ICALearner, np.ndarray, bool], dict[str, Any]]
     save: Callable[[Any, Path], None]
     load: Callable[[ICALearner, Path], Any]
 
 
+def _record(
+    learner: ICALearner, solver: str, gradient: float, n_iter: int, own: dict[str, Any], **more: Any
+) -> dict[str, Any]:
+    """The fit record every solver writes: converged = the relative gradient below ica.tol; `own`
+    is the solver's own stopping test (its name, last value, tolerance and whether it was met)."""
+    tol = learner.params["tol"]
+    converged = gradient < tol
+    messages = (
+        []
+        if converged
+        else [
+            f"ICA ({solver}) did not converge in {n_iter} iterations: relative gradient {gradient:.3g} >= "
+            f"ica.tol {tol:.3g} ({own['name']} {own['value']:.3g}, own test met: {own['met']}); raise ica.max_iter"
+        ]
+    )
+    return {
+        "solver": solver,
+        **more,
+        "n_iter": int(n_iter),
+        "max_iter": int(learner.params["max_iter"]),
+        "gradient": float(gradient),
+        "tol": float(tol),
+        "converged": bool(converged),
+        "own_criterion": own,
+        "convergence_warnings": messages,
+    }
+
+
 def _fit_sklearn(learner: ICALearner, flat: np.ndarray, progress: bool) -> dict[str, Any]:
+    data = flat.astype(np.float64) if learner.params["precision"] == "float64" else flat
     learner.estimator, convergence = fit_fastica(
-        flat,
+        data,
         n_components=learner.params["n_components"],
         max_iter=learner.params["max_iter"],
-        tol=learner.params["tol"],
+        tol=learner.params["change_tol"],
         seed=learner.seed,
         algorithm=learner.params["algorithm"],
         fun=learner.params["fun"],
         whiten_solver=learner.params["whiten_solver"],
     )
-    return {"solver": "sklearn", **convergence}
+    gradient = relative_gradient(learner.estimator.transform(data), learner.params["fun"])
+    # scikit-learn does not return its last change, only whether it stopped on it
+    own = {
+        "name": "change",
+        "value": float("nan"),
+        "tol": learner.params["change_tol"],
+        "met": convergence["converged"],
+    }
+    return _record(learner, "sklearn", gradient, convergence["n_iter"], own, algorithm=learner.params["algorithm"])
 
 
 def _save_sklearn(estimator: FastICA, directory: Path) -> None:
@@ -64,59 +114,69 @@ def _load_sklearn(learner: ICALearner, directory: Path) -> FastICA:
     return joblib.load(directory / ESTIMATOR_FILE)
 
 
-def _fit_torch(learner: ICALearner, flat: np.ndarray, progress: bool) -> dict[str, Any]:
-    device = resolve_device(learner.params["device"], learner._key("device"))
-    estimator = learner._torch_estimator(device)
-    try:
-        estimator.fit(flat, progress=progress)
-    except ValueError as error:
-        raise ValueError(f"{learner.name}: {error}") from error
-    learner.estimator = estimator
-    assert estimator.n_iter_ is not None, "set by fit"
-    messages = (
-        []
-        if estimator.converged_
-        else [
-            f"FastICA did not converge in {estimator.n_iter_} iterations (last change "
-            f"{estimator.last_change_:.3g} >= tol {estimator.tol}); raise max_iter or tol"
-        ]
-    )
-    return {
-        "solver": "torch",
-        "device": str(device),
-        "n_iter": int(estimator.n_iter_),
-        "max_iter": int(estimator.max_iter),
-        "converged": bool(estimator.converged_),
-        "convergence_warnings": messages,
-    }
+def _torch_solver(
+    name: str, estimator: type[TorchICA], devices: tuple[str, ...], precisions: tuple[str, ...]
+) -> ICASolver:
+    """A solver built on TorchICA (whitening, saving and describing shared; `estimator` rotates)."""
+
+    def fit(learner: ICALearner, flat: np.ndarray, progress: bool) -> dict[str, Any]:
+        device = resolve_device(learner.params["device"], learner._key("device"))
+        fitted = learner._torch_estimator(estimator, device)
+        try:
+            fitted.fit(flat, progress=progress)
+        except ValueError as error:
+            raise ValueError(f"{learner.name}: {error}") from error
+        learner.estimator = fitted
+        assert fitted.n_iter_ is not None and fitted.gradient_ is not None and fitted.criterion_ is not None
+        own = {
+            "name": fitted.criterion_name,
+            "value": fitted.criterion_,
+            "tol": fitted.tol,
+            "met": bool(fitted.converged_),
+        }
+        # TorchPicard's counts of what slowed it (its class doc), where the solver has them
+        diagnostics = {
+            key: getattr(fitted, f"{key}_") for key in ("sign_changes", "gradient_steps") if hasattr(fitted, f"{key}_")
+        }
+        return _record(
+            learner,
+            name,
+            fitted.gradient_,
+            fitted.n_iter_,
+            own,
+            device=str(device),
+            precision=fitted.precision,
+            **diagnostics,
+        )
+
+    def save(fitted: TorchICA, directory: Path) -> None:
+        np.savez(directory / TORCH_STATE_FILE, **fitted.to_arrays())  # type: ignore[arg-type]  # numpy's stubs
+
+    def load(learner: ICALearner, directory: Path) -> TorchICA:
+        path = directory / TORCH_STATE_FILE
+        if not path.is_file():
+            raise FileNotFoundError(f"no saved ICA state: {path} does not exist")
+        with np.load(path) as arrays:
+            # The arrays alone define the model; describe() runs in numpy on any machine.
+            return learner._torch_estimator(estimator, "cpu").load_arrays(dict(arrays))
+
+    return ICASolver(("parallel",), devices, precisions, fit, save, load)
 
 
-def _save_torch(estimator: TorchFastICA, directory: Path) -> None:
-    np.savez(directory / TORCH_STATE_FILE, **estimator.to_arrays())  # type: ignore[arg-type]  # numpy's stubs
-
-
-def _load_torch(learner: ICALearner, directory: Path) -> TorchFastICA:
-    path = directory / TORCH_STATE_FILE
-    if not path.is_file():
-        raise FileNotFoundError(f"no saved torch FastICA state: {path} does not exist")
-    with np.load(path) as arrays:
-        # The arrays alone define the model; describe() runs in numpy on any machine.
-        return learner._torch_estimator("cpu").load_arrays(dict(arrays))
-
-
-# A new solver is one ICASolver line here (and its functions above).
+# A new solver is one ICASolver line here (and its functions above, or a TorchICA subclass).
 ICA_SOLVERS: dict[str, ICASolver] = {
-    "sklearn": ICASolver(ICA_ALGORITHMS, ("auto", "cpu"), _fit_sklearn, _save_sklearn, _load_sklearn),
-    "torch": ICASolver(("parallel",), DEVICES, _fit_torch, _save_torch, _load_torch),
+    "picard": _torch_solver("picard", TorchPicard, DEVICES, ICA_PRECISIONS),
+    "python_picard": _torch_solver("python_picard", LibraryPicard, ("auto", "cpu"), ("float64",)),
+    "fastica": _torch_solver("fastica", TorchFastICA, DEVICES, ICA_PRECISIONS),
+    "sklearn": ICASolver(ICA_ALGORITHMS, ("auto", "cpu"), ICA_PRECISIONS, _fit_sklearn, _save_sklearn, _load_sklearn),
 }
 
 
 class ICALearner(FeatureLearner):
-    """FastICA on flattened training images; descriptor = its sources (transform).
+    """ICA on flattened training images; descriptor = its sources (transform).
 
-    The ica.solver entry of ICA_SOLVERS fits, saves and loads the estimator: "sklearn" uses
-    scikit-learn; "torch" uses TorchFastICA on `device` and is saved as plain numpy arrays (mean,
-    whitening, unmixing).
+    The ica.solver entry of ICA_SOLVERS fits, saves and loads the estimator (module doc); the torch
+    solvers are saved as plain numpy arrays (mean, whitening, unmixing), scikit-learn's with joblib.
     """
 
     name = "ica"
@@ -124,17 +184,19 @@ class ICALearner(FeatureLearner):
         "n_components": 128,
         "algorithm": "parallel",
         "fun": "logcosh",
-        "max_iter": 400,
-        "tol": 1e-4,
+        "max_iter": 2000,
+        "tol": 1e-7,
+        "change_tol": 1e-4,
         "whiten_solver": "eigh",
         "max_train_images": 0,
-        "solver": "torch",
+        "solver": "picard",
         "device": "auto",
+        "precision": "float32",
     }
 
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
         super().__init__(params, seed)
-        self.estimator: FastICA | TorchFastICA | None = None
+        self.estimator: FastICA | TorchICA | None = None
 
     @property
     def solver(self) -> ICASolver:
@@ -147,6 +209,7 @@ class ICALearner(FeatureLearner):
             f" (the {self.params['solver']} solver implements the {' and '.join(self.solver.algorithms)} algorithm)",
         )
         self._check_solver_takes("device", "devices")
+        self._check_solver_takes("precision", "precisions")
 
     def _check_solver_takes(self, key: str, field: str, why: str = "") -> None:
         """A one-line error naming `key` when the chosen solver does not take its value (its ICASolver
@@ -168,20 +231,23 @@ class ICALearner(FeatureLearner):
             )
         return {**subset_info, "n_components": self.params["n_components"], **self.solver.fit(self, flat, progress)}
 
-    def _torch_estimator(self, device: torch.device | str) -> TorchFastICA:
-        return TorchFastICA(
+    def _torch_estimator(self, estimator: type[TorchICA], device: Any) -> TorchICA:
+        # the solver's own stopping tolerance: the relative gradient (Picard) or the change (FastICA)
+        own_tol = self.params["tol"] if estimator.criterion_name == "gradient" else self.params["change_tol"]
+        return estimator(
             n_components=self.params["n_components"],
             max_iter=self.params["max_iter"],
-            tol=self.params["tol"],
+            tol=own_tol,
             seed=self.seed,
             fun=self.params["fun"],
             whiten_solver=self.params["whiten_solver"],
             device=device,
+            precision=self.params["precision"],
         )
 
     def _describe_batch(self, images: np.ndarray) -> np.ndarray:
         assert self.estimator is not None, "describe checks that the learner is fitted"
-        return self.estimator.transform(to_float(images).reshape(len(images), -1))
+        return self.estimator.transform(to_float(images).reshape(len(images), -1)).astype(np.float32, copy=False)
 
     def _save_state(self, directory: Path) -> None:
         self.solver.save(self.estimator, directory)

@@ -15,6 +15,7 @@ from seasonloop.params.checks import Check, integer, number, one_of, text
 SVD_SOLVERS = ("auto", "full", "covariance_eigh", "arpack", "randomized")
 ICA_ALGORITHMS = ("parallel", "deflation")
 ICA_FUNCTIONS = ("logcosh", "exp", "cube")
+ICA_PRECISIONS = ("float32", "float64")  # the ICA iterations' arithmetic
 KMEANS_KINDS = ("minibatch", "full")
 PATCH_NORM_MODES = ("zscore", "minmax")
 DEVICES = ("auto", "cpu", "cuda")
@@ -22,8 +23,8 @@ PRECISIONS = ("auto", "float32", "bfloat16")
 AE_DESCRIPTORS = ("code", "output", "output_patchnorm")
 # names of registries that live beside their code (so that this module imports no learner);
 # tests/test_config.py keeps each equal to its registry
-ICA_SOLVER_NAMES = ("sklearn", "torch")  # seasonloop.models.ica.ICA_SOLVERS
-WHITEN_SOLVER_NAMES = ("eigh", "svd")  # seasonloop.models.core.fastica.WHITEN_SOLVERS
+ICA_SOLVER_NAMES = ("picard", "python_picard", "fastica", "sklearn")  # seasonloop.models.ica.ICA_SOLVERS
+WHITEN_SOLVER_NAMES = ("eigh", "svd")  # seasonloop.models.core.torch_ica.WHITEN_SOLVERS
 ACTIVATION_NAMES = ("sigmoid", "relu")  # seasonloop.models.fae.ACTIVATIONS
 
 POSITIVE = number(0, None, low_open=True)
@@ -67,10 +68,12 @@ LEARNER_SCHEMA: dict[str, dict[str, Check]] = {
         "fun": one_of(*ICA_FUNCTIONS),
         "max_iter": integer(1),
         "tol": POSITIVE,
+        "change_tol": POSITIVE,
         "whiten_solver": one_of(*WHITEN_SOLVER_NAMES),
         "max_train_images": integer(0),
         "solver": one_of(*ICA_SOLVER_NAMES),
         "device": one_of(*DEVICES),
+        "precision": one_of(*ICA_PRECISIONS),
     },
     "ica_bovw": {
         "patch_size": integer(1),

@@ -1,0 +1,328 @@
+"""What the torch ICA solvers share: centring and whitening, the densities, the stationarity measure
+that every solver reports, and the fitted model (mean, whitening, unmixing) as numpy arrays.
+
+An ICA fit here is: centre; whiten to the top-k principal axes (float64 eigen-decomposition of the
+float32 D x D covariance, or an SVD of the data); find an orthogonal unmixing W of the whitened data
+z (the solver: FastICA's fixed point in fastica.py, Picard-O's L-BFGS in picard.py); scale each
+source to unit variance, as scikit-learn's whiten="unit-variance". Both solvers start from the
+matrix scikit-learn draws for the same seed and optimise the same contrast, sum_i E[G(w_i z)]
+(G = log cosh for fun "logcosh"), over orthogonal W.
+
+The stationarity measure (`relative_gradient`): with y = W z and g = G', the relative gradient of
+that contrast on the orthogonal group is the skew-symmetric part of diag(s) E[g(y) y^T], where
+s_i = sign(E[g'(y_i)] - E[g(y_i) y_i]) says whether source i is treated as super- or sub-Gaussian.
+It is zero exactly at FastICA's fixed points (the symmetric decorrelation leaves W unchanged up to
+signs iff diag(s) E[g(y) y^T] is symmetric) and it is the quantity Picard-O drives below its tol
+(Ablin, Cardoso and Gramfort 2018), so one number, max |entry|, compares every solver.
+"""
+
+from __future__ import annotations
+
+import time
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+import torch
+
+# Rows per block when centring and projecting, so no centred copy of the whole data is made.
+BLOCK_ROWS = 8192
+
+
+@dataclass(frozen=True)
+class Density:
+    """One value of `fun`: score(y) -> (g(y), the row means of g'(y)) for (k, n) sources, and
+    contrast(y) -> G(y) elementwise (up to a constant), the negative log-likelihood Picard minimises."""
+
+    score: Callable[[torch.Tensor], tuple[torch.Tensor, torch.Tensor]]
+    contrast: Callable[[torch.Tensor], torch.Tensor]
+
+
+def _logcosh_score(sources: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    squashed = torch.tanh(sources)
+    return squashed, 1.0 - (squashed * squashed).mean(dim=1)
+
+
+def _logcosh_contrast(sources: torch.Tensor) -> torch.Tensor:
+    # log cosh y + log 2 = y + log(1 + exp(-2y)); softplus stays exact where exp(-2y) overflows
+    return sources + torch.nn.functional.softplus(-2.0 * sources)
+
+
+def _exp_score(sources: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    squared = sources * sources
+    gaussian = torch.exp(-0.5 * squared)
+    return sources * gaussian, ((1.0 - squared) * gaussian).mean(dim=1)
+
+
+def _cube_score(sources: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    squared = sources * sources
+    return squared * sources, 3.0 * squared.mean(dim=1)
+
+
+# g = G' and G as in scikit-learn's FastICA (alpha = 1) and python-picard's densities.
+DENSITIES: dict[str, Density] = {
+    "logcosh": Density(_logcosh_score, _logcosh_contrast),
+    "exp": Density(_exp_score, lambda sources: -torch.exp(-0.5 * sources * sources)),
+    "cube": Density(_cube_score, lambda sources: 0.25 * sources**4),
+}
+NONLINEARITIES = tuple(DENSITIES)
+
+
+def symmetric_decorrelation(unmixing: torch.Tensor) -> torch.Tensor:
+    """W <- (W W^T)^(-1/2) W, the nearest orthogonal matrix to W."""
+    eigenvalues, eigenvectors = torch.linalg.eigh(unmixing @ unmixing.T)
+    # Rounding can give tiny negative eigenvalues; clip as scikit-learn does.
+    eigenvalues = eigenvalues.clamp_min(torch.finfo(unmixing.dtype).tiny)
+    return (eigenvectors * eigenvalues.rsqrt()) @ eigenvectors.T @ unmixing
+
+
+def gradient_of_sources(sources: torch.Tensor, fun: str) -> torch.Tensor:
+    """The (k, k) skew-symmetric relative gradient of (k, n) sources of unit variance (module doc)."""
+    score, mean_derivative = DENSITIES[fun].score(sources)
+    moments = score @ sources.T / sources.shape[1]
+    del score
+    signs = torch.sign(mean_derivative - torch.diagonal(moments))
+    moments = moments * signs[:, None]
+    return (moments - moments.T) / 2
+
+
+def relative_gradient(sources: np.ndarray | torch.Tensor, fun: str = "logcosh") -> float:
+    """max |entry| of the relative gradient (module doc) of (n, k) sources, each standardised to
+    zero mean and unit variance first, so that it compares solvers that scale sources differently:
+    0 at a stationary point of the ICA contrast; Picard-O's own stopping criterion."""
+    values = torch.as_tensor(np.asarray(sources) if isinstance(sources, np.ndarray) else sources)
+    values = values.to(torch.float64).T
+    values = (values - values.mean(dim=1, keepdim=True)) / values.std(dim=1, correction=0, keepdim=True)
+    return float(gradient_of_sources(values, fun).abs().max())
+
+
+def _fix_signs(basis: torch.Tensor) -> torch.Tensor:
+    """Make the first entry of each column non-negative (eigenvectors are defined up to sign), as
+    scikit-learn does, so results do not depend on the LAPACK / cuSOLVER sign choice."""
+    signs = torch.sign(basis[0])
+    return basis * torch.where(signs == 0, torch.ones_like(signs), signs)
+
+
+# A whitening solver: (estimator, data, mean) -> (the values it computed, descending; the
+# principal axes as columns, in that order; the data's variance along each). A new solver is one
+# function plus one WHITEN_SOLVERS line.
+Whitening = Callable[["TorchICA", np.ndarray, torch.Tensor], tuple[torch.Tensor, torch.Tensor, torch.Tensor]]
+
+
+def _eigh_axes(ica: TorchICA, data: np.ndarray, mean: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    n_samples, n_features = data.shape
+    # D x D covariance, accumulated block by block: far cheaper than an SVD when n >> D.
+    covariance = torch.zeros((n_features, n_features), dtype=torch.float32, device=ica.device)
+    for block in ica._blocks(data, mean):
+        covariance.addmm_(block.T, block)
+    # The eigen-decomposition in float64: in float32 the whitened data is visibly not white
+    # (max |covariance - I| 1.4e-3 on 256 components, 6e-7 in float64), and both solvers assume
+    # unit covariance. The covariance itself can stay float32, and D x D costs far less than the
+    # iterations.
+    computed, axes = torch.linalg.eigh((covariance / n_samples).double())
+    computed, axes = computed.flip(0), axes.flip(1)  # descending
+    return computed, axes, computed
+
+
+def _svd_axes(ica: TorchICA, data: np.ndarray, mean: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    _, computed, axes_t = torch.linalg.svd(torch.cat(list(ica._blocks(data, mean))), full_matrices=False)
+    return computed, axes_t.T, computed**2 / data.shape[0]
+
+
+WHITEN_SOLVERS: dict[str, Whitening] = {"eigh": _eigh_axes, "svd": _svd_axes}
+
+# the iterations' arithmetic (ica.precision); whitening and the saved model are float32 either way
+PRECISIONS = {"float32": torch.float32, "float64": torch.float64}
+STATE_KEYS = ("mean", "whitening", "unmixing", "n_iter", "converged", "criterion", "gradient")
+
+
+class TorchICA(ABC):
+    """ICA in torch, float32 on `device` (CPU or CUDA); a subclass sets `algorithm` and
+    `criterion_name` (what its own stopping test measures) and implements `_rotate`.
+
+    After `fit`: mean_ (D,), whitening_ (k, D), unmixing_ (k, k) scaled so the training sources
+    have unit variance, components_ = unmixing_ @ whitening_, n_iter_, converged_ (the solver's own
+    test met within max_iter), criterion_ (the last value of that test) and gradient_ (the
+    stationarity measure of the module doc at the returned unmixing, the same for every solver).
+    On the CPU a fit is deterministic for a seed (at a given torch thread count)."""
+
+    algorithm: ClassVar[str]
+    criterion_name: ClassVar[str]
+
+    def __init__(
+        self,
+        n_components: int,
+        max_iter: int = 200,
+        tol: float = 1e-4,
+        seed: int = 0,
+        fun: str = "logcosh",
+        whiten_solver: str = "eigh",
+        device: str | torch.device = "cpu",
+        precision: str = "float32",
+    ):
+        if isinstance(n_components, bool) or not isinstance(n_components, (int, np.integer)) or n_components < 1:
+            raise ValueError(f"n_components must be an integer >= 1, got {n_components!r}")
+        if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
+            raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+        if not tol > 0:
+            raise ValueError(f"tol must be a positive number, got {tol!r}")
+        if fun not in NONLINEARITIES:
+            raise ValueError(f"fun must be one of {', '.join(NONLINEARITIES)}, got {fun!r}")
+        if whiten_solver not in WHITEN_SOLVERS:
+            raise ValueError(f"whiten_solver must be one of {', '.join(WHITEN_SOLVERS)}, got {whiten_solver!r}")
+        if precision not in PRECISIONS:
+            raise ValueError(f"precision must be one of {', '.join(PRECISIONS)}, got {precision!r}")
+        self.n_components = int(n_components)
+        self.max_iter = int(max_iter)
+        self.tol = float(tol)
+        self.seed = int(seed)
+        self.fun = fun
+        self.whiten_solver = whiten_solver
+        self.device = torch.device(device)
+        self.precision = precision
+        self.dtype = PRECISIONS[precision]
+        self.mean_: np.ndarray | None = None
+        self.whitening_: np.ndarray | None = None
+        self.unmixing_: np.ndarray | None = None
+        self.components_: np.ndarray | None = None
+        self.n_iter_: int | None = None
+        self.converged_: bool | None = None
+        self.criterion_: float | None = None
+        self.gradient_: float | None = None
+
+    # ----- fitting -----
+    def fit(self, data: np.ndarray, progress: bool = False) -> TorchICA:
+        """Learn from (n_samples, n_features) data (converted to float32); `progress` shows a bar
+        over the iterations (seconds each at the study's scale on a CPU)."""
+        data = np.asarray(data)
+        if data.ndim != 2 or not np.issubdtype(data.dtype, np.number):
+            raise ValueError(f"data must be a numeric (n_samples, n_features) array, got shape {data.shape}")
+        n_samples, n_features = data.shape
+        if self.n_components > min(n_samples, n_features):
+            raise ValueError(
+                f"n_components = {self.n_components} exceeds min(n_samples, n_features) = {min(n_samples, n_features)}"
+            )
+        # (seconds since fit began, relative gradient) of the iterations a solver traces
+        # (TorchPicard: each), for benchmarks/bench_ica.py's time to a given gradient
+        self.started_ = time.perf_counter()
+        self.trace_: list[tuple[float, float]] = []
+        data = np.ascontiguousarray(data, dtype=np.float32)
+        if not np.isfinite(data).all():
+            raise ValueError("data contains NaN or infinite values")
+        mean = torch.from_numpy(data.mean(axis=0, dtype=np.float64).astype(np.float32)).to(self.device)
+        whitening = self._whitening(data, mean)
+        whitened = self._project(data, mean, whitening).to(self.dtype)  # (k, n), unit covariance
+        del data
+        unmixing = self._rotate(whitened, self._initial_unmixing(), progress)
+        sources = unmixing @ whitened
+        del whitened
+        self.gradient_ = float(gradient_of_sources(sources, self.fun).abs().max())
+        # scikit-learn's whiten="unit-variance": scale each source to unit standard deviation.
+        unmixing = (unmixing / sources.std(dim=1, correction=0)[:, None]).to(torch.float32)
+        self.mean_ = mean.cpu().numpy()
+        self.whitening_ = whitening.cpu().numpy()
+        self.unmixing_ = unmixing.cpu().numpy()
+        self._set_components()
+        return self
+
+    def _blocks(self, data: np.ndarray, mean: torch.Tensor) -> Iterator[torch.Tensor]:
+        """Centred float32 blocks of rows of data, on the device."""
+        for start in range(0, len(data), BLOCK_ROWS):
+            yield torch.from_numpy(data[start : start + BLOCK_ROWS]).to(self.device) - mean
+
+    def _whitening(self, data: np.ndarray, mean: torch.Tensor) -> torch.Tensor:
+        """(k, D) matrix K with K @ centred.T of unit covariance, from the top-k principal axes."""
+        computed, axes, variances = WHITEN_SOLVERS[self.whiten_solver](self, data, mean)
+        # A value the solver computed (eigenvalue or singular value) within 10 float32 roundings of
+        # the largest cannot be told from zero (the covariance or data is float32): whitening its
+        # direction would blow up rounding noise.
+        resolved = int((computed > computed[0] * 10 * torch.finfo(torch.float32).eps).sum())
+        if self.n_components > resolved:
+            hint = " or whiten_solver 'svd'" if self.whiten_solver == "eigh" else ""
+            raise ValueError(
+                f"n_components = {self.n_components} exceeds the {resolved} directions the centred data "
+                f"resolves with whiten_solver {self.whiten_solver!r} in float32 (use fewer components{hint})"
+            )
+        axes = _fix_signs(axes[:, : self.n_components])
+        return (axes / variances[: self.n_components].sqrt()).T.to(torch.float32).contiguous()
+
+    def _project(self, data: np.ndarray, mean: torch.Tensor, whitening: torch.Tensor) -> torch.Tensor:
+        """(k, n) whitened data."""
+        return torch.cat([whitening @ block.T for block in self._blocks(data, mean)], dim=1)
+
+    def _initial_unmixing(self) -> torch.Tensor:
+        """scikit-learn's (and python-picard's) initial matrix for `seed`, made orthogonal."""
+        initial = np.random.RandomState(self.seed).normal(size=(self.n_components, self.n_components))
+        return symmetric_decorrelation(torch.from_numpy(initial).to(self.device, self.dtype))
+
+    @abstractmethod
+    def _rotate(self, whitened: torch.Tensor, unmixing: torch.Tensor, progress: bool) -> torch.Tensor:
+        """The orthogonal (k, k) unmixing of (k, n) whitened data, from `unmixing`; sets n_iter_,
+        converged_ and criterion_."""
+
+    # ----- using a fitted model -----
+    def _set_components(self) -> None:
+        # numpy, so a model rebuilt from its arrays gives bit-identical components.
+        assert self.unmixing_ is not None and self.whitening_ is not None
+        self.components_ = np.ascontiguousarray(self.unmixing_ @ self.whitening_, dtype=np.float32)
+
+    def transform(self, data: np.ndarray) -> np.ndarray:
+        """(n, D) data -> (n, k) float32 sources: (data - mean_) @ components_.T."""
+        if self.components_ is None:
+            raise RuntimeError(f"{type(self).__name__}: call fit() (or load_arrays) before transform()")
+        data = np.asarray(data, dtype=np.float32)
+        if data.ndim != 2 or data.shape[1] != self.components_.shape[1]:
+            raise ValueError(f"data must have shape (n, {self.components_.shape[1]}), got {data.shape}")
+        return (data - self.mean_) @ self.components_.T
+
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        """The fitted state as plain numpy arrays (for numpy.savez)."""
+        if self.components_ is None:
+            raise RuntimeError(f"{type(self).__name__}: call fit() before to_arrays()")
+        assert self.mean_ is not None and self.whitening_ is not None and self.unmixing_ is not None
+        return {
+            "mean": self.mean_,
+            "whitening": self.whitening_,
+            "unmixing": self.unmixing_,
+            "n_iter": np.array(self.n_iter_),
+            "converged": np.array(self.converged_),
+            "criterion": np.array(self.criterion_),
+            "gradient": np.array(self.gradient_),
+        }
+
+    def load_arrays(self, arrays: dict[str, np.ndarray]) -> TorchICA:
+        """Restore the state written by `to_arrays`; returns self."""
+        missing = [key for key in STATE_KEYS if key not in arrays]
+        if missing:
+            raise ValueError(f"saved ICA state lacks array '{missing[0]}'")
+        whitening, unmixing = np.asarray(arrays["whitening"]), np.asarray(arrays["unmixing"])
+        if whitening.shape[0] != self.n_components or unmixing.shape != (self.n_components,) * 2:
+            raise ValueError(
+                f"saved ICA arrays (whitening {whitening.shape}, unmixing {unmixing.shape}) do not "
+                f"match n_components = {self.n_components}"
+            )
+        self.mean_ = np.asarray(arrays["mean"], dtype=np.float32)
+        self.whitening_ = whitening.astype(np.float32)
+        self.unmixing_ = unmixing.astype(np.float32)
+        self.n_iter_ = int(arrays["n_iter"])
+        self.converged_ = bool(arrays["converged"])
+        self.criterion_ = float(arrays["criterion"])
+        self.gradient_ = float(arrays["gradient"])
+        self._set_components()
+        return self
+
+
+def amari_distance(estimated_unmixing: np.ndarray, true_mixing: np.ndarray) -> float:
+    """Amari distance of P = W A (0 iff P is a scaled permutation), normalised to [0, 1].
+
+    W is the estimated (k, D) unmixing, A the true (D, k) mixing matrix.
+    """
+    product = np.abs(np.asarray(estimated_unmixing, dtype=np.float64) @ np.asarray(true_mixing, dtype=np.float64))
+    if product.ndim != 2 or product.shape[0] != product.shape[1]:
+        raise ValueError(f"unmixing @ mixing must be square, got shape {product.shape}")
+    k = product.shape[0]
+    rows = (product.sum(axis=1) / product.max(axis=1) - 1).sum()
+    cols = (product.sum(axis=0) / product.max(axis=0) - 1).sum()
+    return float((rows + cols) / (2 * k * (k - 1)))

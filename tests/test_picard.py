@@ -1,0 +1,126 @@
+"""Picard-O (TorchPicard), the python-picard reference it must equal, and the stationarity measure
+that every ICA solver reports."""
+
+import numpy as np
+import pytest
+import torch
+
+from seasonloop.models.core.fastica import TorchFastICA
+from seasonloop.models.core.picard import LibraryPicard, TorchPicard
+from seasonloop.models.core.torch_ica import amari_distance, relative_gradient
+from seasonloop.models.registry import get_learner, load_learner
+
+N_SUPER, N_SUB, N_FEATURES, N_SAMPLES = 5, 3, 16, 5000
+N_SOURCES = N_SUPER + N_SUB
+
+
+@pytest.fixture(scope="module")
+def mixture() -> tuple[np.ndarray, np.ndarray]:
+    """Super-Gaussian (Laplace) and sub-Gaussian (uniform) sources mixed into more features, plus a
+    little noise: (n_samples, n_features) float32 data and the (n_features, n_sources) mixing."""
+    rng = np.random.default_rng(0)
+    sources = np.concatenate(
+        [rng.laplace(size=(N_SAMPLES, N_SUPER)), rng.uniform(-1.7, 1.7, size=(N_SAMPLES, N_SUB))], axis=1
+    )
+    mixing = rng.normal(size=(N_FEATURES, N_SOURCES))
+    data = sources @ mixing.T + 0.01 * rng.normal(size=(N_SAMPLES, N_FEATURES))
+    return data.astype(np.float32), mixing
+
+
+def images(n: int, seed: int) -> np.ndarray:
+    """uint8 (n, 8, 16) images: 8 fixed patterns weighted by independent Laplace sources, plus noise."""
+    patterns = np.random.default_rng(100).normal(size=(8, 8 * 16))
+    rng = np.random.default_rng(seed)
+    pixels = 128 + 6 * rng.laplace(size=(n, 8)) @ patterns + rng.normal(0, 3, (n, 8 * 16))
+    return np.clip(pixels, 0, 255).astype(np.uint8).reshape(n, 8, 16)
+
+
+@pytest.mark.parametrize("precision", ["float32", "float64"])
+def test_recovers_super_and_sub_gaussian_sources_to_the_gradient_tolerance(mixture, precision):
+    data, mixing = mixture
+    ica = TorchPicard(N_SOURCES, max_iter=500, tol=1e-7, seed=0, precision=precision).fit(data)
+    assert ica.converged_ and ica.n_iter_ < 500
+    # its own criterion is the shared measure, confirmed on sources computed afresh from W
+    assert ica.criterion_ < 1e-7 and ica.gradient_ < 1e-7
+    assert amari_distance(ica.components_, mixing) < 0.03
+    sources = ica.transform(data)
+    assert sources.dtype == np.float32 and sources.shape == (N_SAMPLES, N_SOURCES)
+    np.testing.assert_allclose(np.cov(sources, rowvar=False, bias=True), np.eye(N_SOURCES), atol=1e-3)
+
+
+def test_equals_python_picard_from_the_same_start(mixture):
+    """The same whitened data and initial matrix: python-picard and ours take the same steps."""
+    data, _ = mixture
+    ours = TorchPicard(N_SOURCES, max_iter=500, tol=1e-8, seed=3, precision="float64").fit(data)
+    reference = LibraryPicard(N_SOURCES, max_iter=500, tol=1e-8, seed=3, precision="float64").fit(data)
+    assert reference.converged_ and ours.converged_
+    # ours may spend one more gradient evaluation confirming the result on fresh sources
+    assert reference.n_iter_ <= ours.n_iter_ <= reference.n_iter_ + 1
+    np.testing.assert_allclose(ours.components_, reference.components_, atol=1e-5)
+
+
+def test_relative_gradient_is_zero_at_fastica_fixed_points_and_not_elsewhere(mixture):
+    data, _ = mixture
+    fastica = TorchFastICA(N_SOURCES, max_iter=1000, tol=1e-7, seed=0, precision="float64").fit(data)
+    assert fastica.converged_
+    at_fixed_point = relative_gradient(fastica.transform(data))
+    assert at_fixed_point < 1e-5
+    np.testing.assert_allclose(at_fixed_point, fastica.gradient_, rtol=0.2, atol=1e-6)
+    # a small rotation of the same sources (still white) is not stationary
+    angle = 0.1
+    rotation = np.eye(N_SOURCES)
+    rotation[:2, :2] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]
+    assert relative_gradient(fastica.transform(data) @ rotation) > 100 * at_fixed_point
+    # scale and mean do not matter: the sources are standardised first
+    assert relative_gradient(3.0 * fastica.transform(data) + 5.0) == pytest.approx(at_fixed_point, rel=1e-2)
+
+
+def test_a_stopped_fit_says_so_and_a_seed_fixes_the_result(mixture):
+    data, _ = mixture
+    stopped = TorchPicard(N_SOURCES, max_iter=2, tol=1e-7, seed=0).fit(data)
+    assert stopped.converged_ is False and stopped.n_iter_ == 2 and stopped.criterion_ >= 1e-7
+    first, second = (TorchPicard(N_SOURCES, seed=7, tol=1e-7, max_iter=500).fit(data) for _ in range(2))
+    for key, value in first.to_arrays().items():
+        np.testing.assert_array_equal(second.to_arrays()[key], value)
+
+
+def test_progress_bar_shows_the_gradient(mixture, capsys):
+    data, _ = mixture
+    TorchPicard(N_SOURCES, max_iter=5, seed=0).fit(data, progress=True)
+    bar = capsys.readouterr().err
+    assert "Picard-O iterations" in bar and "gradient=" in bar
+
+
+def test_ica_learner_defaults_to_picard_and_records_the_shared_measure(tmp_path):
+    train, test = images(600, 0), images(50, 1)
+    learner = get_learner("ica")({"n_components": 8, "device": "cpu"}, seed=2)
+    info = learner.fit(train, progress=False)
+    assert info["solver"] == "picard" and info["precision"] == "float32"
+    assert info["converged"] is True and info["gradient"] < info["tol"] == 1e-7
+    assert info["own_criterion"] == {
+        "name": "gradient",
+        "value": info["own_criterion"]["value"],
+        "tol": 1e-7,
+        "met": True,
+    }
+    learner.save(tmp_path)
+    loaded = load_learner(tmp_path)
+    assert loaded.fit_info == info
+    np.testing.assert_array_equal(loaded.describe(test), learner.describe(test))
+    # every solver reports converged by the same measure: FastICA meets its own test long before
+    fastica = get_learner("ica")({"n_components": 8, "device": "cpu", "solver": "fastica"}, seed=2)
+    record = fastica.fit(train, progress=False)
+    assert record["own_criterion"]["name"] == "change" and record["own_criterion"]["met"] is True
+    assert record["converged"] == (record["gradient"] < 1e-7)
+    assert bool(record["convergence_warnings"]) == (not record["converged"])
+    flat = train.reshape(len(train), -1).astype(np.float32) / 255
+    assert record["gradient"] == pytest.approx(relative_gradient(fastica.estimator.transform(flat)), rel=0.05, abs=1e-6)
+
+
+@pytest.mark.skipif(not torch.cuda.is_available(), reason="no CUDA device")
+def test_cuda_matches_cpu(mixture):
+    data, mixing = mixture
+    cpu = TorchPicard(N_SOURCES, seed=0, tol=1e-7, max_iter=500, device="cpu").fit(data)
+    cuda = TorchPicard(N_SOURCES, seed=0, tol=1e-7, max_iter=500, device="cuda").fit(data)
+    assert cuda.converged_ and amari_distance(cuda.components_, mixing) < 0.03
+    np.testing.assert_allclose(cuda.transform(data), cpu.transform(data), atol=2e-3)

@@ -15,16 +15,23 @@ SPLIT = Path("data/split")
 AUGMENTED = Path("data/augmented")
 
 
+def in_data_order(params: dict[str, Any], seasons: list[str]) -> list[str]:
+    """`seasons` in data.seasons order: a training set is a set of seasons, so the same seasons
+    listed in another order give the same images in the same order (and the same fit)."""
+    return [season for season in param(params, "data.seasons") if season in seasons]
+
+
 def training_images(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
-    """The concatenated training images of `seasons`, augmented or not as train.augmented says."""
+    """The concatenated training images of `seasons` (in data.seasons order), augmented or not as
+    train.augmented says."""
     augmented = AUGMENTED if bool(param(params, "train.augmented")) else None
-    return datasets.training_images(SPLIT, augmented, seasons)
+    return datasets.training_images(SPLIT, augmented, in_data_order(params, seasons))
 
 
 def training_places(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
     """The place id of every image that training_images returns."""
     copies = int(param(params, "augment.copies")) if bool(param(params, "train.augmented")) else 0
-    return datasets.training_places(SPLIT, seasons, copies)
+    return datasets.training_places(SPLIT, in_data_order(params, seasons), copies)
 
 
 def test_images(seasons: list[str]) -> dict[str, np.ndarray]:

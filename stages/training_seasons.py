@@ -1,5 +1,6 @@
 """Stage training_seasons: the study's training-season effect (its Figure 18), from the records of
-training_seasons_fit@<learner> for every learner of ablation.methods.
+training_seasons_fit@<learner> for every learner of ablation.methods, and for the list of training
+seasons that is the pipeline's own training set, evaluate@<learner>'s fraction correct.
 
 Writes metrics/training_seasons.json and plots/training_seasons.png. With fewer than two seasons
 the ablation is skipped and both files say why.
@@ -14,6 +15,7 @@ from seasonloop.ablations.training_seasons import plan_ablation, read_learner_re
 from seasonloop.params.settings import AblationConfig, EvaluateConfig
 
 RECORDS = Path("metrics/training_seasons")
+EVALUATIONS = Path("metrics/eval")
 RECORD = Path("metrics/training_seasons.json")
 FIGURE = Path("plots/training_seasons.png")
 
@@ -28,7 +30,7 @@ def main() -> None:
         print(f"training_seasons: {plan.skipped}")
         write_ablation(plan, None, RECORD, FIGURE)
         return
-    write_ablation(plan, read_learner_records(plan, ablation.methods, RECORDS), RECORD, FIGURE)
+    write_ablation(plan, read_learner_records(plan, ablation.methods, RECORDS, EVALUATIONS), RECORD, FIGURE)
 
 
 if __name__ == "__main__":

@@ -5,7 +5,8 @@ evaluate single-image matching on the fixed pair ablation.pair; writes
 metrics/training_seasons/<learner>.json. One stage per learner of ablation.methods, so that a change
 to one learner (its module or its params) refits only its own ablation. On a subset of seasons the
 pair and lists adapt to the seasons present (seasonloop.ablations.training_seasons says how); with
-fewer than two seasons the record says why nothing was fitted.
+fewer than two seasons the record says why nothing was fitted. The list that is the pipeline's own
+training set is not refitted: the training_seasons stage reads evaluate@<learner>'s number for it.
 """
 
 from __future__ import annotations
@@ -16,10 +17,11 @@ from pathlib import Path
 
 from _truths import pair_truths
 
-from _common import data_seasons, load_params, param, stage_main
+from _common import data_seasons, load_params, param, stage_main, train_seasons
 from _datasets import test_images, training_images, training_places
-from seasonloop.ablations.training_seasons import plan_ablation, run_ablation, write_learner_record
+from seasonloop.ablations.training_seasons import plan_ablation, reusable_label, run_ablation, write_learner_record
 from seasonloop.models.registry import get_learner
+from seasonloop.params.schema import available_pairs
 from seasonloop.params.settings import AblationConfig, EvaluateConfig, SequenceConfig
 
 RECORDS = Path("metrics/training_seasons")
@@ -31,7 +33,16 @@ def main() -> None:
     parser.add_argument("method", help="a learner of ablation.methods")
     method = parser.parse_args().method
     params = load_params(
-        "seed", "data.seasons", "train.augmented", "augment.copies", "ablation", "evaluate", "sequence"
+        "seed",
+        "data.seasons",
+        "learners",
+        "train.seasons",
+        "train.augmented",
+        "augment.copies",
+        "features.batch_size",
+        "ablation",
+        "evaluate",
+        "sequence",
     )
     ablation = AblationConfig.from_params(params)
     if method not in ablation.methods:
@@ -49,6 +60,16 @@ def main() -> None:
     # that it checks its section before the first, possibly long, fit)
     new_learner = functools.partial(get_learner(method), param(params, method), seed=int(param(params, "seed")))
     new_learner()
+    reused = reusable_label(
+        plan,
+        train_seasons(params),
+        method in param(params, "learners"),
+        plan.pair in available_pairs(data_seasons(params), evaluate.pairs),
+    )
+    if reused:
+        print(
+            f"training_seasons_fit@{method}: {reused} is fit@{method}'s training set: evaluate@{method}'s result is used"
+        )
     fraction_correct = run_ablation(
         plan,
         {method: new_learner},
@@ -57,8 +78,10 @@ def main() -> None:
         pair_truths([plan.pair])[plan.pair],
         evaluate,
         SequenceConfig.from_params(params),
+        batch_size=int(param(params, "features.batch_size")),
+        skip={method: reused},
     )
-    write_learner_record(plan, fraction_correct[method], record)
+    write_learner_record(plan, fraction_correct[method], record, reused)
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ import pytest
 from seasonloop.ablations.training_seasons import (
     plan_ablation,
     read_learner_records,
+    reusable_label,
     run_ablation,
     write_ablation,
     write_learner_record,
@@ -64,7 +65,7 @@ class MeanLearner:
         MeanLearner.fitted_on.append(len(images))
         MeanLearner.places.append(places)
 
-    def describe(self, images):
+    def describe(self, images, batch_size=1024):
         return images.mean(axis=2)
 
 
@@ -138,14 +139,64 @@ def test_learner_records_combine_into_the_ablation_record(tmp_path):
     plan = plan_ablation(seasons, "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"])
     write_learner_record(plan, {"summer": 0.5, "summer+winter": 0.75}, tmp_path / "pca.json")
     write_learner_record(plan, {"summer+winter": 0.625, "summer": 0.25}, tmp_path / "ica.json")
-    combined = read_learner_records(plan, ["pca", "ica"], tmp_path)
+    combined = read_learner_records(plan, ["pca", "ica"], tmp_path, tmp_path / "eval")
     assert combined == {"pca": {"summer": 0.5, "summer+winter": 0.75}, "ica": {"summer": 0.25, "summer+winter": 0.625}}
     # a record of another plan (other seasons lists) is stale: one clear line, not a wrong figure
     other = plan_ablation(seasons, "summer-fall", [["summer"]], ["summer-fall"])
     with pytest.raises(ValueError, match="pca.json: written for another ablation plan"):
-        read_learner_records(other, ["pca"], tmp_path)
+        read_learner_records(other, ["pca"], tmp_path, tmp_path / "eval")
     with pytest.raises(FileNotFoundError, match="training_seasons_fit@fae"):
-        read_learner_records(plan, ["fae"], tmp_path)
+        read_learner_records(plan, ["fae"], tmp_path, tmp_path / "eval")
     skipped = plan_ablation(["summer"], "summer-fall", [["summer"]], ["summer-fall"])
     write_learner_record(skipped, None, tmp_path / "skipped.json")
     assert json.loads((tmp_path / "skipped.json").read_text())["skipped"].startswith("skipped:")
+
+
+def test_a_reused_label_is_not_refitted_and_is_read_from_the_pipelines_evaluation(tmp_path):
+    # the pipeline's learner is fitted on train.seasons: the ablation's list of the same seasons
+    # is that learner, so its value is evaluate@<method>'s fraction correct on the plan's pair
+    seasons = ["summer", "spring", "fall", "winter"]
+    plan = plan_ablation(seasons, "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"])
+    assert reusable_label(plan, ["winter", "summer"], True, True) == "summer+winter"
+    assert reusable_label(plan, ["winter", "summer"], False, True) is None  # not a pipeline learner
+    assert reusable_label(plan, ["winter", "summer"], True, False) is None  # pair not evaluated
+    assert reusable_label(plan, seasons, True, True) is None  # no list of these seasons
+    write_learner_record(plan, {"summer": 0.5}, tmp_path / "pca.json", reused="summer+winter")
+    with pytest.raises(FileNotFoundError, match="evaluate@pca"):
+        read_learner_records(plan, ["pca"], tmp_path, tmp_path / "eval")
+    (tmp_path / "eval" / "pca").mkdir(parents=True)
+    (tmp_path / "eval" / "pca" / "summer-fall.json").write_text(json.dumps({"fraction_correct": 0.875}))
+    assert read_learner_records(plan, ["pca"], tmp_path, tmp_path / "eval") == {
+        "pca": {"summer": 0.5, "summer+winter": 0.875}
+    }
+
+
+def test_run_ablation_skips_the_reused_label(tmp_path):
+    plan = plan_ablation(
+        ["summer", "fall", "winter"], "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"]
+    )
+    rng = np.random.default_rng(0)
+    test = {"summer": rng.random((6, 4, 8)), "fall": rng.random((6, 4, 8))}
+    evaluate = EvaluateConfig(
+        pairs=("summer-fall",),
+        metric="euclidean",
+        extra_metrics=(),
+        confidence="ratio",
+        ratio_exclusion=0,
+        tolerance_frames=0,
+        tolerance_m=10.0,
+        matchers=("single",),
+    )
+    sequence = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
+    MeanLearner.fitted_on, MeanLearner.places = [], []
+    fraction_correct = run_ablation(
+        plan,
+        {"mean": MeanLearner},
+        lambda seasons: (np.zeros((10 * len(seasons), 4, 8)), np.tile(np.repeat(np.arange(5), 2), len(seasons))),
+        test,
+        aligned_truth(np.arange(6), np.arange(6), 0),
+        evaluate,
+        sequence,
+        skip={"mean": "summer+winter"},
+    )
+    assert MeanLearner.fitted_on == [10] and list(fraction_correct["mean"]) == ["summer"]

@@ -7,6 +7,13 @@ there is no pair to evaluate and the ablation is skipped, with the reason. run_a
 evaluates the plan, one learner at a time (one pipeline stage per learner, so that a learner's
 change refits only its own ablation); write_learner_record and read_learner_records keep each
 learner's result, write_ablation writes the combined record and figure.
+
+Reuse: a list of training seasons that is the pipeline's own training set (train.seasons, as a set:
+the training images are concatenated in data.seasons order whatever the list's order) gives the
+learner fit@<learner> fits, on the same images in the same order with the same params and seed,
+so its fraction correct is the one evaluate@<learner> wrote for the pair (same descriptors, same
+batches, same matching); `reusable_label` names that list and it is read back instead of refitted
+(`fill_reused`). At the study's scale this saves one ICA fit of the four.
 """
 
 from __future__ import annotations
@@ -71,6 +78,20 @@ def plan_ablation(
     return AblationPlan((database, query), season_sets, notes)
 
 
+def reusable_label(
+    plan: AblationPlan, train_seasons: Sequence[str], in_pipeline: bool, pair_evaluated: bool
+) -> str | None:
+    """The label of the plan's list whose seasons are the pipeline's training set (module doc), when
+    the learner is one of the pipeline's (in_pipeline) and its evaluate stage matches the plan's
+    pair (pair_evaluated); else None."""
+    if not (in_pipeline and pair_evaluated):
+        return None
+    for label, chosen in zip(plan.labels, plan.season_sets):
+        if set(chosen) == set(train_seasons):
+            return label
+    return None
+
+
 def run_ablation(
     plan: AblationPlan,
     new_learners: Mapping[str, Callable[[], Any]],
@@ -79,25 +100,31 @@ def run_ablation(
     truth: PairTruth,
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
+    batch_size: int = 1024,
+    skip: Mapping[str, str | None] | None = None,
 ) -> dict[str, dict[str, float]]:
     """fraction_correct[method][training seasons joined by "+"] on the plan's pair, single-image
     matching: for each method (new_learners[method]() gives an unfitted learner) and each list of
     the plan, a learner fitted on training_set(list) = (images, the place id of each image). The
     place ids go to fit, so that an auto-encoder holds out whole places (every season and augmented
     copy of them) for validation. test[season] are the test images of the pair's seasons, both at
-    the test places of `truth`, the pair's ground truth."""
+    the test places of `truth`, the pair's ground truth, described `batch_size` at a time (the
+    features stage's batches). skip[method] names a label that is not fitted (a reused one)."""
     assert plan.pair is not None and plan.labels is not None and plan.season_sets is not None, "a skipped plan"
     database, query = plan.pair
     fraction_correct: dict[str, dict[str, float]] = {}
     for method, new_learner in new_learners.items():
         fraction_correct[method] = {}
         for label, chosen in zip(plan.labels, plan.season_sets):
+            if (skip or {}).get(method) == label:
+                continue
             learner = new_learner()
             images, image_places = training_set(chosen)
             learner.fit(images, progress=True, places=image_places)
-            metrics, _, _ = match_pair(
-                learner.describe(test[database]), learner.describe(test[query]), truth, "single", evaluate, sequence
+            database_descriptors, query_descriptors = (
+                learner.describe(test[season], batch_size=batch_size) for season in (database, query)
             )
+            metrics, _, _ = match_pair(database_descriptors, query_descriptors, truth, "single", evaluate, sequence)
             fraction_correct[method][label] = metrics["fraction_correct"]
     return fraction_correct
 
@@ -128,19 +155,31 @@ def write_ablation(
     )
 
 
-def write_learner_record(plan: AblationPlan, fraction_correct: Mapping[str, float] | None, record: Path) -> None:
+def write_learner_record(
+    plan: AblationPlan, fraction_correct: Mapping[str, float] | None, record: Path, reused: str | None = None
+) -> None:
     """One learner's part of the ablation: fraction_correct[training seasons] on the plan's pair
-    (None for a skipped plan, whose record says why)."""
+    (None for a skipped plan, whose record says why); `reused` is the label left to fill_reused."""
     if plan.skipped:
         write_json(record, {"skipped": plan.skipped})
         return
     assert plan.pair is not None and fraction_correct is not None
-    write_json(record, {"pair": pair_name(*plan.pair), "fraction_correct": dict(fraction_correct)})
+    write_json(
+        record,
+        {
+            "pair": pair_name(*plan.pair),
+            "fraction_correct": dict(fraction_correct),
+            "reused_from_pipeline": [reused] if reused else [],
+        },
+    )
 
 
-def read_learner_records(plan: AblationPlan, methods: Sequence[str], folder: Path) -> dict[str, dict[str, float]]:
+def read_learner_records(
+    plan: AblationPlan, methods: Sequence[str], folder: Path, eval_dir: Path
+) -> dict[str, dict[str, float]]:
     """fraction_correct[method][label] from folder/<method>.json of every method, each checked to
-    hold the plan's pair and season lists (a record of another plan is a stale input)."""
+    hold the plan's pair and season lists (a record of another plan is a stale input); a reused
+    label's value from eval_dir (fill_reused)."""
     assert plan.pair is not None
     fraction_correct = {}
     for method in methods:
@@ -148,8 +187,20 @@ def read_learner_records(plan: AblationPlan, methods: Sequence[str], folder: Pat
         if not path.is_file():
             raise FileNotFoundError(f"{path}: not found (run the stage training_seasons_fit@{method} first)")
         record = read_json(path)
+        labels = set(record.get("fraction_correct", {})) | set(record.get("reused_from_pipeline", []))
         # JSON keys are sorted: compare the season lists as sets
-        if record.get("pair") != pair_name(*plan.pair) or set(record.get("fraction_correct", {})) != set(plan.labels):
+        if record.get("pair") != pair_name(*plan.pair) or labels != set(plan.labels):
             raise ValueError(f"{path}: written for another ablation plan than {pair_name(*plan.pair)} on {plan.labels}")
-        fraction_correct[method] = record["fraction_correct"]
+        fraction_correct[method] = dict(record["fraction_correct"])
+        for label in record.get("reused_from_pipeline", []):
+            fraction_correct[method][label] = fill_reused(method, pair_name(*plan.pair), eval_dir)
     return fraction_correct
+
+
+def fill_reused(method: str, pair: str, eval_dir: Path) -> float:
+    """The single-image fraction correct that evaluate@<method> wrote for `pair` under
+    evaluate.metric: the ablation's value for the pipeline's own training set (module doc)."""
+    path = eval_dir / method / f"{pair}.json"
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: not found (run the stage evaluate@{method} first)")
+    return float(read_json(path)["fraction_correct"])

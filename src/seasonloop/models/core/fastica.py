@@ -14,7 +14,8 @@ from __future__ import annotations
 import torch
 from tqdm.auto import tqdm
 
-from seasonloop.models.core.torch_ica import DENSITIES, TorchICA, symmetric_decorrelation
+from seasonloop.models.core.ica_densities import DENSITIES
+from seasonloop.models.core.torch_ica import TorchICA, symmetric_decorrelation
 
 
 class TorchFastICA(TorchICA):

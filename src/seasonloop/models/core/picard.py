@@ -26,7 +26,8 @@ from collections import deque
 import torch
 from tqdm.auto import tqdm
 
-from seasonloop.models.core.torch_ica import DENSITIES, Density, TorchICA, gradient_of_sources, symmetric_decorrelation
+from seasonloop.models.core.ica_densities import DENSITIES, Density
+from seasonloop.models.core.torch_ica import TorchICA, gradient_of_sources, symmetric_decorrelation
 
 # python-picard's defaults
 MEMORY = 7

@@ -81,7 +81,7 @@ def main() -> None:
         batch_size=int(param(params, "features.batch_size")),
         skip={method: reused},
     )
-    write_learner_record(plan, fraction_correct[method], record, reused)
+    write_learner_record(plan, fraction_correct, record, reused)
 
 
 if __name__ == "__main__":

@@ -79,7 +79,7 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
     evaluate = EvaluateConfig(
         pairs=("summer-fall",),
         metric="euclidean",
-        extra_metrics=(),
+        extra_metrics=("cityblock",),
         confidence="ratio",
         ratio_exclusion=0,
         tolerance_frames=0,
@@ -113,7 +113,9 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
         list(training_set(["summer"])[1]),
         list(training_set(["summer", "winter"])[1]),
     ]
-    assert list(fraction_correct["mean"]) == ["summer", "summer+winter"]
+    # one series per distance, named as the tables' rows
+    assert list(fraction_correct) == ["mean", "mean@cityblock"]
+    assert list(fraction_correct["mean"]) == list(fraction_correct["mean@cityblock"]) == ["summer", "summer+winter"]
     assert fraction_correct["mean"]["summer"] == 1.0
     write_ablation(plan, fraction_correct, tmp_path / "record.json", tmp_path / "figure.png")
     record = json.loads((tmp_path / "record.json").read_text())
@@ -137,10 +139,15 @@ def test_learner_records_combine_into_the_ablation_record(tmp_path):
     # one record per learner (one stage each), read back into what write_ablation writes
     seasons = ["summer", "spring", "fall", "winter"]
     plan = plan_ablation(seasons, "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"])
-    write_learner_record(plan, {"summer": 0.5, "summer+winter": 0.75}, tmp_path / "pca.json")
-    write_learner_record(plan, {"summer+winter": 0.625, "summer": 0.25}, tmp_path / "ica.json")
+    write_learner_record(plan, {"pca": {"summer": 0.5, "summer+winter": 0.75}}, tmp_path / "pca.json")
+    ica = {"ica": {"summer+winter": 0.625, "summer": 0.25}, "ica@cityblock": {"summer": 0.125, "summer+winter": 0.5}}
+    write_learner_record(plan, ica, tmp_path / "ica.json")
     combined = read_learner_records(plan, ["pca", "ica"], tmp_path, tmp_path / "eval")
-    assert combined == {"pca": {"summer": 0.5, "summer+winter": 0.75}, "ica": {"summer": 0.25, "summer+winter": 0.625}}
+    assert combined == {
+        "pca": {"summer": 0.5, "summer+winter": 0.75},
+        "ica": {"summer": 0.25, "summer+winter": 0.625},
+        "ica@cityblock": {"summer": 0.125, "summer+winter": 0.5},
+    }
     # a record of another plan (other seasons lists) is stale: one clear line, not a wrong figure
     other = plan_ablation(seasons, "summer-fall", [["summer"]], ["summer-fall"])
     with pytest.raises(ValueError, match="pca.json: written for another ablation plan"):
@@ -161,13 +168,17 @@ def test_a_reused_label_is_not_refitted_and_is_read_from_the_pipelines_evaluatio
     assert reusable_label(plan, ["winter", "summer"], False, True) is None  # not a pipeline learner
     assert reusable_label(plan, ["winter", "summer"], True, False) is None  # pair not evaluated
     assert reusable_label(plan, seasons, True, True) is None  # no list of these seasons
-    write_learner_record(plan, {"summer": 0.5}, tmp_path / "pca.json", reused="summer+winter")
+    series = {"pca": {"summer": 0.5}, "pca@cityblock": {"summer": 0.25}}
+    write_learner_record(plan, series, tmp_path / "pca.json", reused="summer+winter")
     with pytest.raises(FileNotFoundError, match="evaluate@pca"):
         read_learner_records(plan, ["pca"], tmp_path, tmp_path / "eval")
     (tmp_path / "eval" / "pca").mkdir(parents=True)
     (tmp_path / "eval" / "pca" / "summer-fall.json").write_text(json.dumps({"fraction_correct": 0.875}))
+    # each distance's value from its own evaluation file
+    (tmp_path / "eval" / "pca" / "summer-fall@cityblock.json").write_text(json.dumps({"fraction_correct": 0.625}))
     assert read_learner_records(plan, ["pca"], tmp_path, tmp_path / "eval") == {
-        "pca": {"summer": 0.5, "summer+winter": 0.875}
+        "pca": {"summer": 0.5, "summer+winter": 0.875},
+        "pca@cityblock": {"summer": 0.25, "summer+winter": 0.625},
     }
 
 

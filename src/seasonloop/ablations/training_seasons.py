@@ -14,6 +14,10 @@ learner fit@<learner> fits, on the same images in the same order with the same p
 so its fraction correct is the one evaluate@<learner> wrote for the pair (same descriptors, same
 batches, same matching); `reusable_label` names that list and it is read back instead of refitted
 (`fill_reused`). At the study's scale this saves one ICA fit of the four.
+
+Distances: each fit is evaluated under evaluate.metric and every evaluate.extra_metrics, as the
+pipeline's tables are; a series is named as their rows, "<learner>" and "<learner>@<metric>", so
+that under L1 (not rotation invariant) the effect on ICA is told from the effect on its whitening.
 """
 
 from __future__ import annotations
@@ -26,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from seasonloop.evaluation.ground_truth import PairTruth
-from seasonloop.evaluation.matchers import match_pair
+from seasonloop.evaluation.matchers import match_pair, result_suffix
 from seasonloop.io import read_json, write_json
 from seasonloop.params.schema import check_seasons, pair_name, pair_present, parse_pair
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
@@ -103,8 +107,9 @@ def run_ablation(
     batch_size: int = 1024,
     skip: Mapping[str, str | None] | None = None,
 ) -> dict[str, dict[str, float]]:
-    """fraction_correct[method][training seasons joined by "+"] on the plan's pair, single-image
-    matching: for each method (new_learners[method]() gives an unfitted learner) and each list of
+    """fraction_correct[series][training seasons joined by "+"] on the plan's pair, single-image
+    matching, a series being a method under one distance ("<method>" under evaluate.metric,
+    "<method>@<metric>" under each of evaluate.extra_metrics): for each method (new_learners[method]() gives an unfitted learner) and each list of
     the plan, a learner fitted on training_set(list) = (images, the place id of each image). The
     place ids go to fit, so that an auto-encoder holds out whole places (every season and augmented
     copy of them) for validation. test[season] are the test images of the pair's seasons, both at
@@ -113,8 +118,10 @@ def run_ablation(
     assert plan.pair is not None and plan.labels is not None and plan.season_sets is not None, "a skipped plan"
     database, query = plan.pair
     fraction_correct: dict[str, dict[str, float]] = {}
+    metrics_used = [evaluate.metric, *evaluate.extra_metrics]
     for method, new_learner in new_learners.items():
-        fraction_correct[method] = {}
+        for metric in metrics_used:
+            fraction_correct[method + result_suffix(metric, "single", evaluate)] = {}
         for label, chosen in zip(plan.labels, plan.season_sets):
             if (skip or {}).get(method) == label:
                 continue
@@ -124,8 +131,13 @@ def run_ablation(
             database_descriptors, query_descriptors = (
                 learner.describe(test[season], batch_size=batch_size) for season in (database, query)
             )
-            metrics, _, _ = match_pair(database_descriptors, query_descriptors, truth, "single", evaluate, sequence)
-            fraction_correct[method][label] = metrics["fraction_correct"]
+            for metric in metrics_used:
+                metrics, _, _ = match_pair(
+                    database_descriptors, query_descriptors, truth, "single", evaluate, sequence, metric=metric
+                )
+                fraction_correct[method + result_suffix(metric, "single", evaluate)][label] = metrics[
+                    "fraction_correct"
+                ]
     return fraction_correct
 
 
@@ -145,8 +157,8 @@ def write_ablation(
     )
     plot_series(
         {
-            method: (plan.labels, [100 * values[label] for label in plan.labels])
-            for method, values in fraction_correct.items()
+            series: (plan.labels, [100 * values[label] for label in plan.labels])
+            for series, values in fraction_correct.items()
         },
         figure,
         title=f"Training-season effect on {pair}",
@@ -156,10 +168,14 @@ def write_ablation(
 
 
 def write_learner_record(
-    plan: AblationPlan, fraction_correct: Mapping[str, float] | None, record: Path, reused: str | None = None
+    plan: AblationPlan,
+    fraction_correct: Mapping[str, Mapping[str, float]] | None,
+    record: Path,
+    reused: str | None = None,
 ) -> None:
-    """One learner's part of the ablation: fraction_correct[training seasons] on the plan's pair
-    (None for a skipped plan, whose record says why); `reused` is the label left to fill_reused."""
+    """One learner's part of the ablation: fraction_correct[series][training seasons] on the plan's
+    pair (run_ablation's series of this learner; None for a skipped plan, whose record says why);
+    `reused` is the label left to fill_reused."""
     if plan.skipped:
         write_json(record, {"skipped": plan.skipped})
         return
@@ -168,7 +184,7 @@ def write_learner_record(
         record,
         {
             "pair": pair_name(*plan.pair),
-            "fraction_correct": dict(fraction_correct),
+            "fraction_correct": {series: dict(values) for series, values in fraction_correct.items()},
             "reused_from_pipeline": [reused] if reused else [],
         },
     )
@@ -177,30 +193,35 @@ def write_learner_record(
 def read_learner_records(
     plan: AblationPlan, methods: Sequence[str], folder: Path, eval_dir: Path
 ) -> dict[str, dict[str, float]]:
-    """fraction_correct[method][label] from folder/<method>.json of every method, each checked to
+    """fraction_correct[series][label] from folder/<method>.json of every method, each checked to
     hold the plan's pair and season lists (a record of another plan is a stale input); a reused
     label's value from eval_dir (fill_reused)."""
     assert plan.pair is not None
-    fraction_correct = {}
+    fraction_correct: dict[str, dict[str, float]] = {}
     for method in methods:
         path = folder / f"{method}.json"
         if not path.is_file():
             raise FileNotFoundError(f"{path}: not found (run the stage training_seasons_fit@{method} first)")
         record = read_json(path)
-        labels = set(record.get("fraction_correct", {})) | set(record.get("reused_from_pipeline", []))
+        reused = set(record.get("reused_from_pipeline", []))
+        series = record.get("fraction_correct", {})
         # JSON keys are sorted: compare the season lists as sets
-        if record.get("pair") != pair_name(*plan.pair) or labels != set(plan.labels):
+        stale = not series or any(set(values) | reused != set(plan.labels) for values in series.values())
+        if record.get("pair") != pair_name(*plan.pair) or stale:
             raise ValueError(f"{path}: written for another ablation plan than {pair_name(*plan.pair)} on {plan.labels}")
-        fraction_correct[method] = dict(record["fraction_correct"])
-        for label in record.get("reused_from_pipeline", []):
-            fraction_correct[method][label] = fill_reused(method, pair_name(*plan.pair), eval_dir)
+        for name, values in series.items():
+            fraction_correct[name] = dict(values)
+            for label in reused:
+                fraction_correct[name][label] = fill_reused(name, pair_name(*plan.pair), eval_dir)
     return fraction_correct
 
 
-def fill_reused(method: str, pair: str, eval_dir: Path) -> float:
-    """The single-image fraction correct that evaluate@<method> wrote for `pair` under
-    evaluate.metric: the ablation's value for the pipeline's own training set (module doc)."""
-    path = eval_dir / method / f"{pair}.json"
+def fill_reused(series: str, pair: str, eval_dir: Path) -> float:
+    """The single-image fraction correct that evaluate@<method> wrote for `pair` under the series'
+    distance ("<method>": evaluate.metric, "<method>@<metric>": that one): the ablation's value for
+    the pipeline's own training set (module doc)."""
+    method, _, metric = series.partition("@")
+    path = eval_dir / method / f"{pair}{'@' + metric if metric else ''}.json"
     if not path.is_file():
         raise FileNotFoundError(f"{path}: not found (run the stage evaluate@{method} first)")
     return float(read_json(path)["fraction_correct"])

@@ -13,8 +13,8 @@ from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text
 
 
 def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -> Section:
-    """The training-season effect (study Figure 18): {"pair", "fraction_correct": {method: {seasons: value}},
-    "notes": [...]}, or {"skipped": why} when the run's seasons do not allow it."""
+    """The training-season effect (study Figure 18): {"pair", "fraction_correct": {series: {seasons: value}},
+    "notes": [...]}, a series being a learner under one distance ("<learner>@<metric>": an extra one), or {"skipped": why} when the run's seasons do not allow it."""
     if "skipped" in training_seasons:
         return Section(
             "Training-season effect", [Text(f"The training-season ablation was {training_seasons['skipped']}.")]
@@ -25,7 +25,11 @@ def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -
         "Training-season effect",
         [
             *(Text(note) for note in training_seasons.get("notes", [])),
-            Table(f"Fraction correct (%) on {pair}, single-image matching, by the seasons trained on", table),
+            Table(
+                f"Fraction correct (%) on {pair}, single-image matching, by the seasons trained on "
+                "(<learner>@<metric>: under that distance)",
+                table,
+            ),
             Image(f"Training-season effect on {pair} (study Fig. 18)", figure),
         ],
     )

@@ -111,9 +111,12 @@ def load_training_seasons(path: Path, methods: Sequence[str]) -> dict[str, Any]:
     lists in the order the ablation ran them; a skipped ablation's record as it is."""
     training = read_json(path)
     if "skipped" not in training:
+        series = training["fraction_correct"]
+        ordered(series, methods, str(path))  # every learner's main-distance series is there
+        # each learner's series: its main distance's, then "<learner>@<metric>" of the extra ones
+        names = [name for method in methods for name in sorted(series) if name.partition("@")[0] == method]
         training["fraction_correct"] = {
-            method: ordered(values, training["season_sets"], str(path))
-            for method, values in ordered(training["fraction_correct"], methods, str(path)).items()
+            name: ordered(series[name], training["season_sets"], str(path)) for name in names
         }
     return training
 

@@ -1,9 +1,19 @@
-"""Our torch FastICA vs scikit-learn's, side by side on the same data: fit time and quality.
+"""Every ICA solver side by side on the same images, to the same stationarity measure.
 
-Quality: Amari distance on a synthetic mixture of known Laplace sources, and the fraction of
-correct best matches each model's descriptors give on one test pair.
+    python benchmarks/bench_ica.py [--sizes default full] [--full-max-iter 100] [--sweep-components 512 1024]
 
-    python benchmarks/bench_ica.py [--n-samples 8000] [--n-components 256] [--pair summer-fall]
+Sizes: "default" is the default run's scale (12,080 training images of 2,048 pixels, 128
+components, ica.max_iter iterations at most); "full" the study's (16,000 images, all 2,048
+components, --full-max-iter iterations at most: no solver reaches tol there in a benchmark's time,
+so each gets the same iteration budget). Every solver (seasonloop.models.ica.ICA_SOLVERS, through
+the pipeline's ICALearner) fits in its own process, so that its peak memory is its own, one after
+the other. Each reports the relative gradient it reached (max |skew(diag(s) E[g(y) y^T])|, the
+measure `converged` is defined on) and its own stopping test.
+
+The speed ratio is at equal quality: Picard's iterations trace their gradient, so its time to the
+gradient where scikit-learn's FastICA stopped is compared with FastICA's time to stop there (and
+its time to ica.tol is given beside). At the default size each solver also unmixes a synthetic
+mixture of 64 known Laplace sources: the Amari distance to the true mixing (0 = recovered).
 
 Writes benchmarks/results/bench_ica.json; the headline line is printed last.
 """
@@ -11,154 +21,233 @@ Writes benchmarks/results/bench_ica.json; the headline line is printed last.
 from __future__ import annotations
 
 import argparse
+import json
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
 
 import numpy as np
-import torch
+import yaml
 
-from _common import load_note, machine, pair_images, timed, training_images, write_result
-from seasonloop.evaluation.matching import distance_matrix
-from seasonloop.evaluation.metrics import evaluate_pair
-from seasonloop.models.core.fastica import TorchFastICA, amari_distance
-from seasonloop.models.core.learner import to_float
-from seasonloop.models.ica import fit_fastica
-from seasonloop.params.schema import parse_pair
+from _common import load_note, machine, timed, training_images, write_result
+from seasonloop.models.core.torch_ica import amari_distance
+from seasonloop.models.registry import get_learner
+
+# (name, ica.solver, ica.precision): every solver, the torch ones in both precisions
+SOLVERS = (
+    ("sklearn", "sklearn", "float32"),
+    ("fastica", "fastica", "float32"),
+    ("picard", "picard", "float32"),
+    ("picard_float64", "picard", "float64"),
+    ("python_picard", "python_picard", "float64"),
+)
+# size -> (training images, components, whiten_solver): the default run's and presets/full.yaml's
+SIZES = {"default": (12080, 128, "eigh"), "full": (16000, 2048, "svd")}
+MIXTURE_SOURCES = 64
 
 
 def parse_args() -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--n-samples", type=int, default=8000, help="training images (2048 pixels each)")
-    parser.add_argument("--n-components", type=int, default=256)
-    parser.add_argument("--max-iter", type=int, default=400)
-    parser.add_argument("--tol", type=float, default=1e-4)
-    parser.add_argument("--whiten-solver", default="eigh", choices=("eigh", "svd"))
+    parser.add_argument("--sizes", nargs="+", default=list(SIZES), choices=list(SIZES))
+    parser.add_argument("--solvers", nargs="+", default=[name for name, _, _ in SOLVERS])
+    parser.add_argument("--full-max-iter", type=int, default=100, help="every solver's iteration budget at full size")
+    parser.add_argument(
+        "--sweep-components",
+        type=int,
+        nargs="*",
+        default=[],
+        help="Picard alone at the full size with these components",
+    )
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--pair", default="summer-fall", help="test pair database-query for the fraction correct")
-    parser.add_argument("--metric", default="cosine", choices=("cosine", "euclidean", "cityblock"))
-    parser.add_argument("--amari-sources", type=int, default=64, help="known sources in the synthetic mixture")
+    parser.add_argument("--child", nargs=2, metavar=("SETTINGS", "RESULT"), help=argparse.SUPPRESS)
     return parser.parse_args()
 
 
-def fit_both(data: np.ndarray, n_components: int, args: argparse.Namespace) -> dict:
-    """Fit scikit-learn's and our FastICA (CPU, and CUDA when present) on the same data."""
-    settings = dict(n_components=n_components, max_iter=args.max_iter, tol=args.tol, seed=args.seed)
-    (sklearn_model, sklearn_record), sklearn_seconds = timed(
-        lambda: fit_fastica(data, whiten_solver=args.whiten_solver, **settings)
-    )
-    ours, ours_seconds = timed(
-        lambda: TorchFastICA(whiten_solver=args.whiten_solver, device="cpu", **settings).fit(data)
-    )
-    fits = {
-        "sklearn": {
-            "model": sklearn_model,
-            "seconds": sklearn_seconds,
-            "n_iter": sklearn_record["n_iter"],
-            "converged": sklearn_record["converged"],
-        },
-        "torch_cpu": {"model": ours, "seconds": ours_seconds, "n_iter": ours.n_iter_, "converged": ours.converged_},
+def fit_in_this_process(settings: dict) -> dict:
+    """One solver's fit of settings["data"] (uint8 images or float mixtures, .npy) with the
+    pipeline's ICALearner; its fit record, wall time, gradient trace and this process's peak memory."""
+    data = np.load(settings["data"])
+    learner = get_learner("ica")(settings["params"], seed=settings["seed"])
+    record, seconds = timed(lambda: learner.fit(data if data.ndim == 3 else data.reshape(len(data), 32, 64)))
+    result = {
+        "seconds": seconds,
+        "record": record,
+        "trace": getattr(learner.estimator, "trace_", []),
+        "peak_rss_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
     }
-    if torch.cuda.is_available():
-        TorchFastICA(whiten_solver=args.whiten_solver, device="cuda", **settings).fit(data[:1000])  # warm-up
-        torch.cuda.synchronize()
-        gpu, gpu_seconds = timed(
-            lambda: TorchFastICA(whiten_solver=args.whiten_solver, device="cuda", **settings).fit(data)
-        )
-        fits["torch_cuda"] = {"model": gpu, "seconds": gpu_seconds, "n_iter": gpu.n_iter_, "converged": gpu.converged_}
-    return fits
+    if settings.get("mixing"):
+        result["amari"] = amari_distance(learner.estimator.components_, np.load(settings["mixing"]))
+    return result
 
 
-def synthetic_mixture(n_samples: int, n_sources: int, n_features: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
-    """Laplace sources mixed by a random (n_features, n_sources) matrix, plus 1% noise."""
+def fit_in_child(settings: dict, folder: Path) -> dict:
+    """fit_in_this_process in a fresh Python process (its peak memory measured alone)."""
+    settings_path, result_path = folder / "settings.json", folder / "result.json"
+    settings_path.write_text(json.dumps(settings))
+    subprocess.run(
+        [sys.executable, __file__, "--child", str(settings_path), str(result_path)], check=True, cwd=Path.cwd()
+    )
+    return json.loads(result_path.read_text())
+
+
+def time_to_gradient(result: dict, gradient: float) -> float | None:
+    """Seconds into the fit when a traced solver first had a gradient <= `gradient` (None: never, or no trace)."""
+    return next((seconds for seconds, value in result["trace"] if value <= gradient), None)
+
+
+def known_mixture(n_samples: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """MIXTURE_SOURCES Laplace sources mixed into 2048 "pixels" by a random matrix, plus 1% noise
+    (float data in [0, 1]-like range is not needed: ICA centres and whitens)."""
     rng = np.random.default_rng(seed)
-    mixing = rng.normal(size=(n_features, n_sources))
-    data = rng.laplace(size=(n_samples, n_sources)) @ mixing.T + 0.01 * rng.normal(size=(n_samples, n_features))
+    mixing = rng.normal(size=(32 * 64, MIXTURE_SOURCES))
+    data = rng.laplace(size=(n_samples, MIXTURE_SOURCES)) @ mixing.T + 0.01 * rng.normal(size=(n_samples, 32 * 64))
     return data.astype(np.float32), mixing
+
+
+def run_size(size: str, args: argparse.Namespace, ica_params: dict, folder: Path) -> dict:
+    n_samples, n_components, whiten_solver = SIZES[size]
+    images, source = training_images(n_samples, args.seed)
+    np.save(folder / "images.npy", images)
+    max_iter = ica_params["max_iter"] if size == "default" else args.full_max_iter
+    print(
+        f"\n{size} size: {len(images)} x {images.shape[1] * images.shape[2]} images from {source}; "
+        f"{n_components} components, whiten_solver {whiten_solver}, max_iter {max_iter}, tol {ica_params['tol']}"
+    )
+    mixture = None
+    if size == "default":
+        data, mixing = known_mixture(n_samples, args.seed)
+        np.save(folder / "mixture.npy", data)
+        np.save(folder / "mixing.npy", mixing)
+        mixture = {"data": str(folder / "mixture.npy"), "mixing": str(folder / "mixing.npy")}
+    results = {}
+    for name, solver, precision in SOLVERS:
+        if name not in args.solvers:
+            continue
+        params = {
+            **ica_params,
+            "solver": solver,
+            "precision": precision,
+            "n_components": n_components,
+            "whiten_solver": whiten_solver,
+            "max_iter": max_iter,
+            "max_train_images": 0,
+            "device": "cpu",
+        }
+        result = fit_in_child({"data": str(folder / "images.npy"), "params": params, "seed": args.seed}, folder)
+        if mixture:
+            known = fit_in_child(
+                {**mixture, "params": {**params, "n_components": MIXTURE_SOURCES}, "seed": args.seed}, folder
+            )
+            result["amari_known_sources"] = known["amari"]
+        record = result["record"]
+        results[name] = result
+        print(
+            f"  {name:15s} {result['seconds']:8.1f} s, {record['n_iter']:5d} iterations, gradient "
+            f"{record['gradient']:.2e} (converged {record['converged']}; own test {record['own_criterion']['name']} "
+            f"met {record['own_criterion']['met']}), peak memory {result['peak_rss_bytes'] / 2**30:.2f} GiB"
+            + (f", Amari on known sources {result['amari_known_sources']:.4f}" if mixture else "")
+        )
+    return {
+        "data": source,
+        "n_samples": len(images),
+        "n_components": n_components,
+        "max_iter": max_iter,
+        "fits": results,
+    }
+
+
+def compare(size: str, measured: dict) -> str:
+    """The equal-quality ratio of Picard (float32) against scikit-learn's FastICA, as one line."""
+    fits = measured["fits"]
+    if "picard" not in fits or "sklearn" not in fits:
+        return f"{size}: picard or sklearn not run"
+    sklearn, picard = fits["sklearn"], fits["picard"]
+    target = sklearn["record"]["gradient"]
+    reached = time_to_gradient(picard, target)
+    status = (
+        f"Picard converged (gradient {picard['record']['gradient']:.1e} < tol) in {picard['seconds']:.1f} s"
+        if picard["record"]["converged"]
+        else f"Picard not converged in {picard['record']['n_iter']} iterations (gradient {picard['record']['gradient']:.1e})"
+    )
+    fastica = (
+        f"scikit-learn's FastICA stopped at gradient {target:.1e} after {sklearn['record']['n_iter']} iterations, "
+        f"{sklearn['seconds']:.1f} s (converged {sklearn['record']['converged']})"
+    )
+    if reached is None:
+        return f"{size}: {status}; it never reached the gradient where {fastica}"
+    return (
+        f"{size} ({measured['n_samples']} x 2048, {measured['n_components']} components): {status}; "
+        f"{fastica}; Picard reached that gradient in {reached:.1f} s: {sklearn['seconds'] / reached:.1f}x faster "
+        f"at equal gradient"
+    )
+
+
+def sweep_components(args: argparse.Namespace, ica_params: dict, folder: Path) -> dict:
+    """Picard (float32) at the full size's 16,000 images with fewer components, each to ica.tol
+    within ica.max_iter: how far the full preset can keep a converged ICA (presets/full.yaml)."""
+    n_samples, _, whiten_solver = SIZES["full"]
+    images, source = training_images(n_samples, args.seed)
+    np.save(folder / "images.npy", images)
+    print(
+        f"\ncomponents sweep: Picard float32 on {len(images)} images from {source}, max_iter {ica_params['max_iter']}"
+    )
+    results = {}
+    for n_components in args.sweep_components:
+        params = {
+            **ica_params,
+            "solver": "picard",
+            "precision": "float32",
+            "n_components": n_components,
+            "whiten_solver": whiten_solver,
+            "max_train_images": 0,
+            "device": "cpu",
+        }
+        result = fit_in_child({"data": str(folder / "images.npy"), "params": params, "seed": args.seed}, folder)
+        record = result["record"]
+        print(
+            f"  {n_components:5d} components: {result['seconds']:8.1f} s, {record['n_iter']:5d} iterations, "
+            f"gradient {record['gradient']:.2e}, converged {record['converged']}, "
+            f"peak memory {result['peak_rss_bytes'] / 2**30:.2f} GiB"
+        )
+        results[str(n_components)] = {key: value for key, value in result.items() if key != "trace"}
+    return {"data": source, "n_samples": len(images), "fits": results}
 
 
 def main() -> None:
     args = parse_args()
+    if args.child:
+        settings = json.loads(Path(args.child[0]).read_text())
+        Path(args.child[1]).write_text(json.dumps(fit_in_this_process(settings)))
+        return
     measured_on = machine()
-    database, query = parse_pair(args.pair)
-    images, source = training_images(args.n_samples, args.seed)
-    data = to_float(images).reshape(len(images), -1)
-    print(f"training data: {data.shape[0]} x {data.shape[1]} float32 from {source}")
-    print(
-        f"FastICA: n_components {args.n_components}, max_iter {args.max_iter}, tol {args.tol}, "
-        f"whiten_solver {args.whiten_solver}, parallel, logcosh; torch threads {torch.get_num_threads()}"
-    )
-    if not torch.cuda.is_available():
-        print("CUDA not available: torch timed on the CPU only")
-
-    fits = fit_both(data, args.n_components, args)
-    sklearn_seconds = fits["sklearn"]["seconds"]
-    for name, fit in fits.items():
-        print(
-            f"  fit {name:9s}: {fit['seconds']:8.2f} s, {fit['n_iter']:4d} iterations, converged {fit['converged']}, "
-            f"speed-up vs sklearn {sklearn_seconds / fit['seconds']:.2f}x"
-        )
-
-    # The same pair, described by each model.
-    database_images, query_images, places, pair_source = pair_images(database, query, args.seed)
-    quality = {}
-    for name, fit in fits.items():
-        describe = lambda batch: fit["model"].transform(to_float(batch).reshape(len(batch), -1))  # noqa: E731, B023 (called at once)
-        distances = distance_matrix(describe(database_images), describe(query_images), args.metric)
-        metrics, _ = evaluate_pair(distances, places, places, tolerance=0)
-        quality[name] = {key: metrics[key] for key in ("fraction_correct", "auc_pr", "recall_at_100_precision")}
-        print(
-            f"  {args.pair} ({len(places)} places, {pair_source}) {name:9s}: fraction correct "
-            f"{metrics['fraction_correct']:.4f}, AUC-PR {metrics['auc_pr']:.4f}"
-        )
-    # Ours vs scikit-learn's unmixing: 0 when one is a scaled permutation of the other.
-    cross_amari = amari_distance(fits["torch_cpu"]["model"].components_, fits["sklearn"]["model"].mixing_)
-    print(f"  Amari distance between the torch and sklearn unmixing on these images: {cross_amari:.4f}")
-
-    mixture, mixing = synthetic_mixture(args.n_samples, args.amari_sources, data.shape[1], args.seed)
-    mixture_fits = fit_both(mixture, args.amari_sources, args)
-    amari = {name: amari_distance(fit["model"].components_, mixing) for name, fit in mixture_fits.items()}
-    for name, fit in mixture_fits.items():
-        print(
-            f"  known sources ({args.n_samples} x {data.shape[1]}, {args.amari_sources} Laplace sources) {name:9s}: "
-            f"Amari distance {amari[name]:.4f}, {fit['seconds']:.2f} s, {fit['n_iter']} iterations"
-        )
-
-    speedup = sklearn_seconds / fits["torch_cpu"]["seconds"]
-    # A speed ratio means something only when both stopped for the same reason: tol reached.
-    equal_convergence = fits["sklearn"]["converged"] and fits["torch_cpu"]["converged"]
-    convergence = (
-        f"both converged to tol {args.tol} (sklearn {fits['sklearn']['n_iter']}, torch "
-        f"{fits['torch_cpu']['n_iter']} iterations)"
-        if equal_convergence
-        else f"NOT at equal convergence: sklearn converged {fits['sklearn']['converged']} in {fits['sklearn']['n_iter']}, "
-        f"torch converged {fits['torch_cpu']['converged']} in {fits['torch_cpu']['n_iter']} iterations"
-    )
-    print(f"  convergence: {convergence}")
+    ica_params = yaml.safe_load(Path("params.yaml").read_text())["ica"]
+    print(f"machine: {measured_on['cpu']}, {measured_on['torch_threads']} torch threads; ica params of params.yaml")
+    started = time.perf_counter()
+    sizes = {}
+    with tempfile.TemporaryDirectory() as folder:
+        for size in args.sizes:
+            sizes[size] = run_size(size, args, ica_params, Path(folder))
+        sweep = sweep_components(args, ica_params, Path(folder)) if args.sweep_components else None
+    lines = [compare(size, measured) for size, measured in sizes.items()]
+    for line in lines:
+        print(line)
     note = load_note(measured_on)
     record = {
-        "args": vars(args),
-        "data": source,
-        "pair_data": pair_source,
-        "fit": {name: {key: value for key, value in fit.items() if key != "model"} for name, fit in fits.items()},
-        "speedup_cpu": speedup,
-        "equal_convergence": equal_convergence,
-        "quality": quality,
-        "amari_torch_vs_sklearn": cross_amari,
-        "amari_known_sources": amari,
-        "mixture_fit_seconds": {name: fit["seconds"] for name, fit in mixture_fits.items()},
+        "args": {key: value for key, value in vars(args).items() if key != "child"},
+        "ica_params": ica_params,
+        "sizes": sizes,
+        "components_sweep": sweep,
+        "seconds": time.perf_counter() - started,
         "load_note": note,
+        "headline": " | ".join(lines),
     }
-    record["headline"] = (
-        f"torch FastICA fit {speedup:.1f}x faster than scikit-learn on the CPU "
-        f"({fits['torch_cpu']['seconds']:.1f} s vs {sklearn_seconds:.1f} s, {data.shape[0]} x {data.shape[1]}, "
-        f"{args.n_components} components, {torch.get_num_threads()} threads; {convergence}); fraction correct {args.pair} "
-        f"{quality['torch_cpu']['fraction_correct']:.4f} vs {quality['sklearn']['fraction_correct']:.4f}; "
-        f"Amari on known sources {amari['torch_cpu']:.4f} vs {amari['sklearn']:.4f}"
-    )
     path = write_result("bench_ica", record, measured_on)
     print(f"wrote {path}")
     if note:
         print(note)
-    if "torch_cuda" in fits:
-        print(f"torch FastICA on CUDA: {sklearn_seconds / fits['torch_cuda']['seconds']:.1f}x faster than sklearn")
     print(f"HEADLINE: {record['headline']}")
 
 

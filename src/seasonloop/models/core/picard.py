@@ -62,23 +62,9 @@ class TorchPicard(TorchICA):
             if iteration % REFRESH_EVERY == 0 and not fresh:
                 unmixing, sources, loss = self._refresh(unmixing, whitened)
                 fresh = True
-            score, mean_derivative = density.score(sources)
-            moments = score @ sources.T / n_samples
-            del score
-            # the extended rule: s_i = sign(E[g'] E[y_i^2] - E[g(y_i) y_i])
-            variances = (sources * sources).mean(dim=1)
-            new_signs = torch.sign(mean_derivative * variances - torch.diagonal(moments))
+            new_signs, gradient, hessian = _gradient_and_hessian(sources, density, n_samples)
             sign_change = signs is not None and bool((new_signs != signs).any())
             signs = new_signs
-            moments = moments * signs[:, None]
-            mean_derivative = mean_derivative * signs
-            # Picard's Hessian approximation, regularised to eigenvalues >= LAMBDA_MIN
-            off_diagonal = torch.diagonal(moments)
-            hessian = 0.5 * (
-                mean_derivative[:, None] + mean_derivative[None, :] - off_diagonal[:, None] - off_diagonal[None, :]
-            )
-            hessian = hessian.clamp_min(LAMBDA_MIN)
-            gradient = (moments - moments.T) / 2
             gradient_norm = float(gradient.abs().max())
             self.trace_.append((time.perf_counter() - self.started_, gradient_norm))
             bar.update()
@@ -141,6 +127,26 @@ def _lbfgs_direction(
         beta = rho * float((change * z).sum())
         z += (alpha - beta) * step
     return -z
+
+
+def _gradient_and_hessian(
+    sources: torch.Tensor, density: Density, n_samples: int
+) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    """(the extended signs s, the relative gradient, Picard's Hessian approximation) at `sources`."""
+    score, mean_derivative = density.score(sources)
+    moments = score @ sources.T / n_samples
+    del score
+    # the extended rule: s_i = sign(E[g'] E[y_i^2] - E[g(y_i) y_i])
+    variances = (sources * sources).mean(dim=1)
+    signs = torch.sign(mean_derivative * variances - torch.diagonal(moments))
+    moments = moments * signs[:, None]
+    mean_derivative = mean_derivative * signs
+    # Picard's Hessian approximation, regularised to eigenvalues >= LAMBDA_MIN
+    off_diagonal = torch.diagonal(moments)
+    hessian = 0.5 * (
+        mean_derivative[:, None] + mean_derivative[None, :] - off_diagonal[:, None] - off_diagonal[None, :]
+    )
+    return signs, (moments - moments.T) / 2, hessian.clamp_min(LAMBDA_MIN)
 
 
 def _loss(sources: torch.Tensor, density: Density, signs: torch.Tensor) -> float:

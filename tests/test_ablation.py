@@ -18,6 +18,21 @@ STUDY_SETS = [["summer"], ["summer", "winter"], ["summer", "winter", "spring"], 
 PAIRS = ["summer-fall", "summer-spring", "spring-fall", "winter-summer", "winter-fall", "winter-spring"]
 
 
+def matching_settings(extra_metrics: tuple[str, ...] = ()) -> tuple[EvaluateConfig, SequenceConfig]:
+    """The ablation tests' evaluation: summer-fall, Euclidean, single-image matching."""
+    evaluate = EvaluateConfig(
+        pairs=("summer-fall",),
+        metric="euclidean",
+        extra_metrics=extra_metrics,
+        confidence="ratio",
+        ratio_exclusion=0,
+        tolerance_frames=0,
+        tolerance_m=10.0,
+        matchers=("single",),
+    )
+    return evaluate, SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
+
+
 def test_all_seasons_keep_the_study_plan():
     plan = plan_ablation(["summer", "spring", "fall", "winter"], "summer-fall", STUDY_SETS, PAIRS)
     assert plan.pair == ("summer", "fall") and plan.season_sets == STUDY_SETS and not plan.notes
@@ -76,17 +91,7 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
     rng = np.random.default_rng(0)
     test = {"summer": rng.random((6, 4, 8))}
     test["fall"] = test["summer"] + rng.normal(0, 0.01, (6, 4, 8))
-    evaluate = EvaluateConfig(
-        pairs=("summer-fall",),
-        metric="euclidean",
-        extra_metrics=("cityblock",),
-        confidence="ratio",
-        ratio_exclusion=0,
-        tolerance_frames=0,
-        tolerance_m=10.0,
-        matchers=("single",),
-    )
-    sequence = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
+    evaluate, sequence = matching_settings(extra_metrics=("cityblock",))
     made = []
 
     def new_learner():
@@ -188,17 +193,7 @@ def test_run_ablation_skips_the_reused_label(tmp_path):
     )
     rng = np.random.default_rng(0)
     test = {"summer": rng.random((6, 4, 8)), "fall": rng.random((6, 4, 8))}
-    evaluate = EvaluateConfig(
-        pairs=("summer-fall",),
-        metric="euclidean",
-        extra_metrics=(),
-        confidence="ratio",
-        ratio_exclusion=0,
-        tolerance_frames=0,
-        tolerance_m=10.0,
-        matchers=("single",),
-    )
-    sequence = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
+    evaluate, sequence = matching_settings()
     MeanLearner.fitted_on, MeanLearner.places = [], []
     fraction_correct = run_ablation(
         plan,

@@ -29,10 +29,14 @@ LAYOUT = Path("data/acquired/layout.json")
 DETECTION = Path("metrics/detection.json")
 
 
-def reference_places(kind: str, seasons: list[str], counts: dict[str, int], truth_dir: Path) -> dict[str, np.ndarray]:
-    """season -> the first season's place for each of its frames, by position or by matrix."""
+def reference_places(
+    kind: str, seasons: list[str], counts: dict[str, int], truth_dir: Path, tolerance_m: float
+) -> dict[str, np.ndarray]:
+    """season -> the first season's place for each of its frames (-1: none), by position (within
+    tolerance_m) or by matrix."""
     if kind == "positions":
-        return by_position({season: load_array(FRAMES / f"{season}_positions.npy") for season in seasons}, seasons[0])
+        positions = {season: load_array(FRAMES / f"{season}_positions.npy") for season in seasons}
+        return by_position(positions, seasons[0], tolerance_m)
     first = seasons[0]
     mapped = {first: np.arange(counts[first])}
     for season in seasons[1:]:
@@ -50,6 +54,7 @@ def main() -> None:
         "data.ground_truth",
         "data.ground_truth_dir",
         "extract.fps",
+        "evaluate.tolerance_m",
         "split",
     )
     seasons = data_seasons(params)
@@ -68,7 +73,8 @@ def main() -> None:
             detection = detection_record(tunnel, stop, layout.in_tunnel(), layout.stopped(), seconds)
     else:
         counts = {season: len(stats[f"{season}_brightness"]) for season in seasons}
-        mapped = reference_places(kind, seasons, counts, Path(param(params, "data.ground_truth_dir")))
+        truth_dir = Path(param(params, "data.ground_truth_dir"))
+        mapped = reference_places(kind, seasons, counts, truth_dir, float(param(params, "evaluate.tolerance_m")))
         split = split_seasons(stats, seasons, config, mapped)
     with staged_dir(SPLIT) as out:
         write_split_sets(PREPROCESSED, out, seasons, split)

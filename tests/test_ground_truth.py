@@ -98,8 +98,9 @@ def test_positions_files_are_read_checked_and_converted(tmp_path):
     coordinates, names = read_table(good, ["lat", "lon"], "name")
     assert coordinates.shape == (2, 2) and list(names) == ["2.png", "1.png"]
     metres = degrees_to_metres({"summer": coordinates})["summer"]
-    # 0.001 degree of latitude is ~111 m
-    assert metres[1, 0] - metres[0, 0] == pytest.approx(111.2, abs=0.5) and metres[1, 1] == pytest.approx(0.0)
+    # 0.001 degree of latitude at 63 degrees north is 111.4 m on the WGS84 ellipsoid, mostly north
+    assert np.linalg.norm(metres[1] - metres[0]) == pytest.approx(111.4, abs=0.1)
+    assert metres[1, 0] - metres[0, 0] == pytest.approx(111.4, abs=0.1)
     files = [tmp_path / "1.png", tmp_path / "2.png"]
     assert for_files(coordinates, names, files, good)[0, 0] == pytest.approx(63.001)
     with pytest.raises(ValueError, match="no position for 1 frames"):
@@ -147,7 +148,7 @@ def test_traverses_at_different_speeds_share_their_test_stretches():
     summer = np.arange(600.0)[:, None]
     fall = np.concatenate([np.arange(100.0, 300.0, 2.0), np.full(20, 300.0), np.arange(302.0, 600.0, 2.0)])[:, None]
     positions = {"summer": summer, "fall": fall}
-    mapped = by_position(positions, "summer")
+    mapped = by_position(positions, "summer", max_distance_m=2.0)
     stats = {
         "summer_brightness": np.full(600, 100.0),
         "summer_change": np.full(600, 5.0),
@@ -197,3 +198,131 @@ def test_the_schema_knows_every_kind_of_ground_truth():
     from seasonloop.params.schema import GROUND_TRUTHS
 
     assert GROUND_TRUTHS == KINDS
+
+
+def test_recall_at_n_leaves_out_queries_without_a_correct_place():
+    # VPR_Tutorial's recallAtK discards queries without a true match: three matchable queries, all
+    # matched right, and a fourth with no correct place give recall@1 1.0 (fraction correct 0.75)
+    correct = np.zeros((4, 4), dtype=bool)
+    correct[[0, 1, 2], [0, 1, 2]] = True
+    truth = PairTruth("positions", np.arange(4), np.arange(4), correct, np.array([0, 1, 2, -1]))
+    distances = np.full((4, 4), 0.9)
+    distances[np.arange(4), np.arange(4)] = [0.1, 0.2, 0.3, 0.4]
+    metrics, _ = evaluate_truth(distances, truth)
+    assert metrics["fraction_correct"] == 0.75
+    assert metrics["recall_at_1"] == metrics["recall_at_5"] == 1.0
+    # the area in VPR_Tutorial's convention is bounded by recall@1 (both over matchable queries)
+    assert metrics["auc_pr_vpr_tutorial"] <= metrics["recall_at_1"]
+
+
+def test_a_query_whose_places_are_all_soft_is_a_wrong_match_at_the_lowest_confidence():
+    # VPR_Tutorial sets soft cells to the lowest similarity: such a query's best match is a soft
+    # cell, not in the hard truth, at the lowest confidence of all
+    hard = np.eye(3, dtype=bool)
+    hard[2, 2] = False
+    soft = hard.copy()
+    soft[:, 2] = True  # every database place is soft for query place 2
+    truth = matrix_truth(hard, soft, np.arange(3), np.arange(3), "x.npz")
+    distances = np.array([[0.1, 0.9, 0.9], [0.9, 0.2, 0.9], [0.05, 0.05, 0.05]])
+    metrics, pr = evaluate_truth(distances, truth)
+    assert metrics["fraction_correct"] == pytest.approx(2 / 3)
+    assert pr["precision"].tolist() == [1.0, 1.0, pytest.approx(2 / 3)]
+    assert np.isfinite(metrics["auc_pr_vpr_tutorial"])
+
+
+def test_example_matches_skip_soft_cells_as_the_metrics_do():
+    from seasonloop.reporting.examples import select_examples
+
+    hard = np.eye(3, dtype=bool)
+    soft = hard.copy()
+    soft[2, 0] = True  # database place 2 is near query place 0: neither right nor wrong
+    truth = matrix_truth(hard, soft, np.arange(3), np.arange(3), "x.npz")
+    distances = np.array([[0.5, 0.9, 0.1], [0.9, 0.2, 0.9], [0.9, 0.9, 0.3]])
+    metrics, _ = evaluate_truth(distances, truth)
+    examples = select_examples(distances, truth, "distance", n=3)
+    assert metrics["fraction_correct"] == 1.0
+    assert all(example.correct for example in examples) and examples[-1].match == 0
+
+
+def test_frames_beyond_the_reference_route_belong_to_no_place():
+    # fall runs 300 m past summer's end: those frames are no place of summer's (-1), not all
+    # piled onto its last place, which lies in a test block
+    summer, fall = np.arange(600.0)[:, None], np.arange(900.0)[:, None]
+    mapped = by_position({"summer": summer, "fall": fall}, "summer", max_distance_m=10.0)
+    assert (mapped["fall"][:610] >= 0).all() and (mapped["fall"][610:] == -1).all()
+    stats = {
+        f"{s}_{k}": np.full(n, v)
+        for s, n in (("summer", 600), ("fall", 900))
+        for k, v in (("brightness", 100.0), ("change", 5.0))
+    }
+    config = SplitConfig(section_length=100, test_fraction=0.2, gap=5, dark_threshold=40, stop_threshold=1.0)
+    fall_split = split_seasons(stats, ["summer", "fall"], config, mapped).splits["fall"]
+    assert fall[fall_split.test, 0].max() < 610 and len(fall_split.test) == 120 + 10
+    with pytest.raises(ValueError, match="max_distance_m"):
+        by_position({"summer": summer}, "summer", max_distance_m=-1.0)
+
+
+def test_one_matrix_per_pair_of_seasons_serves_both_directions(tmp_path):
+    from seasonloop.evaluation.pair_truths import build_truths
+
+    hard = np.eye(4, 5, dtype=bool)  # (summer places, fall places)
+    soft = hard | np.eye(4, 5, k=1, dtype=bool)
+    np.savez(tmp_path / "summer-fall.npz", hard=hard, soft=soft)
+    split = {"seasons": {"summer": {"n_places": 4, "test": [0, 1, 3]}, "fall": {"n_places": 5, "test": [0, 1, 2, 4]}}}
+    evaluate = None  # a matrix truth reads no tolerance
+    truths = build_truths("matrix", split, ["summer", "fall"], evaluate, tmp_path, tmp_path)
+    forward, backward = truths["summer", "fall"], truths["fall", "summer"]
+    np.testing.assert_array_equal(backward.correct, forward.correct.T)
+    np.testing.assert_array_equal(backward.ignored, forward.ignored.T)
+    three = {"seasons": {**split["seasons"], "spring": split["seasons"]["fall"]}}
+    with pytest.raises(FileNotFoundError, match="nor spring-fall.npz.*spring queries against the fall database"):
+        build_truths("matrix", three, ["fall", "spring"], evaluate, tmp_path, tmp_path)
+
+
+def test_bad_positions_matrices_and_descriptors_are_one_line_errors(tmp_path):
+    from pathlib import Path
+
+    names = pd.Series(["a.png", "b.png", "a.png"])
+    with pytest.raises(ValueError, match=r"pos.csv: image name 'a.png' on 2 rows"):
+        for_files(np.zeros((3, 2)), names, [Path("a.png"), Path("b.png")], Path("pos.csv"))
+    np.save(tmp_path / "array.npy", np.eye(3, dtype=bool))
+    (tmp_path / "array.npy").rename(tmp_path / "summer-fall.npz")
+    with pytest.raises(ValueError, match=r"summer-fall.npz: not an .npz archive"):
+        read_matrix(tmp_path / "summer-fall.npz", 3, 3)
+    np.savez(tmp_path / "whole.npz", hard=np.eye(300, dtype=bool))
+    (tmp_path / "cut.npz").write_bytes((tmp_path / "whole.npz").read_bytes()[:500])
+    with pytest.raises(ValueError, match=r"cut.npz: cannot read the ground-truth matrix"):
+        read_matrix(tmp_path / "cut.npz", 300, 300)
+    descriptors = tmp_path / "descriptors"
+    descriptors.mkdir()
+    np.savez(descriptors / "archive.npz", x=np.zeros((4, 2)))
+    (descriptors / "archive.npz").rename(descriptors / "summer.npy")
+    np.save(descriptors / "fall.npy", np.zeros((4, 2), dtype=np.complex64))
+    learner = PrecomputedDescriptors({"dir": str(descriptors)})
+    learner.fit(np.zeros((2, 4, 4), np.uint8), progress=False)
+    images = np.zeros((2, 4, 4), np.uint8)
+    with pytest.raises(ValueError, match=r"summer.npy: cannot read descriptors \(an .npz archive"):
+        learner.describe_places(images, PlaceRows("summer", np.array([0, 1]), 4))
+    with pytest.raises(ValueError, match=r"fall.npy: expected a 2-D real-valued .* complex64"):
+        learner.describe_places(images, PlaceRows("fall", np.array([0, 1]), 4))
+
+
+def test_degrees_become_metres_that_keep_true_distances_along_nordland():
+    from pyproj import Geod
+
+    geod = Geod(ellps="WGS84")
+    # a route from Trondheim to Bodo; two points 20.00 m apart east-west at Bodo, two 20.00 m
+    # apart north-south at Trondheim (the old plane about the mean latitude made the first 21.08 m)
+    east, north, _ = geod.fwd(14.40, 67.28, 90.0, 20.0)
+    lon_s, lat_s, _ = geod.fwd(10.39, 63.43, 0.0, 20.0)
+    route = np.array([[63.43, 10.39], [lat_s, lon_s], [67.28, 14.40], [north, east]])
+    metres = degrees_to_metres({"summer": route}, ("lat", "lon"))["summer"]
+    assert np.linalg.norm(metres[1] - metres[0]) == pytest.approx(20.0, abs=0.01)
+    assert np.linalg.norm(metres[3] - metres[2]) == pytest.approx(20.0, abs=0.01)
+    # and the whole route's length as the geodesic says (within 0.05%)
+    _, _, length = geod.inv(10.39, 63.43, 14.40, 67.28)
+    assert np.linalg.norm(metres[2] - metres[0]) == pytest.approx(length, rel=5e-4)
+    with pytest.raises(ValueError, match=r"\['lon', 'lat'\] is longitude first"):
+        degrees_to_metres({"summer": route[:, ::-1]}, ("lon", "lat"))
+    with pytest.raises(ValueError, match="are the columns swapped"):
+        degrees_to_metres({"summer": np.array([[150.0, 60.0]])}, ("a", "b"))

@@ -6,13 +6,18 @@ import pytest
 from seasonloop.evaluation.sequence import enhance_distance_contrast, sequence_distances
 
 
-def reference_enhance(distances: np.ndarray, window: int) -> np.ndarray:
-    """Loop version: z-score over clipped windows of +-window//2 columns, then shift min to 0."""
+def reference_enhance(distances: np.ndarray, window: int, database_places=None) -> np.ndarray:
+    """Loop version: z-score over windows of +-window//2 columns clipped at the edges and at
+    breaks in the database places, then shift min to 0."""
     half = window // 2
+    segment = segments(np.arange(distances.shape[1]) if database_places is None else database_places)
     out = np.zeros(distances.shape)
     for i in range(distances.shape[0]):
         for j in range(distances.shape[1]):
-            values = distances[i, max(0, j - half) : j + half + 1]
+            columns = [
+                c for c in range(max(0, j - half), j + half + 1) if c < len(segment) and segment[c] == segment[j]
+            ]
+            values = distances[i, columns]
             if values.std() > 0:
                 out[i, j] = (distances[i, j] - values.mean()) / values.std()
     return out - out.min()
@@ -26,7 +31,7 @@ def segments(places):
 def reference_sequence(distances, length, velocities, window, query_places=None, database_places=None):
     """Loop version of the trailing-trajectory score; a trajectory stays inside one query segment
     (shorter near its start) and one database segment (else disqualified)."""
-    enhanced = reference_enhance(distances, window)
+    enhanced = reference_enhance(distances, window, database_places)
     n_queries, n_database = enhanced.shape
     query_segment = segments(np.arange(n_queries) if query_places is None else query_places)
     database_segment = segments(np.arange(n_database) if database_places is None else database_places)
@@ -113,7 +118,7 @@ def test_sequence_never_crosses_a_break_in_place_ids(v_min, v_max):
 def test_sequence_restarts_at_a_break():
     rng = np.random.default_rng(6)
     distances = rng.random((12, 15))
-    enhanced = enhance_distance_contrast(distances, window=4)
+    enhanced = enhance_distance_contrast(distances, window=4, database_places=DATABASE_PLACES)
     result = sequence_distances(
         distances,
         length=4,
@@ -176,3 +181,23 @@ def test_sequence_bad_inputs_raise():
         enhance_distance_contrast(distances, window=1)
     with pytest.raises(ValueError, match="NaN"):
         enhance_distance_contrast(np.full((2, 2), np.nan))
+
+
+def test_contrast_enhancement_windows_stop_at_breaks_in_the_database():
+    # two test blocks far apart on the route: changing the second must not move the first's
+    # enhanced columns (up to the one uniform shift that keeps the matrix non-negative)
+    rng = np.random.default_rng(3)
+    places = np.concatenate([np.arange(0, 12), np.arange(300, 312)])
+    distances = rng.random((5, places.size))
+    changed = distances.copy()
+    changed[:, 12:] = 10 * rng.random((5, 12))
+    first = enhance_distance_contrast(distances, 6, places)[:, :12]
+    again = enhance_distance_contrast(changed, 6, places)[:, :12]
+    offset = first - again
+    np.testing.assert_allclose(offset, offset.flat[0], atol=1e-5)
+    # the first block alone gives the same columns, up to that shift
+    alone = enhance_distance_contrast(distances[:, :12], 6, places[:12])
+    np.testing.assert_allclose(first - alone, (first - alone).flat[0], atol=1e-5)
+    # without the places the windows cross the break and the first block moves
+    crossing = enhance_distance_contrast(distances, 6)[:, :12] - enhance_distance_contrast(changed, 6)[:, :12]
+    assert np.ptp(crossing) > 1e-2

@@ -72,7 +72,7 @@ def extract_seasons(
                 out / f"{season}.npy", np.ascontiguousarray(load_array(out / f"{season}.npy", mmap=True)[kept[season]])
             )
     if positions is not None:
-        write_positions(out, coordinates, positions.units, kept)
+        write_positions(out, coordinates, positions, kept)
     places = {season: kept[season].stop - kept[season].start for season in seasons}
     stored = {season: load_array(out / f"{season}.npy", mmap=True) for season in seasons}
     return {
@@ -90,9 +90,11 @@ def extract_seasons(
     }
 
 
-def write_positions(out: Path, coordinates: Mapping[str, np.ndarray], units: str, kept: Mapping[str, slice]) -> None:
+def write_positions(
+    out: Path, coordinates: Mapping[str, np.ndarray], files: PositionFiles, kept: Mapping[str, slice]
+) -> None:
     """out/<season>_positions.npy: the kept places' positions in metres."""
-    metres = degrees_to_metres(coordinates) if units == "degrees" else coordinates
+    metres = degrees_to_metres(coordinates, files.columns) if files.units == "degrees" else coordinates
     for season, slice_ in kept.items():
         save_array(out / f"{season}_positions.npy", np.ascontiguousarray(metres[season][slice_]))
 

@@ -1,7 +1,7 @@
 """The geographic split of traverses that are not frame-aligned (different lengths, speeds, starts).
 
 Each frame of every season is mapped onto the first season's places (the reference): the reference
-place nearest it in position, or, with a ground-truth matrix, the middle of the reference places
+place nearest it in position if one is within the evaluation's tolerance (else none), or, with a ground-truth matrix, the middle of the reference places
 that the matrix says show it (-1: none, and the frame is used for nothing). The sections, test
 blocks and gaps are cut along the reference's places (seasonloop.data.split.split_masks), so they
 are the same stretches of track in every season, and a frame takes the part of its reference place:
@@ -49,14 +49,20 @@ class SeasonSplits:
         }
 
 
-def by_position(positions: Mapping[str, np.ndarray], reference: str) -> dict[str, np.ndarray]:
-    """season -> the reference place nearest each of its places ((n, k) metres each)."""
+def by_position(positions: Mapping[str, np.ndarray], reference: str, max_distance_m: float) -> dict[str, np.ndarray]:
+    """season -> the reference place nearest each of its places ((n, k) metres each), -1 where
+    none is within max_distance_m (the evaluation's tolerance: a frame that far from every
+    reference place lies on track the reference never drove, e.g. past its end)."""
     from sklearn.neighbors import NearestNeighbors  # here: only traverses that are not aligned need it
 
+    if not np.isfinite(max_distance_m) or max_distance_m < 0:
+        raise ValueError(f"max_distance_m must be a non-negative number of metres, got {max_distance_m!r}")
     index = NearestNeighbors(n_neighbors=1).fit(positions[reference])
-    return {
-        season: index.kneighbors(own, return_distance=False)[:, 0].astype(np.int64) for season, own in positions.items()
-    }
+    mapped = {}
+    for season, own in positions.items():
+        metres, nearest = index.kneighbors(own)
+        mapped[season] = np.where(metres[:, 0] <= max_distance_m, nearest[:, 0], -1).astype(np.int64)
+    return mapped
 
 
 def by_matrix(truth: np.ndarray, name: str) -> np.ndarray:

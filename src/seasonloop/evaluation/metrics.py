@@ -148,7 +148,9 @@ def recall_at_n(
 
 
 def truth_recall_at_n(distances: np.ndarray, truth: PairTruth, ns: Sequence[int] = (1, 5, 10)) -> dict[int, float]:
-    """Fraction of queries with a correct database image among their N nearest, per N.
+    """Fraction of the queries that have a correct database place with one among their N nearest,
+    per N; queries without any correct place are left out, as VPR_Tutorial's recallAtK does (0.0
+    when no query has one).
 
     N larger than the database size is capped at the database size. The nearest max(ns) columns
     are found with np.argpartition and ordered by (distance, column), so ties at the top resolve to
@@ -170,7 +172,9 @@ def truth_recall_at_n(distances: np.ndarray, truth: PairTruth, ns: Sequence[int]
     rank = np.lexsort((nearest, nearest_distances), axis=1)
     nearest = np.take_along_axis(nearest, rank, axis=1)
     hits = np.take_along_axis(truth.correct, nearest, axis=1)
-    hit_within = np.logical_or.accumulate(hits, axis=1)
+    hit_within = np.logical_or.accumulate(hits, axis=1)[truth.has_match]
+    if hit_within.shape[0] == 0:
+        return {n: 0.0 for n in ns}
     return {n: float(hit_within[:, min(n, n_database) - 1].mean()) for n in ns}
 
 
@@ -191,6 +195,32 @@ def evaluate_pair(
     return evaluate_truth(distances, truth, confidence, ratio_exclusion)
 
 
+def truth_matches(
+    distances: np.ndarray, truth: PairTruth, confidence: str = "distance", ratio_exclusion: int = 0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(best database column, its confidence, correct or not) per query, under the truth.
+
+    confidence and ratio_exclusion (in place ids) go to seasonloop.evaluation.matching.best_matches.
+    Cells the truth ignores (soft ground truth) are never picked. A query whose places are all soft
+    has no match to pick: as VPR_Tutorial (soft cells set to the lowest similarity) it counts as a
+    wrong match at the lowest confidence: -(the largest distance of the pair) under "distance"
+    confidence, as VPR_Tutorial's, and tied with the least confident other query under "ratio".
+    """
+    distances = _check_distances(distances, truth.database_places, truth.query_places)
+    if truth.ignored is None or not truth.ignored.any():
+        columns, scores = best_matches(distances, confidence, truth.database_places, ratio_exclusion)
+        return columns, scores, truth.correct[np.arange(len(columns)), columns]
+    all_soft = truth.ignored.all(axis=1)
+    masked = np.where(truth.ignored & ~all_soft[:, None], np.inf, distances).astype(distances.dtype)
+    columns, scores = best_matches(masked, confidence, truth.database_places, ratio_exclusion)
+    correct = truth.correct[np.arange(len(columns)), columns] & ~all_soft
+    if all_soft.any():
+        others = scores[~all_soft]
+        lowest = -float(distances.max()) if confidence == "distance" else (others.min() if others.size else 0.0)
+        scores = np.where(all_soft, lowest, scores)
+    return columns, scores, correct
+
+
 def evaluate_truth(
     distances: np.ndarray, truth: PairTruth, confidence: str = "distance", ratio_exclusion: int = 0
 ) -> tuple[dict[str, float | int], pd.DataFrame]:
@@ -203,18 +233,16 @@ def evaluate_truth(
     auc_pr, the trapezoidal area (as sklearn.metrics.auc) under the study-convention curve (pr_curve:
     recall reaches 1) with a leading point at recall 0 that carries the precision of the first
     threshold; auc_pr_vpr_tutorial, the same area in VPR_Tutorial's convention (recall = TP / N,
-    ending at the fraction correct; see auc_pr_vpr_tutorial), so at most fraction_correct;
-    recall_at_1/5/10; n_queries; n_database. confidence and ratio_exclusion (in place ids) are
-    passed to seasonloop.evaluation.matching.best_matches. Cells the truth ignores (soft ground
-    truth) are never picked. The PR DataFrame has columns recall, precision (one row per distinct
-    confidence).
+    ending at the fraction of matchable queries matched correctly; see auc_pr_vpr_tutorial), so at
+    most recall_at_1; recall_at_1/5/10 over the queries that have a correct place (as VPR_Tutorial;
+    fraction_correct counts every query, so the two differ when some have none); n_queries;
+    n_database. Matches come from truth_matches. The PR DataFrame has columns recall, precision
+    (one row per distinct confidence).
     """
     distances = _check_distances(distances, truth.database_places, truth.query_places)
+    best_columns, match_confidence, correct = truth_matches(distances, truth, confidence, ratio_exclusion)
     if truth.ignored is not None and truth.ignored.any():
         distances = np.where(truth.ignored, np.inf, distances).astype(distances.dtype)
-
-    best_columns, match_confidence = best_matches(distances, confidence, truth.database_places, ratio_exclusion)
-    correct = truth.correct[np.arange(len(best_columns)), best_columns]
     has_match = truth.has_match
     recall, precision = pr_curve(match_confidence, correct, has_match)
 

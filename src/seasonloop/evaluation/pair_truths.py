@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from seasonloop.data.datasets import season_part, season_split
-from seasonloop.data.truth_matrix import matrix_file, read_matrix
+from seasonloop.data.truth_matrix import pair_matrix
 from seasonloop.evaluation.ground_truth import KINDS, PairTruth, aligned_truth, matrix_truth, position_truth
 from seasonloop.io import load_array
 from seasonloop.params.schema import pair_name
@@ -35,7 +35,7 @@ def build_truths(
     """(database, query) -> its ground truth on the test places, for every ordered pair of seasons.
 
     positions are read from frames_dir/<season>_positions.npy, matrices from
-    matrix_dir/<database>-<query>.npz (seasonloop.data.truth_matrix)."""
+    matrix_dir/<database>-<query>.npz or its reverse, transposed (seasonloop.data.truth_matrix)."""
     if kind not in KINDS:
         raise ValueError(f"data.ground_truth: unknown kind '{kind}' (known: {', '.join(KINDS)})")
     test = {season: season_part(split, season, "test") for season in seasons}
@@ -61,8 +61,8 @@ def build_truths(
         counts = {season: int(season_split(split, season)["n_places"]) for season in seasons}
 
         def build(database: str, query: str) -> PairTruth:
-            path = matrix_file(matrix_dir, database, query)
-            hard, soft = read_matrix(path, counts[database], counts[query])
+            needed_for = f"the evaluation of {query} queries against the {database} database needs it"
+            hard, soft, path = pair_matrix(matrix_dir, database, query, counts[database], counts[query], needed_for)
             return matrix_truth(hard, soft, test[database], test[query], str(path))
 
     return {(database, query): build(database, query) for database, query in permutations(seasons, 2)}

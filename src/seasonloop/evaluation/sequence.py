@@ -24,12 +24,15 @@ def _as_distance_matrix(distances: np.ndarray) -> np.ndarray:
     return distances
 
 
-def enhance_distance_contrast(distances: np.ndarray, window: int = 10) -> np.ndarray:
+def enhance_distance_contrast(
+    distances: np.ndarray, window: int = 10, database_places: np.ndarray | None = None
+) -> np.ndarray:
     """SeqSLAM local contrast enhancement of an (N queries, M database) distance matrix.
 
     Each entry (i, j) becomes (d[i, j] - mean) / std, with mean and (population) std of row i over
     database columns j - window//2 .. j + window//2, clipped at the matrix edges (as OpenSeqSLAM
-    does). Windows with zero spread give 0. As in OpenSeqSLAM the result is then shifted so its
+    does) and at breaks in database_places (segment_offsets; None: no break), so that no column is
+    normalised by places on another stretch of the route. Windows with zero spread give 0. As in OpenSeqSLAM the result is then shifted so its
     minimum is 0, which keeps it a non-negative distance (a uniform shift changes no ranking).
     Window sums come from cumulative sums; returns float32.
     """
@@ -39,8 +42,9 @@ def enhance_distance_contrast(distances: np.ndarray, window: int = 10) -> np.nda
     half = int(window) // 2
     n_queries, n_database = distances.shape
     columns = np.arange(n_database)
-    window_start = np.clip(columns - half, 0, n_database)
-    window_stop = np.clip(columns + half + 1, 0, n_database)
+    since_start, to_end = segment_offsets(database_places, n_database, "database_places")
+    window_start = np.maximum(columns - half, columns - since_start)
+    window_stop = np.minimum(columns + half, columns + to_end) + 1
     window_size = window_stop - window_start
 
     enhanced = np.empty((n_queries, n_database), dtype=np.float32)
@@ -156,7 +160,7 @@ def sequence_distances(
     """
     distances = _as_distance_matrix(distances)
     _check_trajectories(length, v_min, v_max, v_steps)
-    enhanced = enhance_distance_contrast(distances, window)
+    enhanced = enhance_distance_contrast(distances, window, database_places)
     n_queries, n_database = enhanced.shape
     query_since_start, _ = segment_offsets(query_places, n_queries, "query_places")
     database_since_start, database_to_end = segment_offsets(database_places, n_database, "database_places")

@@ -46,11 +46,15 @@ class PrecomputedDescriptors(FeatureLearner):
             raise FileNotFoundError(f"{path}: no precomputed descriptors for season '{rows.season}'")
         try:
             descriptors = np.load(path, mmap_mode="r", allow_pickle=False)
-        except ValueError as error:
+        except (ValueError, OSError, EOFError) as error:
             raise ValueError(f"{path}: cannot read descriptors ({error})") from None
-        if descriptors.ndim != 2 or not np.issubdtype(descriptors.dtype, np.number):
+        if not isinstance(descriptors, np.ndarray):
+            descriptors.close()
+            raise ValueError(f"{path}: cannot read descriptors (an .npz archive, not one array saved with np.save)")
+        # complex or boolean descriptors would lose their meaning in the float32 cast below
+        if descriptors.ndim != 2 or descriptors.dtype.kind not in "iuf":
             raise ValueError(
-                f"{path}: expected a 2-D numeric (frames, D) array, got {descriptors.shape} {descriptors.dtype}"
+                f"{path}: expected a 2-D real-valued (frames, D) array, got {descriptors.shape} {descriptors.dtype}"
             )
         if len(descriptors) != rows.n_frames:
             raise ValueError(

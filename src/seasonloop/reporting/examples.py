@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from seasonloop.evaluation.ground_truth import PairTruth
-from seasonloop.evaluation.matching import best_matches, distance_matrix
+from seasonloop.evaluation.matching import distance_matrix
+from seasonloop.evaluation.metrics import truth_matches
 from seasonloop.io import load_array
 from seasonloop.params.settings import EvaluateConfig
 from seasonloop.plots import plot_image_grid
@@ -47,8 +48,7 @@ def select_examples(
         )
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
-    matches, scores = best_matches(distances, confidence, database_places, ratio_exclusion)
-    correct = truth.correct[np.arange(len(matches)), matches]
+    matches, scores, correct = truth_matches(np.asarray(distances), truth, confidence, ratio_exclusion)
     order = np.argsort(-scores, kind="stable")
     chosen = [*order[correct[order]][:n], *order[~correct[order]][:n]]
     return [

@@ -63,7 +63,7 @@ def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path):
     }
     assert all(0 <= value <= 1 for value in fractions.values())
     # readable: only what differs, in short columns that fit a terminal
-    # the README's command: what differs, without the outputs' hashes (columns with a path)
+    # the command of README and docs/sharing.md: what differs, without the outputs' hashes (columns with a path)
     table = in_a_terminal(root, 120, "exp", "show", "--only-changed", "--drop", ".*/|^models$", "--no-pager")
     assert "pca.n_discard" in table and "pca+seq" in table and "raw_patchnorm" not in table
     assert "…" not in table, table  # nothing cut to fit 120 columns
@@ -84,7 +84,7 @@ def test_exp_run_of_one_target_in_a_fresh_clone(tmp_path):
         return clone
 
     # DVC 3.67 saves an experiment with every output dvc.lock names, and a fresh clone without a
-    # remote holds none of those the target did not build: README's ablations section says so and
+    # remote holds none of those the target did not build: docs/sharing.md says so and
     # gives the commands below (when this starts to pass, DVC has fixed it: update the README)
     bare = dvc(fresh_clone("bare"), "exp", "run", "evaluate@pca", "-S", "pca.n_discard=2")
     assert bare.returncode != 0 and "failed to load directory" in bare.stderr, bare.stderr[-2000:]

@@ -1,9 +1,10 @@
-"""End to end: the README's recipes for data that is not Nordland-aligned, as a new user runs them.
+"""End to end: the recipes of docs/other-datasets.md for data that is not Nordland-aligned, as a new
+user runs them.
 
 Each test makes its own small data: the synthetic route ridden at a different speed in each season
 (so frame i of one season is not frame i of another), written as frame folders with a positions
 CSV, a ground-truth matrix, or descriptors computed "elsewhere"; then `dvc exp run -S ...` with the
-README's settings, in a fresh copy of the repository.
+recipes' settings, in a fresh copy of the repository.
 """
 
 from __future__ import annotations

@@ -210,7 +210,7 @@ def truth_matches(
     if truth.ignored is None or not truth.ignored.any():
         columns, scores = best_matches(distances, confidence, truth.database_places, ratio_exclusion)
         return columns, scores, truth.correct[np.arange(len(columns)), columns]
-    all_soft = truth.ignored.all(axis=1)
+    all_soft = np.asarray(truth.ignored.all(axis=1), dtype=bool)
     masked = np.where(truth.ignored & ~all_soft[:, None], np.inf, distances).astype(distances.dtype)
     columns, scores = best_matches(masked, confidence, truth.database_places, ratio_exclusion)
     correct = truth.correct[np.arange(len(columns)), columns] & ~all_soft

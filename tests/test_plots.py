@@ -46,6 +46,19 @@ def test_plot_fraction_correct(tmp_path):
         plot_fraction_correct(table, tmp_path / "bad.png", reference=reference.iloc[:1])
 
 
+def test_the_fraction_correct_figure_fits_a_page_with_every_learner_and_pair(tmp_path):
+    from PIL import Image
+
+    learners = ["raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw", "fae", "cae"]
+    labels = [*learners, *(f"{learner}+seq" for learner in learners)]
+    pairs = ["summer-fall", "summer-spring", "spring-fall", "winter-summer", "winter-fall", "winter-spring"]
+    table = pd.DataFrame(np.linspace(0.05, 0.95, len(labels) * len(pairs)).reshape(len(labels), -1), labels, pairs)
+    path = tmp_path / "fraction.png"
+    plot_fraction_correct(table, path)
+    width, height = Image.open(path).size
+    assert width <= 1600 and height <= 1200
+
+
 def test_plot_distance_matrix_downsamples_large(tmp_path):
     rng = np.random.default_rng(0)
     distances = rng.random((1300, 1100)).astype(np.float32)

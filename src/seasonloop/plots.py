@@ -14,6 +14,8 @@ import matplotlib
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 
 # Largest side, in cells, of a distance matrix drawn without downsampling.
 _MAX_MATRIX_SIDE = 1000
@@ -80,7 +82,8 @@ def _check_fractions(table: pd.DataFrame, name: str) -> None:
 def plot_fraction_correct(
     table: pd.DataFrame, path, title: str = "Fraction of correct matches", reference: pd.DataFrame | None = None
 ) -> None:
-    """Grouped bars of the fraction of correct matches, in %: one group per pair, one bar per method.
+    """Bars of the fraction of correct matches, in %: one panel per pair, one row per learner with
+    a bar per variant (single image solid, "+seq" hatched).
 
     table: rows = methods, columns = test pairs, values are fractions in [0, 1] (as evaluate_pair's
     fraction_correct). reference: the study's numbers, also as fractions, with the same row and
@@ -96,40 +99,68 @@ def plot_fraction_correct(
         reference = reference.loc[table.index, table.columns]
 
     methods, pairs = list(table.index), list(table.columns)
-    group_positions = np.arange(len(pairs))
-    bar_width = 0.8 / len(methods)
-    figure = Figure(figsize=(max(6.0, 0.35 * len(pairs) * len(methods) + 2.0), 4.5))
-    axes = figure.add_subplot()
+    bases = list(dict.fromkeys(str(method).split("+")[0] for method in methods))
+    variants = list(dict.fromkeys(str(method)[len(str(method).split("+")[0]) :] for method in methods))
     styles = _series_styles(methods)
-    for index, method in enumerate(methods):
-        positions = group_positions + (index - (len(methods) - 1) / 2) * bar_width
-        axes.bar(
-            positions,
-            100.0 * table.loc[method].to_numpy(dtype=np.float64),
-            bar_width,
-            label=str(method),
-            color=styles[method]["color"],
-            hatch="//" if styles[method]["variant"] else None,
-            edgecolor="white" if styles[method]["variant"] else None,
+    # one panel per pair, three to a row, learners down the side: ~1,500 px wide at 120 dpi
+    n_columns = min(3, len(pairs))
+    n_rows = int(np.ceil(len(pairs) / n_columns))
+    bar_height = 0.8 / len(variants)
+    panel_height = 0.5 + 0.22 * len(bases) * len(variants)
+    height = panel_height * n_rows + 1.0
+    figure = Figure(figsize=(4.2 * n_columns, height))
+    grid = figure.subplots(n_rows, n_columns, squeeze=False, sharex=True, sharey=True)
+    rows = np.arange(len(bases))
+    for axes, pair in zip(grid.flat, pairs):
+        for index, variant in enumerate(variants):
+            offset = (index - (len(variants) - 1) / 2) * bar_height
+            for base_row, base in enumerate(bases):
+                method = base + variant
+                if method not in table.index:
+                    continue
+                value = 100.0 * float(table.loc[method, pair])
+                axes.barh(
+                    base_row + offset,
+                    value,
+                    bar_height,
+                    color=styles[method]["color"],
+                    hatch="//" if styles[method]["variant"] else None,
+                    edgecolor="white" if styles[method]["variant"] else None,
+                )
+                if reference is not None and np.isfinite(reference.loc[method, pair]):
+                    axes.scatter(
+                        100.0 * float(reference.loc[method, pair]),
+                        base_row + offset,
+                        marker="D",
+                        facecolors="none",
+                        edgecolors="black",
+                        zorder=3,
+                    )
+        axes.set_title(str(pair), fontsize="medium")
+        axes.set_xlim(0.0, 100.0)
+        axes.grid(True, axis="x", alpha=0.3)
+    for axes in grid.flat[len(pairs) :]:
+        axes.set_visible(False)
+    grid[0, 0].set_yticks(rows)
+    grid[0, 0].set_yticklabels(bases)
+    grid[0, 0].invert_yaxis()
+    for axes in grid[-1]:
+        axes.set_xlabel("Correct matches (%)")
+    handles = [
+        Patch(
+            facecolor="grey",
+            hatch="//" if variant else None,
+            edgecolor="white" if variant else None,
+            label={"": "single image", "+seq": "+seq (SeqSLAM sequences)"}.get(variant, variant),
         )
-        if reference is not None:
-            study = 100.0 * reference.loc[method].to_numpy(dtype=np.float64)
-            axes.scatter(
-                positions,
-                study,
-                marker="D",
-                facecolors="none",
-                edgecolors="black",
-                zorder=3,
-                label="study (S)" if index == 0 else None,
-            )
-    axes.set_xticks(group_positions)
-    axes.set_xticklabels(pairs, rotation=20, ha="right")
-    axes.set_ylim(0.0, 100.0)
-    axes.set_ylabel("Correct matches (%)")
-    axes.set_title(title)
-    axes.grid(True, axis="y", alpha=0.3)
-    axes.legend(fontsize="small")
+        for variant in variants
+    ]
+    if reference is not None:
+        handles.append(Line2D([], [], marker="D", linestyle="", markerfacecolor="none", color="black", label="study"))
+    figure.suptitle(title)
+    # below the panels, so it covers no bar
+    figure.legend(handles=handles, loc="lower center", ncol=len(handles), frameon=False, bbox_to_anchor=(0.5, 0.0))
+    figure.tight_layout(rect=(0.0, 0.4 / height, 1.0, 1.0))
     _save(figure, path)
 
 

@@ -287,7 +287,10 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
 OTHER_RUNS = ("rides_dataset", "rides_fraction_correct")
 
 # figures copied beside a table's snapshot (the README shows the copy): table name -> (figure, copy)
-FIGURES = {"cae_widths": ("plots/cae_widths.png", "cae_widths_sweep.png")}
+FIGURES = {
+    "cae_widths": ("plots/cae_widths.png", "cae_widths_sweep.png"),
+    "fraction_correct": ("plots/summary/fraction_correct.png", "fraction_correct.png"),
+}
 
 
 def provenance_line(name: str, provenance: dict) -> str:

@@ -204,3 +204,17 @@ def test_extra_metric_rows_and_pr_landmarks_are_reported(pngs):
     # the study's numbers sit beside the plain rows only: one (S) column per main-metric single table
     assert page.count("<th>study (S)</th>") == 1 + 1  # fraction correct summer-fall, PR landmarks
     assert "The study&#x27;s precision-recall landmarks beside ours" in page and ">91.0</td>" in page
+
+
+def test_the_ground_truth_table_labels_each_column_by_its_key():
+    # metrics/ground_truth.json comes with sorted keys; the table must not label them by position
+    from seasonloop.reporting.sections import TRUTH_COLUMNS, _labelled
+
+    record = {"summer-fall": {"mean_correct_per_query": 1.5, "n_database": 150, "n_queries": 158, "n_without_match": 3}}
+    table = _labelled(pd.DataFrame.from_dict(record, orient="index"), TRUTH_COLUMNS)
+    assert table.loc["summer-fall"].to_dict() == {
+        "queries": 158,
+        "database places": 150,
+        "queries without a correct place": 3,
+        "correct places per query": 1.5,
+    }

@@ -13,6 +13,7 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 import pandas as pd
+from matplotlib.artist import Artist
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
@@ -82,13 +83,9 @@ def _check_fractions(table: pd.DataFrame, name: str) -> None:
 def plot_fraction_correct(
     table: pd.DataFrame, path, title: str = "Fraction of correct matches", reference: pd.DataFrame | None = None
 ) -> None:
-    """Bars of the fraction of correct matches, in %: one panel per pair, one row per learner with
-    a bar per variant (single image solid, "+seq" hatched).
-
-    table: rows = methods, columns = test pairs, values are fractions in [0, 1] (as evaluate_pair's
-    fraction_correct). reference: the study's numbers, also as fractions, with the same row and
-    column labels (NaN where the study gives none); drawn as hollow diamonds over the bars.
-    """
+    """Bars of the fraction of correct matches, in %: a panel per pair, a row per learner, a bar per
+    variant ("+seq" hatched). table: rows = methods, columns = pairs, fractions in [0, 1];
+    reference: the study's, same labels (NaN where it gives none), drawn as hollow diamonds."""
     if table.empty:
         raise ValueError("table is empty: nothing to plot")
     _check_fractions(table, "table")
@@ -101,59 +98,27 @@ def plot_fraction_correct(
     methods, pairs = list(table.index), list(table.columns)
     bases = list(dict.fromkeys(str(method).split("+")[0] for method in methods))
     variants = list(dict.fromkeys(str(method)[len(str(method).split("+")[0]) :] for method in methods))
-    styles = _series_styles(methods)
     # one panel per pair, three to a row, learners down the side: ~1,500 px wide at 120 dpi
     n_columns = min(3, len(pairs))
     n_rows = int(np.ceil(len(pairs) / n_columns))
-    bar_height = 0.8 / len(variants)
-    panel_height = 0.5 + 0.22 * len(bases) * len(variants)
-    height = panel_height * n_rows + 1.0
+    height = (0.5 + 0.22 * len(bases) * len(variants)) * n_rows + 1.0
     figure = Figure(figsize=(4.2 * n_columns, height))
     grid = figure.subplots(n_rows, n_columns, squeeze=False, sharex=True, sharey=True)
-    rows = np.arange(len(bases))
     for axes, pair in zip(grid.flat, pairs):
-        for index, variant in enumerate(variants):
-            offset = (index - (len(variants) - 1) / 2) * bar_height
-            for base_row, base in enumerate(bases):
-                method = base + variant
-                if method not in table.index:
-                    continue
-                value = 100.0 * float(table.loc[method, pair])
-                axes.barh(
-                    base_row + offset,
-                    value,
-                    bar_height,
-                    color=styles[method]["color"],
-                    hatch="//" if styles[method]["variant"] else None,
-                    edgecolor="white" if styles[method]["variant"] else None,
-                )
-                if reference is not None and np.isfinite(reference.loc[method, pair]):
-                    axes.scatter(
-                        100.0 * float(reference.loc[method, pair]),
-                        base_row + offset,
-                        marker="D",
-                        facecolors="none",
-                        edgecolors="black",
-                        zorder=3,
-                    )
+        _fraction_panel(
+            axes, 100.0 * table[pair], None if reference is None else 100.0 * reference[pair], bases, variants
+        )
         axes.set_title(str(pair), fontsize="medium")
-        axes.set_xlim(0.0, 100.0)
-        axes.grid(True, axis="x", alpha=0.3)
     for axes in grid.flat[len(pairs) :]:
         axes.set_visible(False)
-    grid[0, 0].set_yticks(rows)
-    grid[0, 0].set_yticklabels(bases)
+    grid[0, 0].set_yticks(np.arange(len(bases)), bases)
     grid[0, 0].invert_yaxis()
     for axes in grid[-1]:
         axes.set_xlabel("Correct matches (%)")
-    handles = [
-        Patch(
-            facecolor="grey",
-            hatch="//" if variant else None,
-            edgecolor="white" if variant else None,
-            label={"": "single image", "+seq": "+seq (SeqSLAM sequences)"}.get(variant, variant),
-        )
-        for variant in variants
+    names = {"": "single image", "+seq": "+seq (SeqSLAM sequences)"}
+    handles: list[Artist] = [
+        Patch(facecolor="grey", hatch="//" if v else None, edgecolor="white" if v else None, label=names.get(v, v))
+        for v in variants
     ]
     if reference is not None:
         handles.append(Line2D([], [], marker="D", linestyle="", markerfacecolor="none", color="black", label="study"))
@@ -162,6 +127,27 @@ def plot_fraction_correct(
     figure.legend(handles=handles, loc="lower center", ncol=len(handles), frameon=False, bbox_to_anchor=(0.5, 0.0))
     figure.tight_layout(rect=(0.0, 0.4 / height, 1.0, 1.0))
     _save(figure, path)
+
+
+def _fraction_panel(axes, percent: pd.Series, study: pd.Series | None, bases: list[str], variants: list[str]) -> None:
+    """One pair's panel: a row per learner (base), a bar per variant, the study's numbers as diamonds."""
+    styles = _series_styles(list(percent.index))
+    bar_height = 0.8 / len(variants)
+    for index, variant in enumerate(variants):
+        offset = (index - (len(variants) - 1) / 2) * bar_height
+        for row, base in enumerate(bases):
+            method = base + variant
+            if method not in percent.index:
+                continue
+            color, hatched = styles[method]["color"], styles[method]["variant"]
+            kind = {"hatch": "//", "edgecolor": "white"} if hatched else {}
+            axes.barh(row + offset, float(percent[method]), bar_height, color=color, **kind)
+            if study is not None and np.isfinite(study[method]):
+                axes.scatter(
+                    float(study[method]), row + offset, marker="D", facecolors="none", edgecolors="black", zorder=3
+                )
+    axes.set_xlim(0.0, 100.0)
+    axes.grid(True, axis="x", alpha=0.3)
 
 
 def _block_minimum(matrix: np.ndarray, max_side: int) -> np.ndarray:

@@ -35,6 +35,14 @@ RUNTIME_COLUMNS = {
 }
 
 
+TRUTH_COLUMNS = {
+    "n_queries": "queries",
+    "n_database": "database places",
+    "n_without_match": "queries without a correct place",
+    "mean_correct_per_query": "correct places per query",
+}
+
+
 def _labelled(frame: pd.DataFrame, columns: Mapping[str, str]) -> pd.DataFrame:
     """The known columns first, in the order of `columns` and renamed by it, then any others."""
     order = [key for key in columns if key in frame] + [key for key in frame if key not in columns]
@@ -64,8 +72,8 @@ def dataset_section(dataset: Mapping[str, Any], preview: Png, truth: Mapping[str
         )
     if truth is not None:
         blocks.append(Text(f"Ground truth ({truth['kind']}): a match is correct when it is {truth['correct']}."))
-        pairs = pd.DataFrame.from_dict(truth["pairs"], orient="index")
-        pairs.columns = ["queries", "database places", "queries without a correct place", "correct places per query"]
+        # by name: metrics/ground_truth.json is written with sorted keys
+        pairs = _labelled(pd.DataFrame.from_dict(truth["pairs"], orient="index"), TRUTH_COLUMNS)
         blocks.append(Table("Ground truth per pair (database-queries)", pairs, float_format="{:.2f}"))
     blocks.append(Image("The same places in every season", preview))
     return Section("Dataset", blocks)

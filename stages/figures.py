@@ -5,8 +5,7 @@ its projection on the first, condition-dependent principal components vs the kep
 fig12_patch_ica_filters.png, fig13_visual_words.png, fig19_autoencoder_descriptors.png (code vs
 output vs patch-normalised output, single-image fraction correct), fig19b_autoencoder_reconstructions.png
 (test inputs of every season beside the FAE's and CAE's reconstructions) and
-fig19c_autoencoder_loss.png (training and validation loss per epoch); metrics/autoencoder_descriptors.json
-and metrics/autoencoder_training.json (how each auto-encoder's training ended).
+fig19c_autoencoder_loss.png (training and validation loss per epoch) and metrics/autoencoder_descriptors.json.
 A figure whose learner is not in `learners` is left out, with a line saying so (seasonloop.reporting.figures).
 """
 
@@ -44,7 +43,6 @@ def main() -> None:
     for note in records.notes:
         print(f"figures: {note}")
     write_json(Path("metrics/autoencoder_descriptors.json"), records.autoencoder_descriptors)
-    write_json(Path("metrics/autoencoder_training.json"), records.autoencoder_training)
 
 
 if __name__ == "__main__":

@@ -16,7 +16,8 @@ plots/summary/runtime.md, and the PNG figures of fraction correct per pair (stud
 metric) and overlaid PR curves per pair under evaluate.metric (Figures 9, 14, 15, 17); for
 `dvc plots show`, plots/summary/pr/<pair>.csv (every learner's curve under evaluate.metric, a
 `learner` column) and plots/summary/training_loss.csv (the dvclive loss curves of the learners
-that train in epochs). What each file holds: seasonloop.reporting.summary_files.
+that train in epochs); metrics/autoencoder_training.json (how each of those learners' training
+ended, with its time, from metrics/fit/). What each file holds: seasonloop.reporting.summary_files.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from seasonloop.io import staged_dir, write_json
 from seasonloop.params.schema import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig
 from seasonloop.reporting.dvcplots import training_curves
-from seasonloop.reporting.results import load_evaluations, load_runtime
+from seasonloop.reporting.results import autoencoder_training, load_evaluations, load_runtime
 from seasonloop.reporting.summary_files import compare_record, summary_record, write_summary_files
 
 # the metrics DVC compares across experiments (dvc.yaml declares only these)
@@ -50,6 +51,7 @@ def main() -> None:
     write_json(Path("metrics/summary.json"), summary_record(results))
     write_json(COMPARE, compare_record(results))
     write_json(Path("metrics/runtime.json"), runtime)
+    write_json(Path("metrics/autoencoder_training.json"), autoencoder_training(Path("metrics/fit"), methods))
     with staged_dir(Path("plots/summary")) as out:
         write_summary_files(out, results, runtime, training_curves(Path("logs"), methods))
 

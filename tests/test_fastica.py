@@ -4,7 +4,7 @@ import torch
 from sklearn.decomposition import FastICA
 
 from seasonloop.models.core.fastica import TorchFastICA
-from seasonloop.models.core.learner import to_float
+from seasonloop.models.core.learner import RUN_KEYS, to_float
 from seasonloop.models.core.torch_ica import WHITEN_SOLVERS, amari_distance
 from seasonloop.models.ica import ICA_SOLVERS
 from seasonloop.models.registry import get_learner, load_learner
@@ -137,7 +137,8 @@ def test_ica_learner_fastica_solver_saves_and_loads_identically(tmp_path):
     learner.save(tmp_path)
     assert (tmp_path / "ica.npz").is_file() and not (tmp_path / "fastica.joblib").exists()
     loaded = load_learner(tmp_path)
-    assert loaded.params == learner.params and loaded.fit_info == info
+    assert loaded.params == learner.params and loaded.fit_info == learner.fit_info
+    assert learner.fit_info == {key: value for key, value in info.items() if key not in RUN_KEYS}
     np.testing.assert_array_equal(loaded.describe(test), descriptors)
 
     # Same data, scikit-learn solver: the same descriptors up to float32 rounding.

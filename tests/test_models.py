@@ -9,7 +9,7 @@ import torch
 from sklearn.decomposition import PCA
 from sklearn.exceptions import ConvergenceWarning
 
-from seasonloop.models.core.learner import FeatureLearner, to_float
+from seasonloop.models.core.learner import RUN_KEYS, FeatureLearner, to_float
 from seasonloop.models.registry import LEARNERS, get_learner, load_learner
 
 N_PER_FAMILY = 100
@@ -114,6 +114,22 @@ def test_fit_is_deterministic_for_a_seed(name, fitted, families):
     refit = get_learner(name)(TEST_PARAMS[name][0], seed=3)
     refit.fit(families[0], progress=False)
     np.testing.assert_array_equal(refit.describe(families[0]), fitted(name).describe(families[0]))
+
+
+@pytest.mark.parametrize("name", list(TEST_PARAMS))
+def test_a_models_bytes_are_its_content(name, fitted, families, tmp_path):
+    """The same fit twice saves byte-identical files: no time, device or thread count in models/
+    (those are the run's facts: fit returns them for metrics/fit/), so DVC sees the same model."""
+    refit = get_learner(name)(TEST_PARAMS[name][0], seed=3)
+    info = refit.fit(families[0], progress=False)
+    assert refit.fit_info is not None and not set(RUN_KEYS) & set(refit.fit_info)
+    for saved, learner in (("first", fitted(name)), ("second", refit)):
+        learner.save(tmp_path / saved)
+    files = sorted(path.name for path in (tmp_path / "first").iterdir())
+    assert files == sorted(path.name for path in (tmp_path / "second").iterdir())
+    for file in files:
+        assert (tmp_path / "first" / file).read_bytes() == (tmp_path / "second" / file).read_bytes(), file
+    assert {key: value for key, value in info.items() if key not in RUN_KEYS} == refit.fit_info
 
 
 # pca's default solver (covariance_eigh) is exact and uses no randomness, so the seed cannot

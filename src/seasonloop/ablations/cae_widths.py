@@ -35,7 +35,8 @@ from seasonloop.reporting.figures import autoencoder_descriptors, descriptor_fra
 
 TABLE5_CHANNELS = (96, 256, 384)
 DESCRIPTORS = ("output_patchnorm", "code")
-# what the record keeps of each width's fit info
+# what the record keeps of each width's fit info, and of its run: training_seconds (None for a
+# reused width: its model holds no timing, its time is fit@cae's, in metrics/fit/cae.json)
 FIT_RECORD = (
     "converged",
     "stop_reason",
@@ -45,7 +46,6 @@ FIT_RECORD = (
     "n_train_images",
     "n_validation_images",
     "images_seen",
-    "training_seconds",
     "precision",
     "n_parameters",
 )
@@ -128,7 +128,7 @@ def run_width_sweep(
     """The sweep's record: new_cae(channels) gives an unfitted CAE, trained on training_set
     (images, place ids); raw is a fitted raw_patchnorm, also evaluated as the reference row.
     fitted[width]: a CAE already trained at that width with the same settings, images and seed
-    (the pipeline's own fit@cae), evaluated without training it again."""
+    (the pipeline's own fit@cae), evaluated without training it again (its training_seconds: None)."""
     fitted = dict(fitted or {})
     images, image_places = training_set
     raw_test = {season: raw.describe(test[season]) for season in test}
@@ -145,15 +145,16 @@ def run_width_sweep(
     for width in widths:
         channels = width_channels(width)
         if width in fitted:
-            learner = fitted[width]
+            learner, seconds = fitted[width], None
         else:
             learner = new_cae(channels)
-            learner.fit(images, progress=True, places=image_places)
+            seconds = learner.fit(images, progress=True, places=image_places)["training_seconds"]
         record["widths"][width_label(width)] = {
             "width": float(width),
             "channels": channels,
             "reused": width in fitted,
             **{key: learner.fit_info[key] for key in FIT_RECORD},
+            "training_seconds": seconds,
             **describe_width(learner, raw_test, test, truths, pairs, evaluate, sequence, batch_size),
         }
     return record

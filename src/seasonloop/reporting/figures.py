@@ -11,7 +11,6 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -29,30 +28,15 @@ FIGURE_LEARNERS = ("pca", "ica_bovw", *AUTOENCODERS)
 N_WORDS_SHOWN, N_EXAMPLES_SHOWN = 12, 10
 FILTERS_PER_ROW = 16
 N_RECONSTRUCTIONS = 2  # test places shown per season
-# what the auto-encoder training record keeps of each auto-encoder's fit info
-TRAINING_RECORD = (
-    "stop_reason",
-    "converged",
-    "epochs_run",
-    "best_epoch",
-    "best_validation_loss",
-    "final_train_loss",
-    "n_train_images",
-    "n_validation_images",
-    "images_seen",
-    "training_seconds",
-    "precision",
-    "torch_threads",
-)
 
 
 @dataclass(frozen=True)
 class FigureRecords:
     """What the figures leave besides PNGs: fraction correct per auto-encoder, descriptor and pair;
-    how each auto-encoder's training ended; one line per figure left out."""
+    one line per figure left out. (How each auto-encoder's training ended is the summary stage's
+    metrics/autoencoder_training.json, from the fit records: seasonloop.reporting.results.)"""
 
     autoencoder_descriptors: dict[str, dict[str, dict[str, float]]] = field(default_factory=dict)
-    autoencoder_training: dict[str, dict[str, Any]] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
 
 
@@ -157,12 +141,11 @@ def autoencoder_figures(
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
     out: Path,
-) -> tuple[dict[str, dict[str, dict[str, float]]], dict[str, dict[str, Any]]]:
+) -> dict[str, dict[str, dict[str, float]]]:
     """Figures 19, 19b and 19c of the fitted auto-encoders models_dir/<method> of `methods` (at least
-    one); (fraction correct[method][descriptor][pair], training record[method])."""
+    one); fraction correct[method][descriptor][pair]."""
     seasons = list(test)
     fraction_correct: dict[str, dict[str, dict[str, float]]] = {}
-    training: dict[str, dict[str, Any]] = {}
     losses: dict[str, dict[str, list[float]]] = {}
     shown_places = np.linspace(0, len(test[seasons[0]]) - 1, N_RECONSTRUCTIONS + 2).astype(int)[1:-1]
     reconstructions = {season: [list(test[season][shown_places])] for season in seasons}
@@ -171,7 +154,6 @@ def autoencoder_figures(
         learner = load_learner(models_dir / method)
         info = learner.fit_info
         assert info is not None, f"{models_dir / method}: a saved learner without its fit record"
-        training[method] = {key: info[key] for key in TRAINING_RECORD}
         losses[method] = {"train": info["loss_per_epoch"], "validation": info["validation_loss_per_epoch"]}
         described = autoencoder_descriptors(learner, test, int(batch_size))
         for season in seasons:
@@ -206,7 +188,7 @@ def autoencoder_figures(
         out / "fig19c_autoencoder_loss.png",
         title="Auto-encoder training: loss per epoch (validation on held-out training places)",
     )
-    return fraction_correct, training
+    return fraction_correct
 
 
 def draw_figures(
@@ -236,7 +218,7 @@ def draw_figures(
     if not autoencoders:
         notes.append("neither fae nor cae is in learners: no Figures 19, 19b, 19c")
         return FigureRecords(notes=notes)
-    fraction_correct, training = autoencoder_figures(
+    fraction_correct = autoencoder_figures(
         models_dir, autoencoders, test, truths, pairs, batch_size, evaluate, sequence, out
     )
-    return FigureRecords(fraction_correct, training, notes)
+    return FigureRecords(fraction_correct, notes)

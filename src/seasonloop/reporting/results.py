@@ -86,6 +86,34 @@ def load_runtime(
     return runtime
 
 
+# what the auto-encoder training record keeps of each auto-encoder's fit record
+TRAINING_RECORD = (
+    "stop_reason",
+    "converged",
+    "epochs_run",
+    "best_epoch",
+    "best_validation_loss",
+    "final_train_loss",
+    "n_train_images",
+    "n_validation_images",
+    "images_seen",
+    "training_seconds",
+    "precision",
+    "torch_threads",
+)
+
+
+def autoencoder_training(fit_dir: Path, methods: Sequence[str]) -> dict[str, dict[str, Any]]:
+    """method -> how its training ended, for the learners of `methods` that train in epochs, from
+    the fit stage's records fit_dir/<method>.json (the model's facts and the run's: time, threads)."""
+    training = {}
+    for method in methods:
+        info = read_json(fit_dir / f"{method}.json")["info"]
+        if "epochs_run" in info:
+            training[method] = {key: info[key] for key in TRAINING_RECORD}
+    return training
+
+
 def ordered(mapping: Mapping[str, Any], keys: Sequence[str], source: str) -> dict[str, Any]:
     """mapping's entries in the order of keys (the JSON files store their keys sorted)."""
     missing = [key for key in keys if key not in mapping]

@@ -16,6 +16,12 @@ from seasonloop.params.learners import check_learner
 
 LEARNER_FILE = "learner.json"
 
+# Fit-info keys that describe the run, not the model: how long it took and the machine it ran on.
+# fit() returns them (the fit stage writes them to metrics/fit/<learner>.json) but they are kept out
+# of fit_info and so out of models/: the same params and data give the same model bytes on every run,
+# and DVC reruns nothing downstream of a refit that changed nothing.
+RUN_KEYS = ("training_seconds", "device", "torch_threads", "cpu_native_bfloat16")
+
 EpochCallback = Callable[[int, dict[str, float]], None]
 
 
@@ -124,7 +130,9 @@ class FeatureLearner(ABC):
         on_epoch: EpochCallback | None = None,
         places: np.ndarray | None = None,
     ) -> dict[str, Any]:
-        """Learn from uint8 (N, H, W) training images; return JSON-serialisable fit info.
+        """Learn from uint8 (N, H, W) training images; return JSON-serialisable fit info: the
+        model's facts (kept as fit_info and saved with the model) and the run's (RUN_KEYS: time,
+        device, threads; returned only).
 
         places: the place id of every image (augmented copies share their original's), for
         learners that hold out validation places; None counts every image as its own place.
@@ -139,7 +147,7 @@ class FeatureLearner(ABC):
         self.fit_info = None  # a failed re-fit must not leave the old fit looking valid
         self.input_shape = (int(images.shape[1]), int(images.shape[2]))
         info = to_json_value(self._fit(images, progress=progress, on_epoch=on_epoch))
-        self.fit_info = info
+        self.fit_info = {key: value for key, value in info.items() if key not in RUN_KEYS}
         return info
 
     def describe(self, images: np.ndarray, batch_size: int = 1024, progress: bool = False) -> np.ndarray:

@@ -195,6 +195,33 @@ def evaluate_pair(
     return evaluate_truth(distances, truth, confidence, ratio_exclusion)
 
 
+def _mask_soft(distances: np.ndarray, truth: PairTruth) -> tuple[np.ndarray, np.ndarray]:
+    """(distances with the cells the truth ignores at +inf, so they are never picked nor among the
+    N nearest, except in queries whose places are all soft; which queries those are)."""
+    if truth.ignored is None or not truth.ignored.any():
+        return distances, np.zeros(len(distances), dtype=bool)
+    all_soft = np.asarray(truth.ignored.all(axis=1), dtype=bool)
+    return np.where(truth.ignored & ~all_soft[:, None], np.inf, distances).astype(distances.dtype), all_soft
+
+
+def _masked_matches(
+    distances: np.ndarray,
+    masked: np.ndarray,
+    all_soft: np.ndarray,
+    truth: PairTruth,
+    confidence: str,
+    ratio_exclusion: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """truth_matches on distances already masked by _mask_soft."""
+    columns, scores = best_matches(masked, confidence, truth.database_places, ratio_exclusion)
+    correct = truth.correct[np.arange(len(columns)), columns] & ~all_soft
+    if all_soft.any():
+        others = scores[~all_soft]
+        lowest = -float(distances.max()) if confidence == "distance" else (others.min() if others.size else 0.0)
+        scores = np.where(all_soft, lowest, scores)
+    return columns, scores, correct
+
+
 def truth_matches(
     distances: np.ndarray, truth: PairTruth, confidence: str = "distance", ratio_exclusion: int = 0
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -207,18 +234,7 @@ def truth_matches(
     confidence, as VPR_Tutorial's, and tied with the least confident other query under "ratio".
     """
     distances = _check_distances(distances, truth.database_places, truth.query_places)
-    if truth.ignored is None or not truth.ignored.any():
-        columns, scores = best_matches(distances, confidence, truth.database_places, ratio_exclusion)
-        return columns, scores, truth.correct[np.arange(len(columns)), columns]
-    all_soft = np.asarray(truth.ignored.all(axis=1), dtype=bool)
-    masked = np.where(truth.ignored & ~all_soft[:, None], np.inf, distances).astype(distances.dtype)
-    columns, scores = best_matches(masked, confidence, truth.database_places, ratio_exclusion)
-    correct = truth.correct[np.arange(len(columns)), columns] & ~all_soft
-    if all_soft.any():
-        others = scores[~all_soft]
-        lowest = -float(distances.max()) if confidence == "distance" else (others.min() if others.size else 0.0)
-        scores = np.where(all_soft, lowest, scores)
-    return columns, scores, correct
+    return _masked_matches(distances, *_mask_soft(distances, truth), truth, confidence, ratio_exclusion)
 
 
 def evaluate_truth(
@@ -240,9 +256,11 @@ def evaluate_truth(
     (one row per distinct confidence).
     """
     distances = _check_distances(distances, truth.database_places, truth.query_places)
-    best_columns, match_confidence, correct = truth_matches(distances, truth, confidence, ratio_exclusion)
-    if truth.ignored is not None and truth.ignored.any():
-        distances = np.where(truth.ignored, np.inf, distances).astype(distances.dtype)
+    # one mask for the matches and recall@N (an all-soft query has no correct place: recall@N leaves it out)
+    masked, all_soft = _mask_soft(distances, truth)
+    best_columns, match_confidence, correct = _masked_matches(
+        distances, masked, all_soft, truth, confidence, ratio_exclusion
+    )
     has_match = truth.has_match
     recall, precision = pr_curve(match_confidence, correct, has_match)
 
@@ -252,7 +270,7 @@ def evaluate_truth(
     # recall never decreases along the curve, so this is sklearn.metrics.auc's area (its trapezoid),
     # without importing scikit-learn (1.4 s at every evaluate stage's start)
     auc_pr = float(np.trapezoid(np.concatenate(([precision[0]], precision)), np.concatenate(([0.0], recall))))
-    recalls = truth_recall_at_n(distances, truth, ns=(1, 5, 10))
+    recalls = truth_recall_at_n(masked, truth, ns=(1, 5, 10))
 
     metrics: dict[str, float | int] = {
         "fraction_correct": float(correct.mean()),

@@ -9,6 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
+# what np.load raises on a file that is not a readable .npy/.npz, opening it or reading an array
+UNREADABLE = (OSError, ValueError, EOFError, zipfile.BadZipFile)
+
 
 def matrix_file(folder: Path, database: str, query: str) -> Path:
     return Path(folder) / f"{database}-{query}.npz"
@@ -21,14 +24,14 @@ def read_matrix(path: Path, n_database: int, n_query: int) -> tuple[np.ndarray, 
         raise FileNotFoundError(f"{path}: ground-truth matrix not found (data.ground_truth_dir)")
     try:
         loaded = np.load(path, allow_pickle=False)
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as error:
+    except UNREADABLE as error:
         raise ValueError(f"{path}: cannot read the ground-truth matrix ({error})") from None
     if not isinstance(loaded, np.lib.npyio.NpzFile):
         raise ValueError(f"{path}: not an .npz archive (a single array saved with np.save?); save 'hard' with np.savez")
     try:
         with loaded as data:
             arrays = {key: data[key] for key in ("hard", "soft") if key in data.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as error:
+    except UNREADABLE as error:
         raise ValueError(f"{path}: cannot read the ground-truth matrix ({error})") from None
     if "hard" not in arrays:
         raise ValueError(f"{path}: no array 'hard' (the boolean database x query ground truth)")

@@ -1,6 +1,7 @@
 import numpy as np
 import pytest
 import torch
+from ica_data import images, mixed_sources
 from sklearn.decomposition import FastICA
 
 from seasonloop.models.core.fastica import TorchFastICA
@@ -14,21 +15,8 @@ N_SOURCES, N_FEATURES, N_SAMPLES = 6, 16, 4000
 
 @pytest.fixture(scope="module")
 def mixture() -> tuple[np.ndarray, np.ndarray]:
-    """Independent super-Gaussian (Laplace) sources mixed into more features, plus a little noise:
-    (n_samples, n_features) float32 data and the (n_features, n_sources) mixing matrix."""
-    rng = np.random.default_rng(0)
-    sources = rng.laplace(size=(N_SAMPLES, N_SOURCES))
-    mixing = rng.normal(size=(N_FEATURES, N_SOURCES))
-    data = sources @ mixing.T + 0.01 * rng.normal(size=(N_SAMPLES, N_FEATURES))
-    return data.astype(np.float32), mixing
-
-
-def images(n: int, seed: int) -> np.ndarray:
-    """uint8 (n, 8, 16) images: 8 fixed patterns weighted by independent Laplace sources, plus noise."""
-    patterns = np.random.default_rng(100).normal(size=(8, 8 * 16))
-    rng = np.random.default_rng(seed)
-    pixels = 128 + 6 * rng.laplace(size=(n, 8)) @ patterns + rng.normal(0, 3, (n, 8 * 16))
-    return np.clip(pixels, 0, 255).astype(np.uint8).reshape(n, 8, 16)
+    """Laplace sources mixed into more features: (data, mixing) (ica_data.mixed_sources)."""
+    return mixed_sources(N_SAMPLES, N_FEATURES, N_SOURCES)
 
 
 def test_amari_distance_is_zero_for_a_scaled_permutation_only():

@@ -212,16 +212,17 @@ def test_whitened_pca_matches_ica_distances_under_cosine_and_euclidean_only():
     assert deviation["cityblock"] > 1e-2
 
 
-def test_pca_whiten_refuses_components_float32_cannot_resolve():
+@pytest.mark.parametrize("solver", ["full", "covariance_eigh"])
+def test_pca_whiten_refuses_components_it_cannot_resolve(solver):
     # 60 images of 6 patterns plus faint noise span 59 directions once centred; a 60th would be
-    # rounding noise, and covariance_eigh (uncentred X^T X in float32) cannot resolve the faint ones.
+    # rounding noise scaled up to unit variance. In float64 (core/projection.py) covariance_eigh,
+    # which forms the uncentred X^T X, resolves the faint ones too (in float32 it did not).
     few = independent_pattern_images(60, 0)
-    get_learner("pca_whiten")({"n_keep": 59, "svd_solver": "full"}).fit(few, progress=False)
-    with pytest.raises(ValueError, match=r"pca_whiten\.n_discard \+ pca_whiten\.n_keep = 60 exceeds the 59"):
-        get_learner("pca_whiten")({"n_keep": 60, "svd_solver": "full"}).fit(few, progress=False)
-    get_learner("pca_whiten")({"n_keep": 6}).fit(few, progress=False)
-    with pytest.raises(ValueError, match=r"n_keep = 40 exceeds the \d+ components .* 'covariance_eigh'"):
-        get_learner("pca_whiten")({"n_keep": 40}).fit(few, progress=False)
+    get_learner("pca_whiten")({"n_keep": 59, "svd_solver": solver}).fit(few, progress=False)
+    with pytest.raises(
+        ValueError, match=rf"pca_whiten\.n_discard \+ pca_whiten\.n_keep = 60 exceeds the 59 .*'{solver}'"
+    ):
+        get_learner("pca_whiten")({"n_keep": 60, "svd_solver": solver}).fit(few, progress=False)
 
 
 def test_ica_records_non_convergence_without_warning(families):

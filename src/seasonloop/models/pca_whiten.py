@@ -16,8 +16,9 @@ import numpy as np
 from seasonloop.models.core.learner import EpochCallback, select_training_subset
 from seasonloop.models.core.projection import PrincipalComponentLearner
 
-# A kept component below this many float32 roundings of the scale its solver works at cannot be
-# told from zero: scaling it to unit variance would blow up rounding noise.
+# A kept component below this many roundings (of the solver's float type: float64, see
+# core/projection.py) of the scale its solver works at cannot be told from zero: scaling it to unit
+# variance would blow up rounding noise.
 RESOLVED_ROUNDINGS = 10
 
 
@@ -36,15 +37,15 @@ class WhitenedPCALearner(PrincipalComponentLearner):
         if self.n_components > resolved:
             raise ValueError(
                 f"{self._key('n_discard')} + {self._key('n_keep')} = {self.n_components} exceeds the {resolved} "
-                f"components the training images resolve in float32 with svd_solver "
-                f"{self.params['svd_solver']!r} (keep fewer, or use svd_solver 'full')"
+                f"components the training images resolve with svd_solver "
+                f"{self.params['svd_solver']!r} (keep fewer)"
             )
         return {**subset_info, **info}
 
     def _resolved_components(self) -> int:
-        """How many leading components lie above float32 rounding noise for the fitted solver."""
+        """How many leading components lie above rounding noise for the fitted solver."""
         assert self.estimator is not None
-        tolerance = RESOLVED_ROUNDINGS * np.finfo(np.float32).eps
+        tolerance = RESOLVED_ROUNDINGS * np.finfo(self.estimator.components_.dtype).eps
         variances = np.asarray(self.estimator.explained_variance_, dtype=np.float64)
         if self.params["svd_solver"] == "covariance_eigh":
             # sklearn forms the uncentred X^T X and subtracts n mean mean^T: eigenvalues carry
@@ -62,7 +63,7 @@ class WhitenedPCALearner(PrincipalComponentLearner):
         assert self.estimator is not None, "kept_std needs the fitted PCA"
         n_samples = self.estimator.n_samples_
         variances = np.asarray(self.estimator.explained_variance_[self.params["n_discard"] :], dtype=np.float64)
-        return np.sqrt(variances * (n_samples - 1) / n_samples).astype(np.float32)
+        return np.sqrt(variances * (n_samples - 1) / n_samples)
 
     def _describe_batch(self, images: np.ndarray) -> np.ndarray:
         return super()._describe_batch(images) / self.kept_std

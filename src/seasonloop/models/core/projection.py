@@ -15,6 +15,14 @@ from seasonloop.models.core.learner import EpochCallback, FeatureLearner, to_flo
 ESTIMATOR_FILE = "pca.joblib"
 
 
+def to_pixels64(images: np.ndarray) -> np.ndarray:
+    """(N, H, W) images -> (N, H*W) float64 pixels in [0, 1]. The principal components are computed
+    and applied in float64: BLAS kernels of other CPUs (OpenBLAS picks them per CPU) sum in another
+    order, and float32 rounding of X^T X then moved the components enough to change matches;
+    float64 keeps those differences far below the float32 descriptors' last bit."""
+    return to_float(images).reshape(len(images), -1).astype(np.float64)
+
+
 class PrincipalComponentLearner(FeatureLearner):
     """Descriptor = projections on principal components [n_discard, n_discard + n_keep) of
     scikit-learn's PCA; a subclass sets `name` and `defaults` (which include those keys and svd_solver)."""
@@ -28,7 +36,7 @@ class PrincipalComponentLearner(FeatureLearner):
         return self.params["n_discard"] + self.params["n_keep"]
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
-        flat = to_float(images).reshape(len(images), -1)
+        flat = to_pixels64(images)
         # arpack cannot compute all min(n_samples, n_features) components.
         limit = min(flat.shape) - (1 if self.params["svd_solver"] == "arpack" else 0)
         if self.n_components > limit:
@@ -51,8 +59,7 @@ class PrincipalComponentLearner(FeatureLearner):
 
     def _describe_batch(self, images: np.ndarray) -> np.ndarray:
         assert self.estimator is not None, "describe checks that the learner is fitted"
-        flat = to_float(images).reshape(len(images), -1)
-        return self.estimator.transform(flat)[:, self.params["n_discard"] :]
+        return self.estimator.transform(to_pixels64(images))[:, self.params["n_discard"] :]
 
     def reconstruct(self, images: np.ndarray, start: int, stop: int) -> np.ndarray:
         """(N, H, W) float32 images rebuilt from components [start, stop) only (plus the mean if start == 0)."""
@@ -60,8 +67,7 @@ class PrincipalComponentLearner(FeatureLearner):
         if not 0 <= start < stop <= self.n_components:
             raise ValueError(f"component range [{start}, {stop}) must satisfy 0 <= start < stop <= {self.n_components}")
         assert self.estimator is not None
-        flat = to_float(images).reshape(len(images), -1)
-        projections = self.estimator.transform(flat)[:, start:stop]
+        projections = self.estimator.transform(to_pixels64(images))[:, start:stop]
         rebuilt = projections @ self.estimator.components_[start:stop]
         if start == 0:
             rebuilt = rebuilt + self.estimator.mean_

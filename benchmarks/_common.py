@@ -24,6 +24,8 @@ from seasonloop.machine import cpu_model
 from seasonloop.models.core.learner import to_json_value
 from seasonloop.params.seasons import SEASONS
 
+# the variables that make this CPU run an AVX2-only CPU's kernels (torch's, oneDNN's, OpenBLAS's)
+ISA_CAP = ("ATEN_CPU_CAPABILITY", "ONEDNN_MAX_CPU_ISA", "OPENBLAS_CORETYPE")
 SPLIT_DIR = Path("data/split")
 RESULTS_DIR = Path("benchmarks/results")
 # Fallback synthetic route: frames at the pipeline's storage size, then its preprocessing defaults.
@@ -108,8 +110,9 @@ def machine() -> dict[str, Any]:
     """What the timings are measured on, and how busy the CPU is with other work just now."""
     return {
         "cpu": cpu_model(),
-        # an ISA cap (ATEN_CPU_CAPABILITY=avx2 ONEDNN_MAX_CPU_ISA=AVX2) estimates an AVX2-only CPU
-        "isa_cap": {key: os.environ.get(key) for key in ("ATEN_CPU_CAPABILITY", "ONEDNN_MAX_CPU_ISA")},
+        # an ISA cap (ATEN_CPU_CAPABILITY=avx2 ONEDNN_MAX_CPU_ISA=AVX2 OPENBLAS_CORETYPE=Haswell)
+        # estimates an AVX2-only CPU
+        "isa_cap": {key: os.environ.get(key) for key in ISA_CAP},
         "cpu_count": os.cpu_count(),
         "torch_threads": torch.get_num_threads(),
         "cuda": torch.cuda.get_device_name(0) if torch.cuda.is_available() else None,

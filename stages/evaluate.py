@@ -4,7 +4,8 @@ For each pair of evaluate.pairs whose two seasons are in data.seasons, each metr
 then evaluate.extra_metrics) and each matcher of evaluate.matchers (single-image best match;
 SeqSLAM-style sequence matching), writes metrics/eval/<method>/<pair><suffix>.json,
 plots/pr/<method>/<pair><suffix>.csv (the study's PR convention) and
-plots/similarity/<method>/<pair><suffix>.png, where suffix is "@<metric>" for an extra metric
+plots/similarity/<method>/<pair><suffix>.npy (a thumbnail of the similarity matched on, for the
+summary's figure of every learner and pair), where suffix is "@<metric>" for an extra metric
 (nothing for evaluate.metric) followed by "" for single-image matching and "+seq" for sequence
 matching (seasonloop.evaluation.matchers.result_suffix).
 """
@@ -35,7 +36,6 @@ def main() -> None:
         staged_dir(Path("plots/similarity") / method) as similarity_dir,
     ):
         evaluate_learner(
-            method,
             Path("data/features") / method,
             pairs,
             Path("data/ground_truth"),

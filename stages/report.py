@@ -30,7 +30,6 @@ FILES = ReportFiles(
     features=Path("data/features"),
     season_preview=Path("plots/season_preview.png"),
     summary=Path("plots/summary"),
-    similarity=Path("plots/similarity"),
     training_seasons_figure=Path("plots/training_seasons.png"),
     cae_widths=Path("metrics/cae_widths.json"),
     cae_widths_figure=Path("plots/cae_widths.png"),

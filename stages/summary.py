@@ -13,7 +13,9 @@ feature milliseconds per image, Table 7), plots/summary/fraction_correct.{md,csv
 study's numbers; the CSV feeds `dvc plots show`), plots/summary/pr_landmarks.md,
 plots/summary/runtime.md, and the PNG figures of fraction correct per pair (study Figures 10, 11,
 16, 17; fraction_correct.png for evaluate.metric, fraction_correct@<metric>.png for each extra
-metric) and overlaid PR curves per pair under evaluate.metric (Figures 9, 14, 15, 17); for
+metric), overlaid PR curves per pair under evaluate.metric (Figures 9, 14, 15, 17) and
+similarity.png (every learner's similarity matrix of every pair, single images, evaluate.metric,
+from the evaluate stages' thumbnails in plots/similarity/); for
 `dvc plots show`, plots/summary/pr/<pair>.csv (every learner's curve under evaluate.metric, a
 `learner` column) and plots/summary/training_loss.csv (the dvclive loss curves of the learners
 that train in epochs); metrics/autoencoder_training.json (how each of those learners' training
@@ -31,7 +33,12 @@ from seasonloop.params.schema import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig
 from seasonloop.reporting.dvcplots import training_curves
 from seasonloop.reporting.results import autoencoder_training, load_evaluations, load_runtime
-from seasonloop.reporting.summary_files import compare_record, summary_record, write_summary_files
+from seasonloop.reporting.summary_files import (
+    compare_record,
+    summary_record,
+    write_similarity_figure,
+    write_summary_files,
+)
 
 # the metrics DVC compares across experiments (dvc.yaml declares only these)
 COMPARE = Path("metrics/mean_fraction_correct.json")
@@ -54,6 +61,7 @@ def main() -> None:
     write_json(Path("metrics/autoencoder_training.json"), autoencoder_training(Path("metrics/fit"), methods))
     with staged_dir(Path("plots/summary")) as out:
         write_summary_files(out, results, runtime, training_curves(Path("logs"), methods))
+        write_similarity_figure(out / "similarity.png", Path("plots/similarity"), methods, pairs)
 
 
 if __name__ == "__main__":

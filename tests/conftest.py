@@ -1,11 +1,67 @@
-"""Test order for the two workers: the end-to-end files (minutes each) start first, one per worker,
-and the unit tests fill in around them, so the suite takes about as long as its longest file."""
+"""Test order and the end-to-end tests' seed.
+
+Order for the two workers: the end-to-end files (a minute or more each) start first, one per worker,
+and the unit tests fill in around them, so the suite takes about as long as its longest file.
+
+The seed (tests/workspaces.py): one tiny `dvc repro` whose DVC cache the end-to-end workspaces
+start from. When a seeded module is selected, the controller starts building it in the background
+at once, so that it runs beside the tests that need no seed instead of holding a worker while the
+other waits; the `seed_cache` fixture waits for it (or builds it, if the background build failed).
+"""
 
 from __future__ import annotations
 
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
 import pytest
+from workspaces import SEEDED_MODULES, build_seed, seed_folder
+
+SEED_PROCESS = "_seasonloop_seed_process"
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     # stable sort: e2e tests first (xdist hands out files in collection order), the rest as collected
     items.sort(key=lambda item: item.get_closest_marker("e2e") is None)
+
+
+def seeded_modules_selected(config: pytest.Config) -> bool:
+    """Whether this run may reach a test that starts from the seed: e2e not deselected, and a
+    folder or a seeded module among the paths asked for."""
+    if "not e2e" in (config.option.markexpr or ""):
+        return False
+    paths = [Path(arg.split("::")[0]) for arg in config.args]
+    return any(path.is_dir() or path.stem in SEEDED_MODULES for path in paths)
+
+
+@pytest.hookimpl(trylast=True)  # after the tmp_path plugin has set the session's basetemp
+def pytest_configure(config: pytest.Config) -> None:
+    if hasattr(config, "workerinput") or not seeded_modules_selected(config):
+        return  # an xdist worker, or nothing that needs the seed
+    folder = seed_folder(config._tmp_path_factory.getbasetemp())  # type: ignore[attr-defined]
+    folder.mkdir(parents=True, exist_ok=True)
+    log = open(folder / "build.log", "w")  # noqa: SIM115 (the background build writes it to the end)
+    process = subprocess.Popen(
+        [sys.executable, str(Path(__file__).with_name("workspaces.py")), str(folder)],
+        stdout=log,
+        stderr=subprocess.STDOUT,
+        start_new_session=True,  # its own process group: stopped with every stage it started
+    )
+    setattr(config, SEED_PROCESS, process)
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    """A run that ends early (-x, Ctrl-C) stops a seed build still running."""
+    process = getattr(config, SEED_PROCESS, None)
+    if process is not None and process.poll() is None:
+        os.killpg(process.pid, signal.SIGTERM)
+        process.wait()
+
+
+@pytest.fixture(scope="session")
+def seed_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The DVC cache of the tiny seed run (TINY, then SMALL): waits for the background build."""
+    return build_seed(seed_folder(tmp_path_factory.getbasetemp()))

@@ -11,9 +11,8 @@ import time
 from pathlib import Path
 
 import pytest
-from test_pipeline import dvc, make_workspace
 from test_real_frames import write_frame_folders
-from test_remote import SMALL, git
+from workspaces import SMALL, dvc, git, make_workspace
 
 
 def in_a_terminal(root: Path, columns: int, *args: str) -> str:
@@ -36,8 +35,8 @@ def wait_for_the_queue(root: Path, timeout_s: float = 1200) -> str:
 
 
 @pytest.mark.e2e
-def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path):
-    root = make_workspace(tmp_path / "repo", SMALL)
+def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path, seed_cache):
+    root = make_workspace(tmp_path / "repo", SMALL, cache=seed_cache)
     baseline = dvc(root, "repro")
     assert baseline.returncode == 0, baseline.stderr[-2000:]
     git(root, "add", "-A")
@@ -72,8 +71,9 @@ def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path):
 
 
 @pytest.mark.e2e
-def test_exp_run_of_one_target_in_a_fresh_clone(tmp_path):
-    origin = make_workspace(tmp_path / "origin", SMALL)
+def test_exp_run_of_one_target_in_a_fresh_clone(tmp_path, seed_cache):
+    # the origin's stages come from the seed's run cache; the clones start without any cache
+    origin = make_workspace(tmp_path / "origin", SMALL, cache=seed_cache)
     assert dvc(origin, "repro").returncode == 0
     git(origin, "add", "-A")
     git(origin, "commit", "-qm", "run")

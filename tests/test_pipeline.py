@@ -1,95 +1,30 @@
-"""End to end: `dvc repro` of the whole pipeline on a tiny configuration, in a copy of the repo."""
+"""End to end: `dvc repro` of the whole pipeline on a tiny configuration, in a copy of the repo.
+
+The stages run once per test session in the seed (tests/workspaces.py, the same params); this
+module's workspace restores them from its run cache and checks what they wrote.
+"""
 
 from __future__ import annotations
 
 import copy
 import json
-import os
-import shutil
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 import yaml
-
-REPO = Path(__file__).resolve().parents[1]
-
-# Small enough for CI on 2 cores, large enough that every stage has real work: three seasons
-# (so pairs are filtered to the seasons present), every learner, both matchers.
-TINY = {
-    "data": {"seasons": ["summer", "fall", "winter"]},
-    "train": {"seasons": ["summer", "fall", "winter"]},
-    "synthetic": {"seconds": 300, "fps": 2, "width": 128, "height": 72},
-    "extract": {"height": 36, "width": 64},
-    "split": {"section_length": 100, "test_fraction": 0.3, "gap": 3},
-    "pca": {"n_discard": 3, "n_keep": 20},
-    "pca_whiten": {"n_keep": 16},
-    "ica": {"n_components": 16, "max_iter": 200},
-    "ica_bovw": {"n_train_patches": 3000, "n_components": 15, "n_words": 20},
-    "fae": {"hidden": 32, "max_epochs": 2},
-    "cae": {
-        "channels": [3, 8, 12],
-        "kernels": [5, 3, 3],
-        "max_epochs": 1,
-        "max_train_images": 64,
-        "max_validation_images": 16,
-    },
-    # 1/32 is the CAE's own width (reused from fit@cae), 1/16 is trained by the sweep
-    "cae_widths": {"widths": [0.03125, 0.0625]},
-    "ablation": {"training_seasons": [["summer"], ["summer", "winter"]], "pair": "summer-fall"},
-}
-
-
-def merge(base: dict, override: dict) -> dict:
-    for key, value in override.items():
-        base[key] = merge(base[key], value) if isinstance(value, dict) and isinstance(base.get(key), dict) else value
-    return base
-
-
-# What `dvc repro` writes: a developer's checkout may hold them, a fresh clone does not.
-PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock", "benchmarks/results/")
-
-
-def source_files() -> list[str]:
-    """The repository as a fresh clone would have it, plus uncommitted source changes."""
-    listed = subprocess.run(
-        ["git", "ls-files", "--cached", "--others", "--exclude-standard"],
-        cwd=REPO,
-        check=True,
-        capture_output=True,
-        text=True,
-    ).stdout.split()
-    # data/nordland/ holds the tracked placeholders of the real-data folders
-    return [
-        name
-        for name in listed
-        if (REPO / name).is_file() and (not name.startswith(PIPELINE_OUTPUTS) or name.startswith("data/nordland/"))
-    ]
-
-
-def make_workspace(root: Path, overrides: dict) -> Path:
-    """A fresh git + DVC copy of the repository at `root` with params.yaml merged with `overrides`."""
-    for name in source_files():
-        (root / name).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy2(REPO / name, root / name)
-    params = merge(yaml.safe_load((root / "params.yaml").read_text()), overrides)
-    (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
-    for command in (
-        ["git", "init", "-q"],
-        ["git", "add", "-A"],
-        ["git", "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "tiny"],
-    ):
-        subprocess.run(command, cwd=root, check=True)
-    return root
+from workspaces import TINY, dvc, make_workspace
 
 
 @pytest.fixture(scope="module")
-def workspace(tmp_path_factory) -> Path:
-    """A fresh git + DVC copy of the repository with the tiny params, after one `dvc repro`."""
-    root = make_workspace(tmp_path_factory.mktemp("repo"), TINY)
+def workspace(tmp_path_factory, seed_cache) -> Path:
+    """A fresh git + DVC copy of the repository with the tiny params, after one `dvc repro` that
+    restores every stage from the seed's run cache (the seed ran the same stages: tests/workspaces.py)."""
+    root = make_workspace(tmp_path_factory.mktemp("repo"), TINY, cache=seed_cache)
     result = dvc(root, "repro")
     assert result.returncode == 0, result.stdout + result.stderr
+    assert "Running stage" not in result.stdout, result.stdout  # every stage came from the run cache
     return root
 
 
@@ -105,13 +40,6 @@ def restore_params(request):
         yield
     finally:
         path.write_text(saved)
-
-
-def dvc(root: Path, *args: str) -> subprocess.CompletedProcess:
-    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
-    return subprocess.run(
-        [str(Path(sys.executable).parent / "dvc"), *args], cwd=root, env=env, capture_output=True, text=True
-    )
 
 
 @pytest.mark.e2e

@@ -3,14 +3,16 @@
 import numpy as np
 import pandas as pd
 import pytest
+from PIL import Image
 
+from seasonloop.evaluation.pair_evaluation import similarity_thumbnail
 from seasonloop.plots import (
-    plot_distance_matrix,
     plot_fraction_correct,
     plot_image_grid,
     plot_loss_curves,
     plot_pr_curves,
     plot_series,
+    plot_similarity_grid,
 )
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -47,7 +49,6 @@ def test_plot_fraction_correct(tmp_path):
 
 
 def test_the_fraction_correct_figure_fits_a_page_with_every_learner_and_pair(tmp_path):
-    from PIL import Image
 
     learners = ["raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw", "fae", "cae"]
     labels = [*learners, *(f"{learner}+seq" for learner in learners)]
@@ -59,14 +60,31 @@ def test_the_fraction_correct_figure_fits_a_page_with_every_learner_and_pair(tmp
     assert width <= 1600 and height <= 1200
 
 
-def test_plot_distance_matrix_downsamples_large(tmp_path):
+def test_similarity_thumbnails_downsample_keep_the_matches_and_blank_the_infinite():
     rng = np.random.default_rng(0)
-    distances = rng.random((1300, 1100)).astype(np.float32)
+    distances = 1.0 + rng.random((1300, 1100))
     distances[np.arange(1100), np.arange(1100)] = 0.0
-    distances[0, :5] = np.inf  # sequence scores can be infinite
-    path = tmp_path / "matrix.png"
-    plot_distance_matrix(distances, "summer-fall", path)
+    distances[:9, :] = np.inf  # sequence scores can be infinite: the first block of 9 rows
+    thumbnail = similarity_thumbnail(distances)
+    assert thumbnail.shape == (145, 158) and thumbnail.dtype == np.float16  # blocks of 9 rows, 7 columns
+    assert np.isnan(thumbnail[0]).all() and np.nanmin(thumbnail) >= 0.0
+    # a block holding a true match keeps its minimum distance: each row of blocks that holds part
+    # of the diagonal shows it as the most similar cell
+    assert (np.nanmax(thumbnail[1:123], axis=1) == 1.0).all()
+
+
+def test_the_similarity_grid_reads_at_a_laptops_width(tmp_path):
+    rng = np.random.default_rng(1)
+    learners = ["raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw", "fae", "cae"]
+    pairs = ["summer-fall", "summer-spring", "spring-fall", "winter-summer", "winter-fall", "winter-spring"]
+    thumbnails = {learner: {pair: rng.random((158, 158)).astype(np.float16) for pair in pairs} for learner in learners}
+    path = tmp_path / "similarity.png"
+    plot_similarity_grid(thumbnails, path, "Similarity")
     assert_png(path)
+    width, height = Image.open(path).size
+    assert width <= 1366 and height <= 1700, (width, height)
+    with pytest.raises(ValueError, match="expected"):
+        plot_similarity_grid({"a": {"x": thumbnails["pca"]["summer-fall"]}, "b": {}}, path, "Similarity")
 
 
 def test_plot_image_grid(tmp_path):

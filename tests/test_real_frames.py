@@ -7,7 +7,7 @@ from pathlib import Path
 
 import cv2
 import pytest
-from test_pipeline import TINY, dvc, make_workspace
+from workspaces import TINY, dvc, make_workspace
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import render_route

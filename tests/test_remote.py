@@ -11,27 +11,14 @@ import time
 from pathlib import Path
 
 import pytest
-from test_pipeline import TINY, dvc, make_workspace
-
-# the smallest run that still has every stage: two learners, one ablation learner
-SMALL = {
-    **{key: value for key, value in TINY.items() if key != "ablation"},
-    "learners": ["raw_patchnorm", "pca"],
-    "ablation": {"methods": ["pca"], "pair": "summer-fall", "training_seasons": [["summer"]]},
-    "cae_widths": {"widths": [0.03125]},
-}
-
-
-def git(root: Path, *args: str) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        ["git", "-c", "user.name=t", "-c", "user.email=t@t", *args], cwd=root, capture_output=True, text=True
-    )
+from workspaces import SMALL, dvc, git, make_workspace
 
 
 @pytest.fixture(scope="module")
-def pushed_run(tmp_path_factory) -> Path:
-    """A workspace that ran the pipeline, with dvc.lock committed."""
-    root = make_workspace(tmp_path_factory.mktemp("origin"), SMALL)
+def pushed_run(tmp_path_factory, seed_cache) -> Path:
+    """A workspace that ran the pipeline (its stages restored from the seed's run cache), with
+    dvc.lock committed."""
+    root = make_workspace(tmp_path_factory.mktemp("origin"), SMALL, cache=seed_cache)
     result = dvc(root, "repro")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     git(root, "add", "-A")

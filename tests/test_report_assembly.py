@@ -46,7 +46,6 @@ def report_files(root) -> ReportFiles:
         features=root / "features",
         season_preview=png,
         summary=root / "summary",
-        similarity=root / "similarity",
         training_seasons_figure=png,
         cae_widths=root / "cae_widths.json",
         cae_widths_figure=png,
@@ -112,11 +111,8 @@ def report_files(root) -> ReportFiles:
     for method in METHODS:
         for season in SEASONS:
             save_array(files.features / method / f"{season}.npy", rng.random((5, 4)))
-        (files.similarity / method).mkdir(parents=True)
-        for pair in PAIRS:
-            shutil.copy(png, files.similarity / method / f"{pair}.png")
     files.summary.mkdir()
-    for name in ["fraction_correct", *(f"pr_{pair}" for pair in PAIRS)]:
+    for name in ["fraction_correct", "similarity", *(f"pr_{pair}" for pair in PAIRS)]:
         shutil.copy(png, files.summary / f"{name}.png")
     for method in METHODS:
         write_json(files.fits / f"{method}.json", {"environment": {"numpy": "2.4.6", "torch_threads": 2}})

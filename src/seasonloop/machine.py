@@ -13,8 +13,9 @@ VECTOR_UNITS = ("avx2", "avx512f", "avx512_bf16", "amx_bf16")
 
 
 def cpu_model() -> str:
-    """The CPU's model name and its vector units (what lscpu shows), e.g. 'AMD EPYC (avx2, avx512f,
-    avx512_bf16)'."""
+    """The CPU's model name, family and model numbers (a virtual machine's name is often just 'AMD
+    EPYC': family 25 model 1 is Zen 3, model 17 Zen 4) and its vector units (what lscpu shows), e.g.
+    'AMD EPYC (family 25 model 17; avx2, avx512f, avx512_bf16)'."""
     try:
         lines = Path("/proc/cpuinfo").read_text().splitlines()
     except OSError:
@@ -22,4 +23,9 @@ def cpu_model() -> str:
     fields = {key.strip(): value.strip() for key, value in (line.split(":", 1) for line in lines if ":" in line)}
     flags = set(fields.get("flags", "").split())
     units = [flag for flag in VECTOR_UNITS if flag in flags]
-    return f"{fields.get('model name', 'unknown CPU')} ({', '.join(units) or 'no AVX2'})"
+    family = (
+        f"family {fields['cpu family']} model {fields['model']}; "
+        if "cpu family" in fields and "model" in fields
+        else ""
+    )
+    return f"{fields.get('model name', 'unknown CPU')} ({family}{', '.join(units) or 'no AVX2'})"

@@ -18,9 +18,6 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-# Largest side, in cells, of a distance matrix drawn without downsampling.
-_MAX_MATRIX_SIDE = 1000
-
 
 def _save(figure: Figure, path) -> None:
     """Write the figure as a PNG at path, creating parent directories."""
@@ -150,42 +147,40 @@ def _fraction_panel(axes, percent: pd.Series, study: pd.Series | None, bases: li
     axes.grid(True, axis="x", alpha=0.3)
 
 
-def _block_minimum(matrix: np.ndarray, max_side: int) -> np.ndarray:
-    """Downsample by the minimum over blocks, so low-distance lines (true matches) stay visible."""
-    for axis in (0, 1):
-        size = matrix.shape[axis]
-        if size > max_side:
-            block = int(np.ceil(size / max_side))
-            matrix = np.minimum.reduceat(matrix, np.arange(0, size, block), axis=axis)
-    return matrix
-
-
-def plot_distance_matrix(distances: np.ndarray, title: str, path) -> None:
-    """Image of the similarity (-distance) of query rows vs database columns.
-
-    Matrices larger than 1000 cells a side are downsampled by block minima of the distance, which
-    keeps the diagonal of true matches visible; infinite distances are drawn blank.
-    """
-    distances = np.asarray(distances, dtype=np.float64)
-    if distances.ndim != 2 or distances.size == 0:
-        raise ValueError(f"distances must be a non-empty 2-D array, got shape {distances.shape}")
-    if np.isnan(distances).any():
-        raise ValueError("distances contains NaN values")
-    n_queries, n_database = distances.shape
-    similarity = np.ma.masked_invalid(-_block_minimum(distances, _MAX_MATRIX_SIDE))
-    figure = Figure(figsize=(6.0, 5.0))
-    axes = figure.add_subplot()
-    image = axes.imshow(
-        similarity,
-        cmap="viridis",
-        aspect="auto",
-        interpolation="nearest",
-        extent=(-0.5, n_database - 0.5, n_queries - 0.5, -0.5),
-    )
-    figure.colorbar(image, ax=axes, label="similarity (-distance)")
-    axes.set_xlabel("database image")
-    axes.set_ylabel("query image")
-    axes.set_title(title)
+def plot_similarity_grid(thumbnails: Mapping[str, Mapping[str, np.ndarray]], path, title: str) -> None:
+    """Every learner's similarity matrix of every pair in one figure, thumbnails[learner][pair]:
+    (queries, database) similarity in [0, 1] (NaN: blank), as seasonloop.evaluation.pair_evaluation
+    writes them. One row per learner, one column per pair, each label once, one colour bar; sized
+    to be read at a laptop's width (1,366 px)."""
+    rows = list(thumbnails)
+    if not rows or not thumbnails[rows[0]]:
+        raise ValueError("thumbnails is empty: nothing to plot")
+    columns = list(thumbnails[rows[0]])
+    for row in rows:
+        if list(thumbnails[row]) != columns:
+            raise ValueError(f"thumbnails[{row!r}] has pairs {list(thumbnails[row])}, expected {columns}")
+    # inches a panel (120 dpi): at most ~1,340 px wide with the row labels and the colour bar
+    cell = min(1.6, 9.4 / len(columns))
+    figure = Figure(figsize=(len(columns) * cell + 1.8, len(rows) * cell + 1.0), layout="constrained")
+    grid = figure.subplots(len(rows), len(columns), squeeze=False)
+    images = []
+    for row_index, row in enumerate(rows):
+        for col_index, column in enumerate(columns):
+            axes = grid[row_index, col_index]
+            matrix = np.asarray(thumbnails[row][column], dtype=np.float64)
+            images.append(
+                axes.imshow(matrix, cmap="viridis", vmin=0.0, vmax=1.0, aspect="auto", interpolation="nearest")
+            )
+            axes.set_xticks([])
+            axes.set_yticks([])
+            if col_index == 0:
+                axes.set_ylabel(row, fontsize="medium")
+            if row_index == 0:
+                axes.set_title(column, fontsize="medium")
+            if row_index == len(rows) - 1:
+                axes.set_xlabel("database", fontsize="small")
+    figure.colorbar(images[0], ax=grid, shrink=0.6, label="similarity, scaled per matrix (1: nearest)")
+    figure.suptitle(title)
     _save(figure, path)
 
 

@@ -1,5 +1,6 @@
 """Every evaluation of one learner: each season pair of the test set under each metric and matcher,
-written as metrics JSON, a PR-curve CSV and a picture of the distances matched on.
+written as metrics JSON, a PR-curve CSV and a thumbnail of the distances matched on (the summary
+stage draws the thumbnails of every learner and pair as one figure).
 
 seasonloop.evaluation.matchers defines the evaluations (metric x matcher) and computes one;
 this module runs them over the pairs and writes what they give.
@@ -16,14 +17,34 @@ from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matchers import evaluations, match_distances
 from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.pair_truths import truth_file
-from seasonloop.io import load_array, write_json
+from seasonloop.io import load_array, save_array, write_json
 from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
-from seasonloop.plots import plot_distance_matrix
+
+# the thumbnails' largest side: a figure of every learner and pair shows each in ~200 px
+THUMBNAIL_SIDE = 160
+
+
+def similarity_thumbnail(distances: np.ndarray, max_side: int = THUMBNAIL_SIDE) -> np.ndarray:
+    """float16 similarity in [0, 1] (1: the pair's smallest distance, 0: its largest finite one; NaN
+    where the distance is infinite), downsampled to at most max_side a side by the minimum distance
+    over blocks, so the low-distance line of true matches stays visible. Scaled per matrix: learners
+    measure distance in their own units, and a picture compares where the matches lie, not units."""
+    distances = np.asarray(distances, dtype=np.float64)
+    for axis in (0, 1):
+        size = distances.shape[axis]
+        if size > max_side:
+            block = int(np.ceil(size / max_side))
+            distances = np.minimum.reduceat(distances, np.arange(0, size, block), axis=axis)
+    finite = np.isfinite(distances)
+    if not finite.any():
+        return np.full(distances.shape, np.nan, dtype=np.float16)
+    low, high = distances[finite].min(), distances[finite].max()
+    scaled = (high - distances) / (high - low) if high > low else np.ones_like(distances)
+    return np.where(finite, scaled, np.nan).astype(np.float16)
 
 
 def evaluate_learner(
-    method: str,
     features: Path,
     pairs: Sequence[tuple[str, str]],
     truths: Path,
@@ -33,8 +54,9 @@ def evaluate_learner(
     pr_dir: Path,
     similarity_dir: Path,
 ) -> None:
-    """Evaluate the descriptors features/<season>.npy of `method` on `pairs` (database, query)
-    against their ground truth truths/<database>-<query>.npz; writes <pair><suffix>.json to metrics_dir, .csv to pr_dir and .png to similarity_dir."""
+    """Evaluate the descriptors features/<season>.npy of one learner on `pairs` (database, query)
+    against their ground truth truths/<database>-<query>.npz; writes <pair><suffix>.json to
+    metrics_dir, .csv to pr_dir and .npy (similarity_thumbnail) to similarity_dir."""
     if not pairs:
         raise ValueError("evaluate.pairs: no pair has both of its seasons in data.seasons")
     variants = evaluations(evaluate)
@@ -52,9 +74,7 @@ def evaluate_learner(
             metrics, pr, matched = match_distances(distances[metric], truth, matcher, evaluate, sequence)
             write_json(metrics_dir / f"{name}.json", metrics)
             pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
-            plot_distance_matrix(
-                matched, f"{method}{suffix}: {database} (database) vs {query} (queries)", similarity_dir / f"{name}.png"
-            )
+            save_array(similarity_dir / f"{name}.npy", similarity_thumbnail(matched))
 
 
 def check_rows(descriptors: Sequence[np.ndarray], truth: PairTruth, features: Path, seasons: Sequence[str]) -> None:

@@ -1,4 +1,4 @@
-"""The report's HTML: content blocks (tables, images, thumbnails, text), sections of them, and one
+"""The report's HTML: content blocks (tables, images, text), sections of them, and one
 self-contained page built from the sections.
 
 Knows nothing of the study: a block holds a DataFrame, a caption or PNG paths or bytes. Images are
@@ -28,8 +28,6 @@ th { background: #f0f0f0; }
 caption, p.caption { caption-side: top; text-align: left; font-weight: bold; margin: 1em 0 0.3em; }
 figure { margin: 0.5em 0 1.5em; } figure img { max-width: 100%; }
 figcaption { font-size: 0.9em; color: #555; }
-table.thumbnails { width: 100%; table-layout: fixed; } table.thumbnails img { width: 100%; }
-table.thumbnails th:first-child { width: 8em; }
 pre { background: #f6f6f6; padding: 1em; overflow-x: auto; font-size: 0.85em; }
 """
 
@@ -52,16 +50,6 @@ class Image:
 
 
 @dataclass(frozen=True)
-class Thumbnails:
-    """PNGs as a grid of small images, pngs[row][column], with row and column labels."""
-
-    caption: str
-    row_labels: Sequence[str]
-    col_labels: Sequence[str]
-    pngs: Sequence[Sequence[Png]]
-
-
-@dataclass(frozen=True)
 class Text:
     """A paragraph, or preformatted text (kept verbatim, e.g. a YAML file)."""
 
@@ -69,7 +57,7 @@ class Text:
     preformatted: bool = False
 
 
-Block = Table | Image | Thumbnails | Text
+Block = Table | Image | Text
 
 
 @dataclass(frozen=True)
@@ -98,20 +86,6 @@ def _block_html(block: Block) -> str:
     if isinstance(block, Image):
         caption = html.escape(block.caption)
         return f'<figure><img src="{_data_uri(block.png)}" alt="{caption}"><figcaption>{caption}</figcaption></figure>'
-    if isinstance(block, Thumbnails):
-        if len(block.pngs) != len(block.row_labels) or any(len(row) != len(block.col_labels) for row in block.pngs):
-            raise ValueError(f"thumbnails {block.caption!r}: pngs must be len(row_labels) x len(col_labels)")
-        header = "".join(f"<th>{html.escape(label)}</th>" for label in block.col_labels)
-        rows = "".join(
-            f"<tr><th>{html.escape(label)}</th>"
-            + "".join(f'<td><img src="{_data_uri(png)}" alt="{html.escape(label)}"></td>' for png in row)
-            + "</tr>"
-            for label, row in zip(block.row_labels, block.pngs)
-        )
-        return (
-            f'<table class="thumbnails"><caption>{html.escape(block.caption)}</caption>'
-            f"<tr><th></th>{header}</tr>{rows}</table>"
-        )
     if isinstance(block, Text):
         return f"<pre>{html.escape(block.text)}</pre>" if block.preformatted else f"<p>{html.escape(block.text)}</p>"
     raise ValueError(f"unknown report block type {type(block).__name__}")

@@ -20,7 +20,7 @@ from seasonloop.io import read_json
 from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig
 from seasonloop.reporting.examples import Example, example_grid_png, example_grids, examples_section, select_examples
-from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text, Thumbnails, build_report
+from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text, build_report
 from seasonloop.reporting.model_sections import (
     autoencoder_training_section,
     cae_widths_section,
@@ -54,7 +54,6 @@ __all__ = [
     "Section",
     "Table",
     "Text",
-    "Thumbnails",
     "autoencoder_training_section",
     "build_report",
     "cae_widths_section",
@@ -90,8 +89,7 @@ class ReportFiles:
     autoencoder_training: Path  # how each auto-encoder's training ended
     features: Path  # <method>/<season>.npy descriptors
     season_preview: Path  # a PNG
-    summary: Path  # fraction_correct[@<metric>].png, pr_<pair>.png
-    similarity: Path  # <method>/<pair>.png
+    summary: Path  # fraction_correct[@<metric>].png, pr_<pair>.png, similarity.png
     training_seasons_figure: Path  # a PNG
     cae_widths: Path  # the CAE width sweep's record (seasonloop.ablations.cae_widths)
     cae_widths_figure: Path  # a PNG
@@ -139,9 +137,7 @@ def study_report(
             {pair: files.summary / f"pr_{pair}.png" for pair in pairs},
             pr_landmarks_table(pr_landmarks(results.metrics)),
         ),
-        similarity_section(
-            {method: {pair: files.similarity / method / f"{pair}.png" for pair in pairs} for method in methods}, pairs
-        ),
+        similarity_section(files.summary / "similarity.png"),
         examples_section(pair_name(database, query), grids),
         runtime_section(load_runtime_record(files.runtime, methods)),
         training_seasons_section(

@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 
 from seasonloop.evaluation.matchers import MATCHERS
-from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text, Thumbnails
+from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text
 from seasonloop.reporting.summary import fraction_correct_table, study_table
 
 MATCHER_NAMES = {"single": "single-image matching", "sequence": "sequence matching (SeqSLAM)"}
@@ -196,16 +196,15 @@ def pr_section(curves: Mapping[str, Png], landmarks: pd.DataFrame | None = None)
     return Section("Precision-recall curves", blocks)
 
 
-def similarity_section(matrices: Mapping[str, Mapping[str, Png]], pairs: Sequence[str]) -> Section:
-    """Thumbnails of the similarity matrices, matrices[method][pair] -> PNG, learners x pairs."""
+def similarity_section(figure: Png) -> Section:
+    """Every learner's similarity matrix of every pair, one figure (the summary stage's)."""
     return Section(
         "Similarity matrices",
         [
-            Thumbnails(
-                "Query x database similarity, single-image matching (true matches on the diagonal)",
-                list(matrices),
-                list(pairs),
-                [[matrices[method][pair] for pair in pairs] for method in matrices],
+            Image(
+                "Query x database similarity, single-image matching: one row per learner, one column per "
+                "pair (database-queries); each matrix scaled to its own range, true matches on the diagonal",
+                figure,
             )
         ],
     )

@@ -7,14 +7,15 @@ dvc.yaml's plots name them).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pandas as pd
 
-from seasonloop.plots import plot_fraction_correct, plot_pr_curves
+from seasonloop.io import load_array
+from seasonloop.plots import plot_fraction_correct, plot_pr_curves, plot_similarity_grid
 from seasonloop.reporting.dvcplots import pr_long
 from seasonloop.reporting.results import EvaluationResults
 from seasonloop.reporting.summary import (
@@ -107,6 +108,16 @@ def write_dvc_plots(out: Path, results: EvaluationResults, training_curves: pd.D
         pr_long(results.curves[pair]).to_csv(out / "pr" / f"{pair}.csv", index=False, float_format="%.6g")
     losses = training_curves[training_curves["metric"].str.startswith("loss/")]
     losses.to_csv(out / "training_loss.csv", index=False, float_format="%.6g")
+
+
+def write_similarity_figure(path: Path, thumbnails: Path, methods: Sequence[str], pairs: Sequence[str]) -> None:
+    """One figure of every learner's single-image similarity matrix of every pair under the main
+    metric, from the evaluate stages' thumbnails thumbnails/<method>/<pair>.npy."""
+    plot_similarity_grid(
+        {method: {pair: load_array(thumbnails / method / f"{pair}.npy") for pair in pairs} for method in methods},
+        path,
+        "Query x database similarity, single-image matching (true matches on the diagonal)",
+    )
 
 
 def write_summary_files(

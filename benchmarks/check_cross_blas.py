@@ -1,0 +1,175 @@
+"""Do the learners that are not auto-encoders give the same metrics on every CPU? Run the pipeline
+up to their evaluation twice, with this CPU's own kernels and with those of an AVX2-only CPU, and
+compare every metrics/eval file.
+
+Numerical libraries pick their kernels by the CPU they find: OpenBLAS (numpy, scipy, scikit-learn)
+per CPU model, numpy's and OpenCV's own SIMD loops per instruction set, torch (ATen, oneDNN, MKL)
+likewise; kernels of another vector width sum in another order and round differently. This script
+emulates an AVX2-only CPU on this one with the variables of AVX2_ONLY (read once, at start-up, so
+each run is its own `dvc repro` in its own copy of the repository) and compares the two runs file
+by file: every metrics/eval file of the learners below, and the data and models on the way.
+Measurements only: never set these variables in tests or CI.
+
+    python benchmarks/check_cross_blas.py [--keep DIR]
+
+Takes a few minutes (two runs of the data stages and five learners on the default params).
+Writes benchmarks/results/check_cross_blas.json; the headline line is printed last; exit status 1
+when a metrics file differs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from _common import machine, write_result
+
+# the learners whose metrics must not depend on the CPU (the auto-encoders may: documented)
+LEARNERS = ("raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw")
+# every library's kernels capped at AVX2: OpenBLAS (Haswell kernels), torch's ATen, oneDNN and
+# MKL, numpy's dispatched loops (x86-64-v4 = AVX-512) and OpenCV's
+AVX2_ONLY = {
+    "OPENBLAS_CORETYPE": "Haswell",
+    "ATEN_CPU_CAPABILITY": "avx2",
+    "ONEDNN_MAX_CPU_ISA": "AVX2",
+    "MKL_ENABLE_INSTRUCTIONS": "AVX2",
+    "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR",
+    "OPENCV_CPU_DISABLE": "AVX512-SKX",
+}
+# outputs compared on the way, to say where a difference starts
+STAGE_OUTPUTS = ("data/frames", "data/preprocessed", "data/split", "data/augmented", "data/ground_truth")
+REPO = Path(__file__).resolve().parents[1]
+PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock", "benchmarks/results/")
+
+
+def copy_repository(root: Path) -> None:
+    """The repository's source files (as a fresh clone has them) in a new git repository at root."""
+    listed = subprocess.run(
+        ["git", "ls-files", "--cached", "--others", "--exclude-standard"],
+        cwd=REPO,
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout.split()
+    for name in listed:
+        if (REPO / name).is_file() and (not name.startswith(PIPELINE_OUTPUTS) or name.startswith("data/nordland/")):
+            (root / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(REPO / name, root / name)
+    for command in (["init", "-q"], ["add", "-A"], ["-c", "user.name=c", "-c", "user.email=c@c", "commit", "-qm", "c"]):
+        subprocess.run(["git", *command], cwd=root, check=True)
+
+
+def run_pipeline(root: Path, capped: bool) -> float:
+    """`dvc repro` of the learners' evaluations in root, with or without the AVX2 cap; seconds."""
+    env = {key: value for key, value in os.environ.items() if key not in AVX2_ONLY}
+    if capped:
+        env.update(AVX2_ONLY)
+    dvc = str(Path(sys.executable).parent / "dvc")
+    start = time.perf_counter()
+    result = subprocess.run(
+        [dvc, "repro", "--no-run-cache", *(f"evaluate@{learner}" for learner in LEARNERS)],
+        cwd=root,
+        env=env,
+        capture_output=True,
+        text=True,
+    )
+    if result.returncode != 0:
+        raise SystemExit(f"dvc repro failed in {root} ({'capped' if capped else 'native'}):\n{result.stderr[-3000:]}")
+    return time.perf_counter() - start
+
+
+def digests(folder: Path) -> dict[str, str]:
+    """relative path -> sha256 of every file under folder."""
+    return {
+        str(path.relative_to(folder)): hashlib.sha256(path.read_bytes()).hexdigest()
+        for path in sorted(folder.rglob("*"))
+        if path.is_file()
+    }
+
+
+def largest_metric_difference(native: Path, capped: Path) -> tuple[float, str]:
+    """The largest |difference| of any number of two metrics files, and its key."""
+    first, second = json.loads(native.read_text()), json.loads(capped.read_text())
+    keys = [key for key, value in first.items() if isinstance(value, (int, float))]
+    key = max(keys, key=lambda name: abs(first[name] - second[name]))
+    return abs(first[key] - second[key]), key
+
+
+def compare(native: Path, capped: Path) -> dict:
+    """Per stage output and per learner: how many files are identical, and the largest metric change."""
+    stages = {}
+    for output in STAGE_OUTPUTS:
+        a, b = digests(native / output), digests(capped / output)
+        stages[output] = {"files": len(a), "differ": sorted(name for name in a if a[name] != b.get(name))}
+    learners = {}
+    for learner in LEARNERS:
+        models = digests(native / "models" / learner), digests(capped / "models" / learner)
+        features = digests(native / "data/features" / learner), digests(capped / "data/features" / learner)
+        metrics = digests(native / "metrics/eval" / learner), digests(capped / "metrics/eval" / learner)
+        differ = sorted(name for name in metrics[0] if metrics[0][name] != metrics[1].get(name))
+        largest = [
+            largest_metric_difference(
+                native / "metrics/eval" / learner / name, capped / "metrics/eval" / learner / name
+            )
+            for name in differ
+        ]
+        learners[learner] = {
+            "model_identical": models[0] == models[1],
+            "features_identical": features[0] == features[1],
+            "metrics_files": len(metrics[0]),
+            "metrics_files_differ": differ,
+            "largest_difference": max(largest, default=(0.0, None)),
+        }
+    return {"stage_outputs": stages, "learners": learners}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--keep", type=Path, help="run in DIR/native and DIR/capped and keep them")
+    args = parser.parse_args()
+    measured_on = machine()
+    print(f"CPU: {measured_on['cpu']}; capped run: {' '.join(f'{k}={v}' for k, v in AVX2_ONLY.items())}")
+    folder = Path(args.keep) if args.keep else Path(tempfile.mkdtemp(prefix="cross-blas-"))
+    seconds = {}
+    try:
+        for name, capped in (("native", False), ("capped", True)):
+            root = folder / name
+            shutil.rmtree(root, ignore_errors=True)
+            root.mkdir(parents=True)
+            copy_repository(root)
+            seconds[name] = run_pipeline(root, capped)
+            print(f"  {name}: dvc repro of {', '.join(LEARNERS)} in {seconds[name]:.0f} s", flush=True)
+        record = compare(folder / "native", folder / "capped")
+    finally:
+        if not args.keep:
+            shutil.rmtree(folder, ignore_errors=True)
+    for output, row in record["stage_outputs"].items():
+        print(f"  {output}: {row['files'] - len(row['differ'])} of {row['files']} files identical")
+    for learner, row in record["learners"].items():
+        difference, key = row["largest_difference"]
+        print(
+            f"  {learner}: model {'identical' if row['model_identical'] else 'differs'}, descriptors "
+            f"{'identical' if row['features_identical'] else 'differ'}, "
+            f"{row['metrics_files'] - len(row['metrics_files_differ'])} of {row['metrics_files']} metrics files "
+            "identical" + (f" (largest change: {key} by {difference:.4g})" if key else "")
+        )
+    path = write_result("check_cross_blas", {"avx2_only": AVX2_ONLY, "seconds": seconds, **record}, measured_on)
+    print(f"wrote {path}")
+    same = [learner for learner, row in record["learners"].items() if not row["metrics_files_differ"]]
+    print(
+        f"HEADLINE: metrics identical under this CPU's kernels and AVX2-only kernels for {len(same)} of "
+        f"{len(LEARNERS)} learners ({', '.join(same) or 'none'})"
+    )
+    sys.exit(0 if len(same) == len(LEARNERS) else 1)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,151 @@
+"""Workspaces of the end-to-end tests: copies of the repository with tiny params, and the one tiny
+run whose DVC cache they start from.
+
+Every end-to-end test used to run its own `dvc repro` of the same tiny stages (minutes each on 2
+cores). Now one run of TINY, then of SMALL, is made once per test session (the seed: built in the
+background from the first moment, tests/conftest.py) and each workspace links its DVC cache: DVC's
+run cache then restores every stage whose command, deps and params the seed ran, and runs only what
+the test changed. A test that is about a fresh clone without a cache does not link it.
+
+Run as a script, it builds the seed: python tests/workspaces.py SEED_FOLDER
+"""
+
+from __future__ import annotations
+
+import fcntl
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import yaml
+
+REPO = Path(__file__).resolve().parents[1]
+
+# Small enough for CI on 2 cores, large enough that every stage has real work: three seasons
+# (so pairs are filtered to the seasons present), every learner, both matchers.
+TINY = {
+    "data": {"seasons": ["summer", "fall", "winter"]},
+    "train": {"seasons": ["summer", "fall", "winter"]},
+    "synthetic": {"seconds": 300, "fps": 2, "width": 128, "height": 72},
+    "extract": {"height": 36, "width": 64},
+    "split": {"section_length": 100, "test_fraction": 0.3, "gap": 3},
+    "pca": {"n_discard": 3, "n_keep": 20},
+    "pca_whiten": {"n_keep": 16},
+    "ica": {"n_components": 16, "max_iter": 200},
+    "ica_bovw": {"n_train_patches": 3000, "n_components": 15, "n_words": 20},
+    "fae": {"hidden": 32, "max_epochs": 2},
+    "cae": {
+        "channels": [3, 8, 12],
+        "kernels": [5, 3, 3],
+        "max_epochs": 1,
+        "max_train_images": 64,
+        "max_validation_images": 16,
+    },
+    # 1/32 is the CAE's own width (reused from fit@cae), 1/16 is trained by the sweep
+    "cae_widths": {"widths": [0.03125, 0.0625]},
+    "ablation": {"training_seasons": [["summer"], ["summer", "winter"]], "pair": "summer-fall"},
+}
+
+# the smallest run that still has every stage: two learners, one ablation learner
+SMALL = {
+    **{key: value for key, value in TINY.items() if key != "ablation"},
+    "learners": ["raw_patchnorm", "pca"],
+    "ablation": {"methods": ["pca"], "pair": "summer-fall", "training_seasons": [["summer"]]},
+    "cae_widths": {"widths": [0.03125]},
+}
+
+# What `dvc repro` writes: a developer's checkout may hold them, a fresh clone does not.
+PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock", "benchmarks/results/")
+# the test modules whose workspaces start from the seed's cache (tests/conftest.py starts the seed
+# early when any of them is selected)
+SEEDED_MODULES = ("test_pipeline", "test_remote", "test_experiments")
+
+
+def merge(base: dict, override: dict) -> dict:
+    for key, value in override.items():
+        base[key] = merge(base[key], value) if isinstance(value, dict) and isinstance(base.get(key), dict) else value
+    return base
+
+
+def source_files() -> list[str]:
+    """The repository as a fresh clone would have it, plus uncommitted source changes."""
+    listed = subprocess.run(
+        ["git", "ls-files", "--cached", "--others", "--exclude-standard"],
+        cwd=REPO,
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout.split()
+    # data/nordland/ holds the tracked placeholders of the real-data folders
+    return [
+        name
+        for name in listed
+        if (REPO / name).is_file() and (not name.startswith(PIPELINE_OUTPUTS) or name.startswith("data/nordland/"))
+    ]
+
+
+def git(root: Path, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        ["git", "-c", "user.name=t", "-c", "user.email=t@t", *args], cwd=root, capture_output=True, text=True
+    )
+
+
+def write_params(root: Path, overrides: dict) -> None:
+    """root/params.yaml: the repository's params merged with `overrides`."""
+    params = merge(yaml.safe_load((REPO / "params.yaml").read_text()), overrides)
+    (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
+
+
+def make_workspace(root: Path, overrides: dict, cache: Path | None = None) -> Path:
+    """A fresh git + DVC copy of the repository at `root` with params.yaml merged with `overrides`;
+    with `cache` (seed_cache()), its DVC cache starts as a hard-linked copy of that one."""
+    for name in source_files():
+        (root / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(REPO / name, root / name)
+    write_params(root, overrides)
+    if cache is not None:
+        # hard links: DVC never changes a cache file in place (it writes new ones and makes them
+        # read-only), so a workspace adds to its own copy without touching the seed's
+        shutil.copytree(cache, root / ".dvc" / "cache", copy_function=os.link)
+    for command in (["init", "-q"], ["add", "-A"], ["commit", "-qm", "tiny"]):
+        assert git(root, *command).returncode == 0
+    return root
+
+
+def dvc(root: Path, *args: str) -> subprocess.CompletedProcess:
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+    return subprocess.run(
+        [str(Path(sys.executable).parent / "dvc"), *args], cwd=root, env=env, capture_output=True, text=True
+    )
+
+
+def build_seed(folder: Path) -> Path:
+    """The seed's DVC cache, folder/repo/.dvc/cache, built once: the first caller (a worker, or the
+    background build of tests/conftest.py) runs TINY and then SMALL in folder/repo while holding
+    folder/lock; later callers wait for the lock and find folder/done. A failed build leaves no
+    done file, and the next caller tries again (and shows the failure)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    repo = folder / "repo"
+    with open(folder / "lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (folder / "done").exists():
+            shutil.rmtree(repo, ignore_errors=True)
+            make_workspace(repo, TINY)
+            for overrides in (TINY, SMALL):
+                write_params(repo, overrides)
+                result = dvc(repo, "repro")
+                assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+            (folder / "done").write_text("")
+    return repo / ".dvc" / "cache"
+
+
+def seed_folder(basetemp: Path) -> Path:
+    """Where the seed of this test session lives: beside the xdist workers' own temporary folders
+    (a worker's basetemp is <session basetemp>/<worker id>), so every worker finds the same one."""
+    return (basetemp.parent if os.environ.get("PYTEST_XDIST_WORKER") else basetemp) / "seed"
+
+
+if __name__ == "__main__":
+    build_seed(Path(sys.argv[1]))

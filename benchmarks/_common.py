@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import os
 import platform
+import shutil
+import subprocess
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -27,6 +29,9 @@ from seasonloop.params.seasons import SEASONS
 # the variables that make this CPU run an AVX2-only CPU's kernels (torch's, oneDNN's, OpenBLAS's)
 ISA_CAP = ("ATEN_CPU_CAPABILITY", "ONEDNN_MAX_CPU_ISA", "OPENBLAS_CORETYPE")
 SPLIT_DIR = Path("data/split")
+REPO = Path(__file__).resolve().parents[1]
+# what `dvc repro` writes: a fresh clone has none of it
+PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock", "benchmarks/results/")
 RESULTS_DIR = Path("benchmarks/results")
 # Fallback synthetic route: frames at the pipeline's storage size, then its preprocessing defaults.
 FRAME_HEIGHT, FRAME_WIDTH, HEIGHT, WIDTH = 72, 128, 32, 64
@@ -137,3 +142,21 @@ def write_result(name: str, record: dict[str, Any], measured_on: dict[str, Any])
     path = RESULTS_DIR / f"{name}.json"
     write_json(path, to_json_value({**record, "machine": measured_on}))
     return path
+
+
+def copy_repository(root: Path) -> None:
+    """The repository's source files (as a fresh clone has them, plus uncommitted changes) in a new
+    git repository at root, for a run that starts from nothing."""
+    listed = subprocess.run(
+        ["git", "ls-files", "--cached", "--others", "--exclude-standard"],
+        cwd=REPO,
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout.split()
+    for name in listed:
+        if (REPO / name).is_file() and (not name.startswith(PIPELINE_OUTPUTS) or name.startswith("data/nordland/")):
+            (root / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(REPO / name, root / name)
+    for command in (["init", "-q"], ["add", "-A"], ["-c", "user.name=b", "-c", "user.email=b@b", "commit", "-qm", "b"]):
+        subprocess.run(["git", *command], cwd=root, check=True)

@@ -30,7 +30,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from _common import machine, write_result
+from _common import copy_repository, machine, write_result
 
 # the learners whose metrics must not depend on the CPU (the auto-encoders may: documented)
 LEARNERS = ("raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw")
@@ -46,25 +46,6 @@ AVX2_ONLY = {
 }
 # outputs compared on the way, to say where a difference starts
 STAGE_OUTPUTS = ("data/frames", "data/preprocessed", "data/split", "data/augmented", "data/ground_truth")
-REPO = Path(__file__).resolve().parents[1]
-PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock", "benchmarks/results/")
-
-
-def copy_repository(root: Path) -> None:
-    """The repository's source files (as a fresh clone has them) in a new git repository at root."""
-    listed = subprocess.run(
-        ["git", "ls-files", "--cached", "--others", "--exclude-standard"],
-        cwd=REPO,
-        check=True,
-        capture_output=True,
-        text=True,
-    ).stdout.split()
-    for name in listed:
-        if (REPO / name).is_file() and (not name.startswith(PIPELINE_OUTPUTS) or name.startswith("data/nordland/")):
-            (root / name).parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy2(REPO / name, root / name)
-    for command in (["init", "-q"], ["add", "-A"], ["-c", "user.name=c", "-c", "user.email=c@c", "commit", "-qm", "c"]):
-        subprocess.run(["git", *command], cwd=root, check=True)
 
 
 def run_pipeline(root: Path, capped: bool) -> float:
@@ -93,6 +74,17 @@ def digests(folder: Path) -> dict[str, str]:
         for path in sorted(folder.rglob("*"))
         if path.is_file()
     }
+
+
+def largest_descriptor_difference(native: Path, capped: Path) -> float:
+    """The largest |difference| of two runs' descriptors, relative to the largest |descriptor|."""
+    import numpy as np
+
+    largest = 0.0
+    for path in sorted(native.glob("*.npy")):
+        first, second = np.load(path).astype(np.float64), np.load(capped / path.name).astype(np.float64)
+        largest = max(largest, float(np.abs(first - second).max() / max(np.abs(first).max(), 1e-300)))
+    return largest
 
 
 def largest_metric_difference(native: Path, capped: Path) -> tuple[float, str]:
@@ -124,6 +116,9 @@ def compare(native: Path, capped: Path) -> dict:
         learners[learner] = {
             "model_identical": models[0] == models[1],
             "features_identical": features[0] == features[1],
+            "largest_relative_descriptor_difference": largest_descriptor_difference(
+                native / "data/features" / learner, capped / "data/features" / learner
+            ),
             "metrics_files": len(metrics[0]),
             "metrics_files_differ": differ,
             "largest_difference": max(largest, default=(0.0, None)),
@@ -157,7 +152,8 @@ def main() -> None:
         difference, key = row["largest_difference"]
         print(
             f"  {learner}: model {'identical' if row['model_identical'] else 'differs'}, descriptors "
-            f"{'identical' if row['features_identical'] else 'differ'}, "
+            f"{'identical' if row['features_identical'] else 'differ'} (largest relative difference "
+            f"{row['largest_relative_descriptor_difference']:.2g}), "
             f"{row['metrics_files'] - len(row['metrics_files_differ'])} of {row['metrics_files']} metrics files "
             "identical" + (f" (largest change: {key} by {difference:.4g})" if key else "")
         )

@@ -18,7 +18,7 @@ import cv2
 import numpy as np
 import pandas as pd
 import pytest
-from workspaces import TINY, dvc, make_workspace
+from workspaces import SMALL, TINY, dvc, make_workspace
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import SeasonRide, render_route
@@ -29,13 +29,7 @@ SEASONS = ["summer", "fall", "winter"]
 RIDES = {"fall": SeasonRide(speed=1.25, start_s=15.0), "winter": SeasonRide(speed=0.8, stop_scale=2.0, swing=0.2)}
 # the sequence matcher must search the speeds the seasons differ by (places per query step)
 SEQUENCE = ["sequence.v_min=1.0", "sequence.v_max=1.6", "sequence.v_steps=7"]
-BASE = {
-    **{key: value for key, value in TINY.items() if key not in ("ablation", "data", "train")},
-    "data": {"seasons": SEASONS},
-    "train": {"seasons": SEASONS},
-    "learners": ["raw_patchnorm", "pca"],
-    "ablation": {"methods": ["pca"], "pair": "summer-fall", "training_seasons": [["summer"]]},
-}
+BASE = {**SMALL, "data": {"seasons": SEASONS}, "train": {"seasons": SEASONS}}
 
 
 def write_rides(folder: Path) -> dict[str, np.ndarray]:

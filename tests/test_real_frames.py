@@ -7,7 +7,7 @@ from pathlib import Path
 
 import cv2
 import pytest
-from workspaces import TINY, dvc, make_workspace
+from workspaces import SMALL, dvc, make_workspace
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import render_route
@@ -31,8 +31,9 @@ def write_frame_folders(folder: Path) -> None:
 def test_the_readme_frames_recipe_runs_through_the_report(tmp_path):
     frames = tmp_path / "nordland_png"  # outside the repository: an external dependency
     write_frame_folders(frames)
-    # two learners: this test is about the data path (the learners' stages are covered by test_pipeline)
-    overrides = {**{k: v for k, v in TINY.items() if k != "ablation"}, "learners": ["raw_patchnorm", "pca"]}
+    # two learners, one ablation learner: this test is about the data path (the learners' stages are
+    # covered by test_pipeline); two season sets, so that the ablation's filtering shows
+    overrides = {**SMALL, "ablation": {**SMALL["ablation"], "training_seasons": [["summer"], ["summer", "winter"]]}}
     root = make_workspace(tmp_path / "repo", overrides)
     # the README's recipe, and nothing else changed
     result = dvc(

@@ -64,12 +64,13 @@ def _euclidean(database: np.ndarray) -> BatchDistances:
 
 
 def _cityblock(database: np.ndarray) -> BatchDistances:
-    import torch  # here, not at the top: only the L1 distance needs it, and it costs a second to import
-
-    database_tensor = torch.from_numpy(database)
+    # scipy's loop, not torch.cdist: the same sums on every CPU (no kernel picked per instruction
+    # set), faster on 2 cores (3.0 s vs 4.4 s for 1,500 x 1,500 x 2,048 in float64, identical values)
+    # and a 0.3 s import instead of torch's 1.5 s at every evaluate stage's start
+    from scipy.spatial.distance import cdist
 
     def distances(batch: np.ndarray) -> np.ndarray:
-        return torch.cdist(torch.from_numpy(batch), database_tensor, p=1.0).numpy()
+        return cdist(batch, database, metric="cityblock")
 
     return distances
 

@@ -231,13 +231,16 @@ class TorchICA(ABC):
         self.components_ = np.ascontiguousarray(self.unmixing_ @ self.whitening_, dtype=np.float32)
 
     def transform(self, data: np.ndarray) -> np.ndarray:
-        """(n, D) data -> (n, k) float32 sources: (data - mean_) @ components_.T."""
+        """(n, D) data -> (n, k) float32 sources: (data - mean_) @ components_.T, computed in float64
+        (cheap here) so that another CPU's BLAS kernels, which round float32 products differently,
+        give the same float32 sources."""
         if self.components_ is None:
             raise RuntimeError(f"{type(self).__name__}: call fit() (or load_arrays) before transform()")
         data = np.asarray(data, dtype=np.float32)
         if data.ndim != 2 or data.shape[1] != self.components_.shape[1]:
             raise ValueError(f"data must have shape (n, {self.components_.shape[1]}), got {data.shape}")
-        return (data - self.mean_) @ self.components_.T
+        centred = data.astype(np.float64) - self.mean_.astype(np.float64)
+        return (centred @ self.components_.T.astype(np.float64)).astype(np.float32)
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         """The fitted state as plain numpy arrays (for numpy.savez)."""

@@ -1,0 +1,88 @@
+"""How long the README's default run takes, stage by stage: `dvc repro` from nothing in a fresh copy
+of the repository (as a new user's clone), with this CPU's own kernels or, with --capped, those of
+an AVX2-only CPU (ISA_CAP: an estimate of the slowest CPU the project meets).
+
+    python benchmarks/bench_default_run.py [--capped]
+
+Writes benchmarks/results/bench_default_run.json (or bench_default_run_capped.json): the total, each
+stage's seconds (from DVC's "Running stage" lines) and the largest resident memory of any stage
+process; README.md and docs/results.md show them (docs/write_tables.py). Nothing else should run
+meanwhile: the load before and after is recorded, and a busy CPU is named in the headline.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from _common import ISA_CAP, copy_repository, load_note, machine, write_result
+
+# the values of ISA_CAP's variables that make this CPU run an AVX2-only CPU's kernels
+AVX2 = {"ATEN_CPU_CAPABILITY": "avx2", "ONEDNN_MAX_CPU_ISA": "AVX2", "OPENBLAS_CORETYPE": "Haswell"}
+RUNNING = "Running stage '"
+
+
+def timed_repro(root: Path, env: dict[str, str]) -> tuple[float, dict[str, float]]:
+    """(total seconds, stage -> seconds) of `dvc repro` in root: a stage's time runs from its
+    "Running stage" line to the next one (or to the end), so it includes DVC's own work on it."""
+    dvc = str(Path(sys.executable).parent / "dvc")
+    start = time.perf_counter()
+    stages: dict[str, float] = {}
+    current, since = None, start
+    log = []
+    with subprocess.Popen(
+        [dvc, "repro"], cwd=root, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1
+    ) as process:
+        assert process.stdout is not None
+        for line in process.stdout:
+            log.append(line)
+            if line.startswith(RUNNING):
+                now = time.perf_counter()
+                if current is not None:
+                    stages[current] = now - since
+                current, since = line[len(RUNNING) :].split("'")[0], now
+    end = time.perf_counter()
+    if process.returncode != 0:
+        raise SystemExit(f"dvc repro failed in {root}:\n{''.join(log[-40:])}")
+    if current is not None:
+        stages[current] = end - since
+    return end - start, stages
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--capped", action="store_true", help="run with an AVX2-only CPU's kernels (ISA_CAP)")
+    args = parser.parse_args()
+    env = {key: value for key, value in os.environ.items() if key not in ISA_CAP}
+    if args.capped:
+        env.update(AVX2)
+        os.environ.update(AVX2)  # so that machine() records the cap
+    measured_on = machine()
+    with tempfile.TemporaryDirectory(prefix="default-run-") as folder:
+        copy_repository(Path(folder))
+        total, stages = timed_repro(Path(folder), env)
+    # the largest resident set of any stage process (Linux: kilobytes)
+    peak_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+    note = load_note(measured_on)
+    name = "bench_default_run_capped" if args.capped else "bench_default_run"
+    record = {"capped": args.capped, "total_seconds": total, "stages": stages, "peak_memory_mb": peak_mb, "note": note}
+    path = write_result(name, record, measured_on)
+    for stage, seconds in sorted(stages.items(), key=lambda item: -item[1]):
+        print(f"  {stage:32s} {seconds:7.1f} s")
+    print(f"wrote {path}")
+    if note:
+        print(note)
+    print(
+        f"HEADLINE: the default dvc repro took {total / 60:.1f} min ({len(stages)} stages, largest stage process "
+        f"{peak_mb:.0f} MB) on {measured_on['cpu']}{', ISA capped to AVX2' if args.capped else ''}"
+    )
+
+
+if __name__ == "__main__":
+    main()

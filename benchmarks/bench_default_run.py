@@ -71,17 +71,25 @@ def main() -> None:
     peak_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
     note = load_note(measured_on)
     name = "bench_default_run_capped" if args.capped else "bench_default_run"
-    record = {"capped": args.capped, "total_seconds": total, "stages": stages, "peak_memory_mb": peak_mb, "note": note}
+    headline = (
+        f"the default dvc repro took {total / 60:.1f} min ({len(stages)} stages, largest stage process "
+        f"{peak_mb:.0f} MB) on {measured_on['cpu']}{', ISA capped to AVX2' if args.capped else ''}"
+    )
+    record = {
+        "capped": args.capped,
+        "total_seconds": total,
+        "stages": stages,
+        "peak_memory_mb": peak_mb,
+        "load_note": note,
+        "headline": headline,
+    }
     path = write_result(name, record, measured_on)
     for stage, seconds in sorted(stages.items(), key=lambda item: -item[1]):
         print(f"  {stage:32s} {seconds:7.1f} s")
     print(f"wrote {path}")
     if note:
         print(note)
-    print(
-        f"HEADLINE: the default dvc repro took {total / 60:.1f} min ({len(stages)} stages, largest stage process "
-        f"{peak_mb:.0f} MB) on {measured_on['cpu']}{', ISA capped to AVX2' if args.capped else ''}"
-    )
+    print(f"HEADLINE: {headline}")
 
 
 if __name__ == "__main__":

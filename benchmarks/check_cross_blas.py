@@ -157,13 +157,16 @@ def main() -> None:
             f"{row['metrics_files'] - len(row['metrics_files_differ'])} of {row['metrics_files']} metrics files "
             "identical" + (f" (largest change: {key} by {difference:.4g})" if key else "")
         )
-    path = write_result("check_cross_blas", {"avx2_only": AVX2_ONLY, "seconds": seconds, **record}, measured_on)
-    print(f"wrote {path}")
     same = [learner for learner, row in record["learners"].items() if not row["metrics_files_differ"]]
-    print(
-        f"HEADLINE: metrics identical under this CPU's kernels and AVX2-only kernels for {len(same)} of "
+    headline = (
+        f"metrics identical under this CPU's kernels and AVX2-only kernels for {len(same)} of "
         f"{len(LEARNERS)} learners ({', '.join(same) or 'none'})"
     )
+    path = write_result(
+        "check_cross_blas", {"avx2_only": AVX2_ONLY, "seconds": seconds, "headline": headline, **record}, measured_on
+    )
+    print(f"wrote {path}")
+    print(f"HEADLINE: {headline}")
     sys.exit(0 if len(same) == len(LEARNERS) else 1)
 
 

@@ -197,6 +197,66 @@ def _check_cross_isa(path: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _check_cross_blas(path: Path) -> str:
+    """benchmarks/check_cross_blas.py's record: per learner, whether model, descriptors and every
+    metrics file are the same under this CPU's kernels and an AVX2-only CPU's."""
+    record = json.loads(path.read_text())
+    lines = [
+        f"`python benchmarks/check_cross_blas.py` on {record['machine']['cpu']}, capped run with "
+        + " ".join(f"`{key}={value}`" for key, value in record["avx2_only"].items())
+        + ":",
+        "",
+        "| learner | model bytes | descriptors (largest relative difference) | metrics files identical |",
+        "|---|---|---|---|",
+    ]
+    for learner, row in record["learners"].items():
+        identical = row["metrics_files"] - len(row["metrics_files_differ"])
+        lines.append(
+            f"| {learner} | {'identical' if row['model_identical'] else 'differ'} | "
+            f"{'identical' if row['features_identical'] else 'differ'} "
+            f"({row['largest_relative_descriptor_difference']:.2g}) | {identical} of {row['metrics_files']} |"
+        )
+    stages = record["stage_outputs"]
+    same = sum(row["files"] - len(row["differ"]) for row in stages.values())
+    lines += [
+        "",
+        f"Data stages on the way ({', '.join(stages)}): {same} of {sum(r['files'] for r in stages.values())} files identical.",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def _where(record: dict) -> str:
+    """The CPU a benchmark ran on, its threads, and whether its instruction set was capped."""
+    machine = record["machine"]
+    capped = any((machine.get("isa_cap") or {}).values())
+    return f"{machine['cpu']}, {machine['torch_threads']} threads, instruction set " + (
+        "capped to AVX2 (an estimate for an AVX2-only CPU)" if capped else "not capped"
+    )
+
+
+def _default_run_time(path: Path) -> str:
+    """One sentence: how long the default run took from a fresh copy, where, and its slowest stages."""
+    record = json.loads(path.read_text())
+    slowest = sorted(record["stages"].items(), key=lambda item: -item[1])[:3]
+    load = f" ({record['load_note']})" if record.get("load_note") else ", nothing else running"
+    return (
+        f"`dvc repro` from a fresh clone took **{record['total_seconds'] / 60:.1f} min** on {_where(record)}{load}; "
+        f"largest stage process {record['peak_memory_mb']:.0f} MB; slowest stages "
+        + ", ".join(f"{stage} {seconds:.0f} s" for stage, seconds in slowest)
+        + ".\n"
+    )
+
+
+def _default_run_stages(path: Path) -> str:
+    """Every stage's seconds, slowest first, and its share of the run."""
+    record = json.loads(path.read_text())
+    total = record["total_seconds"]
+    lines = [_default_run_time(path), "| stage | seconds | share |", "|---|---|---|"]
+    for stage, seconds in sorted(record["stages"].items(), key=lambda item: -item[1]):
+        lines.append(f"| {stage} | {seconds:.1f} | {100 * seconds / total:.0f}% |")
+    return "\n".join(lines) + "\n"
+
+
 def _bench_headline(path: Path) -> str:
     """A CPU benchmark's own headline (ratio, convergence and quality, as the script states them) and
     where it ran."""
@@ -278,6 +338,20 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     ),
     "check_cross_isa": ("benchmarks/results/check_cross_isa.json", "check_cross_isa.json", _check_cross_isa),
     "bench_ica": ("benchmarks/results/bench_ica.json", "bench_ica.json", _bench_ica),
+    "check_cross_blas": ("benchmarks/results/check_cross_blas.json", "check_cross_blas.json", _check_cross_blas),
+    # the default run timed from a fresh copy, uncapped and capped to AVX2 (README, docs/results.md)
+    "default_run_time": ("benchmarks/results/bench_default_run.json", "bench_default_run.json", _default_run_time),
+    "default_run_time_capped": (
+        "benchmarks/results/bench_default_run_capped.json",
+        "bench_default_run_capped.json",
+        _default_run_time,
+    ),
+    "default_run_stages": ("benchmarks/results/bench_default_run.json", "bench_default_run.json", _default_run_stages),
+    "default_run_stages_capped": (
+        "benchmarks/results/bench_default_run_capped.json",
+        "bench_default_run_capped.json",
+        _default_run_stages,
+    ),
     "bench_pca": ("benchmarks/results/bench_pca.json", "bench_pca.json", _bench_headline),
     "bench_matching": ("benchmarks/results/bench_matching.json", "bench_matching.json", _bench_headline),
 }

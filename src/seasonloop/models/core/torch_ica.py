@@ -234,7 +234,7 @@ class TorchICA(ABC):
         """(n, D) data -> (n, k) float32 sources: (data - mean_) @ components_.T, computed in float64
         (cheap here) so that another CPU's BLAS kernels, which round float32 products differently,
         give the same float32 sources."""
-        if self.components_ is None:
+        if self.components_ is None or self.mean_ is None:
             raise RuntimeError(f"{type(self).__name__}: call fit() (or load_arrays) before transform()")
         data = np.asarray(data, dtype=np.float32)
         if data.ndim != 2 or data.shape[1] != self.components_.shape[1]:

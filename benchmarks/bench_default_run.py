@@ -58,15 +58,21 @@ def timed_repro(root: Path, env: dict[str, str]) -> tuple[float, dict[str, float
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--capped", action="store_true", help="run with an AVX2-only CPU's kernels (ISA_CAP)")
+    parser.add_argument("--keep", type=Path, help="run in this new folder and keep it (its dvc.lock and DVC cache)")
     args = parser.parse_args()
     env = {key: value for key, value in os.environ.items() if key not in ISA_CAP}
     if args.capped:
         env.update(AVX2)
         os.environ.update(AVX2)  # so that machine() records the cap
     measured_on = machine()
-    with tempfile.TemporaryDirectory(prefix="default-run-") as folder:
-        copy_repository(Path(folder))
-        total, stages = timed_repro(Path(folder), env)
+    if args.keep:
+        args.keep.mkdir(parents=True)
+        copy_repository(args.keep)
+        total, stages = timed_repro(args.keep, env)
+    else:
+        with tempfile.TemporaryDirectory(prefix="default-run-") as folder:
+            copy_repository(Path(folder))
+            total, stages = timed_repro(Path(folder), env)
     # the largest resident set of any stage process (Linux: kilobytes)
     peak_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
     note = load_note(measured_on)

@@ -1,7 +1,8 @@
 """Test order and the end-to-end tests' seed.
 
-Order for the two workers: the end-to-end files (a minute or more each) start first, one per worker,
-and the unit tests fill in around them, so the suite takes about as long as its longest file.
+Order for the two workers (xdist hands out files in collection order): the end-to-end files that
+need no seed first (a minute or more each), then the unit tests, then the end-to-end files that
+start from the seed, longest first, so that the seed is built meanwhile instead of being waited for.
 
 The seed (tests/workspaces.py): one tiny `dvc repro` whose DVC cache the end-to-end workspaces
 start from. When a seeded module is selected, the controller starts building it in the background
@@ -24,8 +25,13 @@ SEED_PROCESS = "_seasonloop_seed_process"
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    # stable sort: e2e tests first (xdist hands out files in collection order), the rest as collected
-    items.sort(key=lambda item: item.get_closest_marker("e2e") is None)
+    def rank(item: pytest.Item) -> int:
+        if item.get_closest_marker("e2e") is None:
+            return 1
+        module = item.module.__name__ if item.module else ""
+        return 2 + SEEDED_MODULES.index(module) if module in SEEDED_MODULES else 0
+
+    items.sort(key=rank)  # stable: within a rank, as collected
 
 
 def seeded_modules_selected(config: pytest.Config) -> bool:

@@ -1,37 +1,14 @@
 """End to end: the README's ablations as queued experiments run two at a time, compared in a
-readable `dvc exp show` and in `dvc plots diff`; and `dvc exp run <target>` in a fresh clone."""
+readable `dvc exp show` and in `dvc plots diff`; and `dvc exp run <target>` in a fresh clone.
+(A queued experiment on real frames: test_real_frames.py.)"""
 
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
-import time
 from pathlib import Path
 
 import pytest
-from test_real_frames import write_frame_folders
-from workspaces import SMALL, dvc, git, make_workspace
-
-
-def in_a_terminal(root: Path, columns: int, *args: str) -> str:
-    """What a dvc command prints in a terminal `columns` wide (rich fits its tables to it)."""
-    env = dict(os.environ, COLUMNS=str(columns), PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
-    return subprocess.run(
-        [str(Path(sys.executable).parent / "dvc"), *args], cwd=root, env=env, capture_output=True, text=True
-    ).stdout
-
-
-def wait_for_the_queue(root: Path, timeout_s: float = 1200) -> str:
-    """`dvc queue status` once nothing is queued or running any more."""
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        status = dvc(root, "queue", "status").stdout
-        if not any(word in status for word in ("Queued", "Running")):
-            return status
-        time.sleep(5)
-    pytest.fail(f"the queue did not finish in {timeout_s:.0f} s:\n{status}")
+from workspaces import SMALL, dvc, git, in_a_terminal, make_workspace, wait_for_the_queue
 
 
 @pytest.mark.e2e
@@ -99,19 +76,3 @@ def test_exp_run_of_one_target_in_a_fresh_clone(tmp_path, seed_cache):
     result = dvc(pulled, "exp", "run", "--pull", "evaluate@pca", "-S", "pca.n_discard=2")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     assert (pulled / "metrics/eval/pca/summer-fall.json").is_file()
-
-
-@pytest.mark.e2e
-def test_a_queued_experiment_reads_real_frames_given_by_absolute_path(tmp_path):
-    """A queued experiment runs in a copy holding only git-tracked files: real data is given by
-    absolute path (README), and then it runs like any other."""
-    frames = tmp_path / "nordland_png"
-    write_frame_folders(frames)
-    root = make_workspace(tmp_path / "repo", {**SMALL, "data": {"seasons": ["summer", "winter"]}})
-    settings = ["-S", "data.source=frames", "-S", f"data.frames_dir={frames}", "-S", "train.seasons=[summer,winter]"]
-    assert dvc(root, "exp", "run", "--queue", "-n", "real", *settings).returncode == 0
-    assert dvc(root, "queue", "start").returncode == 0
-    status = wait_for_the_queue(root)
-    assert "Success" in status and "Failed" not in status, status + dvc(root, "queue", "logs", "real").stdout[-3000:]
-    shown = dvc(root, "exp", "show", "--json")
-    assert shown.returncode == 0 and '"real"' in shown.stdout

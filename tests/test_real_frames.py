@@ -1,4 +1,5 @@
-"""End to end on a folder of real-like frames: the README's two-season recipe through the report."""
+"""End to end on a folder of real-like frames: the README's two-season recipe through the report,
+and the same data read by a queued experiment."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from pathlib import Path
 
 import cv2
 import pytest
-from workspaces import SMALL, dvc, make_workspace
+from workspaces import SMALL, dvc, make_workspace, wait_for_the_queue
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import render_route
@@ -66,3 +67,19 @@ def test_the_readme_frames_recipe_runs_through_the_report(tmp_path):
     cv2.imwrite(str(frames / "summer" / "5.png"), 255 - frame)
     changed = json.loads(dvc(root, "status", "--json").stdout)
     assert "extract_frames" in changed, changed
+
+
+@pytest.mark.e2e
+def test_a_queued_experiment_reads_real_frames_given_by_absolute_path(tmp_path):
+    """A queued experiment runs in a copy holding only git-tracked files: real data is given by
+    absolute path (README), and then it runs like any other."""
+    frames = tmp_path / "nordland_png"
+    write_frame_folders(frames)
+    root = make_workspace(tmp_path / "repo", {**SMALL, "data": {"seasons": ["summer", "winter"]}})
+    settings = ["-S", "data.source=frames", "-S", f"data.frames_dir={frames}", "-S", "train.seasons=[summer,winter]"]
+    assert dvc(root, "exp", "run", "--queue", "-n", "real", *settings).returncode == 0
+    assert dvc(root, "queue", "start").returncode == 0
+    status = wait_for_the_queue(root)
+    assert "Success" in status and "Failed" not in status, status + dvc(root, "queue", "logs", "real").stdout[-3000:]
+    shown = dvc(root, "exp", "show", "--json")
+    assert shown.returncode == 0 and '"real"' in shown.stdout

@@ -17,6 +17,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import yaml
@@ -58,9 +59,9 @@ SMALL = {
 
 # What `dvc repro` writes: a developer's checkout may hold them, a fresh clone does not.
 PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock", "benchmarks/results/")
-# the test modules whose workspaces start from the seed's cache (tests/conftest.py starts the seed
-# early when any of them is selected)
-SEEDED_MODULES = ("test_pipeline", "test_remote", "test_experiments")
+# the test modules whose workspaces start from the seed's cache, longest first (tests/conftest.py
+# starts the seed early when any of them is selected, and runs them last)
+SEEDED_MODULES = ("test_experiments", "test_remote", "test_pipeline")
 
 
 def merge(base: dict, override: dict) -> dict:
@@ -119,6 +120,25 @@ def dvc(root: Path, *args: str) -> subprocess.CompletedProcess:
     return subprocess.run(
         [str(Path(sys.executable).parent / "dvc"), *args], cwd=root, env=env, capture_output=True, text=True
     )
+
+
+def in_a_terminal(root: Path, columns: int, *args: str) -> str:
+    """What a dvc command prints in a terminal `columns` wide (rich fits its tables to it)."""
+    env = dict(os.environ, COLUMNS=str(columns), PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+    return subprocess.run(
+        [str(Path(sys.executable).parent / "dvc"), *args], cwd=root, env=env, capture_output=True, text=True
+    ).stdout
+
+
+def wait_for_the_queue(root: Path, timeout_s: float = 1200) -> str:
+    """`dvc queue status` once nothing is queued or running any more."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        status = dvc(root, "queue", "status").stdout
+        if not any(word in status for word in ("Queued", "Running")):
+            return status
+        time.sleep(2)
+    raise AssertionError(f"the queue did not finish in {timeout_s:.0f} s:\n{status}")
 
 
 def build_seed(folder: Path) -> Path:

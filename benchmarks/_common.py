@@ -136,11 +136,20 @@ def load_note(before: dict[str, Any]) -> str:
     return ""
 
 
+def git_state() -> dict[str, Any]:
+    """The commit this checkout is at, and whether it has uncommitted changes (what was measured)."""
+
+    def git(*args: str) -> str:
+        return subprocess.run(["git", *args], cwd=REPO, capture_output=True, text=True).stdout.strip()
+
+    return {"commit": git("rev-parse", "--short", "HEAD") or None, "dirty": bool(git("status", "--porcelain", "-uno"))}
+
+
 def write_result(name: str, record: dict[str, Any], measured_on: dict[str, Any]) -> Path:
     """Write benchmarks/results/<name>.json with `measured_on` (machine(), taken at the start) and
-    return its path."""
+    the commit measured, and return its path."""
     path = RESULTS_DIR / f"{name}.json"
-    write_json(path, to_json_value({**record, "machine": measured_on}))
+    write_json(path, to_json_value({**record, "machine": measured_on, **git_state()}))
     return path
 
 

@@ -4,8 +4,9 @@
 
 Each section is rendered by headless Chromium (Debian's `chromium` package) with the report's own
 stylesheet, in a page holding that section alone (a 10 MB page loaded whole and scrolled to an
-anchor comes out blank in headless mode), at --width pixels and as tall as the section; the
-screenshot is cut below the section's last non-white row. Exits 0 with a stated reason, writing
+anchor comes out blank in headless mode), at --width pixels and as tall as the section: a
+section that reaches the window's bottom is shot again in a window twice as tall (up to
+MAX_HEIGHT), so no section is cut; the screenshot is cut below the section's last non-white row. Exits 0 with a stated reason, writing
 nothing, where Chromium is missing.
 """
 
@@ -23,6 +24,7 @@ import numpy as np
 from PIL import Image
 
 BROWSERS = ("chromium", "chromium-browser", "google-chrome")
+MAX_HEIGHT = 48000  # pixels: Chromium's own limit for one screenshot is near 64k
 SECTION = re.compile(r'<section id="(section-\d+)">.*?</section>', re.S)
 
 
@@ -35,6 +37,13 @@ def split_sections(html: str) -> tuple[str, dict[str, str]]:
     """(the report's <head>, section id -> that section's HTML)."""
     head = html[: html.index("<body>")]
     return head, {match.group(1): match.group(0) for match in SECTION.finditer(html)}
+
+
+def content_bottom(path: Path) -> int:
+    """One past the screenshot's last non-white row (0 when all white)."""
+    pixels = np.asarray(Image.open(path).convert("RGB"))
+    rows = np.flatnonzero((pixels < 250).any(axis=(1, 2)))
+    return int(rows[-1]) + 1 if rows.size else 0
 
 
 def trim_white(path: Path, margin: int = 16) -> tuple[int, int]:
@@ -61,7 +70,7 @@ def main() -> int:
     parser.add_argument("report", nargs="?", default="plots/report.html", type=Path)
     parser.add_argument("--out", default=Path("docs/results/report"), type=Path)
     parser.add_argument("--width", default=1366, type=int)
-    parser.add_argument("--height", default=6000, type=int, help="window height: taller than any section")
+    parser.add_argument("--height", default=6000, type=int, help="first window height (doubled while too short)")
     args = parser.parse_args()
     browser = find_browser()
     if browser is None:
@@ -77,7 +86,12 @@ def main() -> int:
             page = Path(scratch) / f"{name}.html"
             page.write_text(f"{head}<body>{body}</body></html>")
             shot = args.out / f"{name}.png"
-            screenshot(browser, page, shot, args.width, args.height)
+            height = args.height
+            screenshot(browser, page, shot, args.width, height)
+            # the section fills the window to its bottom: it may go on below, so shoot it taller
+            while content_bottom(shot) >= height - 4 and height < MAX_HEIGHT:
+                height = min(2 * height, MAX_HEIGHT)
+                screenshot(browser, page, shot, args.width, height)
             width, height = trim_white(shot)
             print(f"{shot}: {width} x {height} px")
     print(f"{args.report}: {args.report.stat().st_size / 1e6:.1f} MB, one self-contained file")

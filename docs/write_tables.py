@@ -225,7 +225,7 @@ def _check_cross_blas(path: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _where(record: dict) -> str:
+def _run_machine(record: dict) -> str:
     """The CPU a benchmark ran on, its threads, and whether its instruction set was capped."""
     machine = record["machine"]
     capped = any((machine.get("isa_cap") or {}).values())
@@ -240,7 +240,7 @@ def _default_run_time(path: Path) -> str:
     slowest = sorted(record["stages"].items(), key=lambda item: -item[1])[:3]
     load = f" ({record['load_note']})" if record.get("load_note") else ", nothing else running"
     return (
-        f"`dvc repro` from a fresh clone took **{record['total_seconds'] / 60:.1f} min** on {_where(record)}{load}; "
+        f"`dvc repro` from a fresh clone took **{record['total_seconds'] / 60:.1f} min** on {_run_machine(record)}{load}; "
         f"largest stage process {record['peak_memory_mb']:.0f} MB; slowest stages "
         + ", ".join(f"{stage} {seconds:.0f} s" for stage, seconds in slowest)
         + ".\n"
@@ -367,13 +367,21 @@ FIGURES = {
 }
 
 
+def measured_at(path: Path, run: dict) -> str:
+    """The commit a benchmark ran at: its own record's (benchmarks/_common.write_result writes it),
+    else the one the snapshot was taken at."""
+    record = json.loads(path.read_text()) if path.suffix == ".json" else {}
+    commit, dirty = record.get("commit") or run.get("commit", "?"), record.get("dirty", run.get("dirty"))
+    return f"{commit}{' + uncommitted changes' if dirty else ''}"
+
+
 def provenance_line(name: str, provenance: dict) -> str:
     source, snapshot, _ = TABLES[name]
     run = provenance.get(name, {})
     if source.startswith("benchmarks/"):
         return (
             f"_Written by `docs/write_tables.py` from `{source}` (copy: `docs/results/{snapshot}`), measured at "
-            f"commit {run.get('commit', '?')}{' + uncommitted changes' if run.get('dirty') else ''}._\n"
+            f"commit {measured_at(RESULTS / snapshot, run)}._\n"
         )
     return (
         f"_Written by `docs/write_tables.py` from `{source}` (copy: `docs/results/{snapshot}`), produced at "

@@ -7,7 +7,8 @@ start from the seed, longest first, so that the seed is built meanwhile instead 
 The seed (tests/workspaces.py): one tiny `dvc repro` whose DVC cache the end-to-end workspaces
 start from. When a seeded module is selected, the controller starts building it in the background
 at once, so that it runs beside the tests that need no seed instead of holding a worker while the
-other waits; the `seed_cache` fixture waits for it (or builds it, if the background build failed).
+other waits; the `small_seed_cache` and `tiny_seed_cache` fixtures wait for its phases (or build
+them, if the background build failed).
 """
 
 from __future__ import annotations
@@ -45,8 +46,13 @@ def seeded_modules_selected(config: pytest.Config) -> bool:
 
 @pytest.hookimpl(trylast=True)  # after the tmp_path plugin has set the session's basetemp
 def pytest_configure(config: pytest.Config) -> None:
-    if hasattr(config, "workerinput") or not seeded_modules_selected(config):
-        return  # an xdist worker, or nothing that needs the seed
+    if hasattr(config, "workerinput"):
+        # an xdist worker: below the seed's priority, which the seeded tests wait for (the seed gets
+        # a core while it builds; the workers keep the rest and every core once it is done)
+        os.nice(5)
+        return
+    if not seeded_modules_selected(config):
+        return  # nothing needs the seed
     folder = seed_folder(config._tmp_path_factory.getbasetemp())  # type: ignore[attr-defined]
     folder.mkdir(parents=True, exist_ok=True)
     log = open(folder / "build.log", "w")  # noqa: SIM115 (the background build writes it to the end)
@@ -68,6 +74,12 @@ def pytest_unconfigure(config: pytest.Config) -> None:
 
 
 @pytest.fixture(scope="session")
-def seed_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """The DVC cache of the tiny seed run (TINY, then SMALL): waits for the background build."""
-    return build_seed(seed_folder(tmp_path_factory.getbasetemp()))
+def small_seed_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The DVC cache of the seed's SMALL run: waits for the background build's first phase."""
+    return build_seed(seed_folder(tmp_path_factory.getbasetemp()), "small")
+
+
+@pytest.fixture(scope="session")
+def tiny_seed_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The DVC cache of the seed's SMALL and TINY runs: waits for the whole background build."""
+    return build_seed(seed_folder(tmp_path_factory.getbasetemp()), "tiny")

@@ -12,8 +12,8 @@ from workspaces import SMALL, dvc, git, in_a_terminal, make_workspace, wait_for_
 
 
 @pytest.mark.e2e
-def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path, seed_cache):
-    root = make_workspace(tmp_path / "repo", SMALL, cache=seed_cache)
+def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path, small_seed_cache):
+    root = make_workspace(tmp_path / "repo", SMALL, cache=small_seed_cache)
     baseline = dvc(root, "repro")
     assert baseline.returncode == 0, baseline.stderr[-2000:]
     git(root, "add", "-A")
@@ -48,9 +48,9 @@ def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path, seed_cach
 
 
 @pytest.mark.e2e
-def test_exp_run_of_one_target_in_a_fresh_clone(tmp_path, seed_cache):
+def test_exp_run_of_one_target_in_a_fresh_clone(tmp_path, small_seed_cache):
     # the origin's stages come from the seed's run cache; the clones start without any cache
-    origin = make_workspace(tmp_path / "origin", SMALL, cache=seed_cache)
+    origin = make_workspace(tmp_path / "origin", SMALL, cache=small_seed_cache)
     assert dvc(origin, "repro").returncode == 0
     git(origin, "add", "-A")
     git(origin, "commit", "-qm", "run")

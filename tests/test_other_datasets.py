@@ -18,7 +18,7 @@ import cv2
 import numpy as np
 import pandas as pd
 import pytest
-from workspaces import SMALL, TINY, dvc, make_workspace
+from workspaces import DATA_PATH, TINY, dvc, make_workspace
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import SeasonRide, render_route
@@ -29,7 +29,7 @@ SEASONS = ["summer", "fall", "winter"]
 RIDES = {"fall": SeasonRide(speed=1.25, start_s=15.0), "winter": SeasonRide(speed=0.8, stop_scale=2.0, swing=0.2)}
 # the sequence matcher must search the speeds the seasons differ by (places per query step)
 SEQUENCE = ["sequence.v_min=1.0", "sequence.v_max=1.6", "sequence.v_steps=7"]
-BASE = {**SMALL, "data": {"seasons": SEASONS}, "train": {"seasons": SEASONS}}
+BASE = {**DATA_PATH, "data": {"seasons": SEASONS}, "train": {"seasons": SEASONS}}
 
 
 def write_rides(folder: Path) -> dict[str, np.ndarray]:
@@ -111,7 +111,7 @@ def test_frames_with_a_positions_csv_and_precomputed_descriptors(tmp_path):
         "data.position_units=degrees",
         "data.position_key=image",
         "evaluate.tolerance_m=15",
-        "learners=[raw_patchnorm,pca,precomputed]",
+        "learners=[raw_patchnorm,precomputed]",
         f"precomputed.dir={data / 'descriptors'}",
         *SEQUENCE,
     )

@@ -18,10 +18,10 @@ from workspaces import TINY, dvc, make_workspace
 
 
 @pytest.fixture(scope="module")
-def workspace(tmp_path_factory, seed_cache) -> Path:
+def workspace(tmp_path_factory, tiny_seed_cache) -> Path:
     """A fresh git + DVC copy of the repository with the tiny params, after one `dvc repro` that
     restores every stage from the seed's run cache (the seed ran the same stages: tests/workspaces.py)."""
-    root = make_workspace(tmp_path_factory.mktemp("repo"), TINY, cache=seed_cache)
+    root = make_workspace(tmp_path_factory.mktemp("repo"), TINY, cache=tiny_seed_cache)
     result = dvc(root, "repro")
     assert result.returncode == 0, result.stdout + result.stderr
     assert "Running stage" not in result.stdout, result.stdout  # every stage came from the run cache

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import cv2
 import pytest
-from workspaces import SMALL, dvc, make_workspace, wait_for_the_queue
+from workspaces import DATA_PATH, dvc, make_workspace, wait_for_the_queue
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import render_route
@@ -32,9 +32,12 @@ def write_frame_folders(folder: Path) -> None:
 def test_the_readme_frames_recipe_runs_through_the_report(tmp_path):
     frames = tmp_path / "nordland_png"  # outside the repository: an external dependency
     write_frame_folders(frames)
-    # two learners, one ablation learner: this test is about the data path (the learners' stages are
-    # covered by test_pipeline); two season sets, so that the ablation's filtering shows
-    overrides = {**SMALL, "ablation": {**SMALL["ablation"], "training_seasons": [["summer"], ["summer", "winter"]]}}
+    # one learner: this test is about the data path (the learners' stages are covered by
+    # test_pipeline); two season sets, so that the ablation's filtering shows
+    overrides = {
+        **DATA_PATH,
+        "ablation": {**DATA_PATH["ablation"], "training_seasons": [["summer"], ["summer", "winter"]]},
+    }
     root = make_workspace(tmp_path / "repo", overrides)
     # the README's recipe, and nothing else changed
     result = dvc(
@@ -57,7 +60,9 @@ def test_the_readme_frames_recipe_runs_through_the_report(tmp_path):
     assert dataset["seasons"]["winter"]["frames"] == SECONDS and dataset["place"] == "one image of each season's folder"
     ablation = json.loads((root / "metrics/training_seasons.json").read_text())
     assert ablation["pair"] == "winter-summer" and ablation["season_sets"] == ["summer", "summer+winter"]
-    assert set(json.loads((root / "metrics/summary.json").read_text())["fraction_correct"]["pca"]) == {"winter-summer"}
+    assert set(json.loads((root / "metrics/summary.json").read_text())["fraction_correct"]["raw_patchnorm"]) == {
+        "winter-summer"
+    }
     shown = json.loads(dvc(root, "plots", "show", "--json").stdout)
     assert not shown.get("errors"), shown.get("errors")
     status = dvc(root, "status")
@@ -75,7 +80,7 @@ def test_a_queued_experiment_reads_real_frames_given_by_absolute_path(tmp_path):
     absolute path (README), and then it runs like any other."""
     frames = tmp_path / "nordland_png"
     write_frame_folders(frames)
-    root = make_workspace(tmp_path / "repo", {**SMALL, "data": {"seasons": ["summer", "winter"]}})
+    root = make_workspace(tmp_path / "repo", {**DATA_PATH, "data": {"seasons": ["summer", "winter"]}})
     settings = ["-S", "data.source=frames", "-S", f"data.frames_dir={frames}", "-S", "train.seasons=[summer,winter]"]
     assert dvc(root, "exp", "run", "--queue", "-n", "real", *settings).returncode == 0
     assert dvc(root, "queue", "start").returncode == 0

@@ -15,10 +15,10 @@ from workspaces import SMALL, dvc, git, make_workspace
 
 
 @pytest.fixture(scope="module")
-def pushed_run(tmp_path_factory, seed_cache) -> Path:
+def pushed_run(tmp_path_factory, small_seed_cache) -> Path:
     """A workspace that ran the pipeline (its stages restored from the seed's run cache), with
     dvc.lock committed."""
-    root = make_workspace(tmp_path_factory.mktemp("origin"), SMALL, cache=seed_cache)
+    root = make_workspace(tmp_path_factory.mktemp("origin"), SMALL, cache=small_seed_cache)
     result = dvc(root, "repro")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     git(root, "add", "-A")

@@ -2,7 +2,7 @@
 run whose DVC cache they start from.
 
 Every end-to-end test used to run its own `dvc repro` of the same tiny stages (minutes each on 2
-cores). Now one run of TINY, then of SMALL, is made once per test session (the seed: built in the
+cores). Now one run of SMALL, then of TINY, is made once per test session (the seed: built in the
 background from the first moment, tests/conftest.py) and each workspace links its DVC cache: DVC's
 run cache then restores every stage whose command, deps and params the seed ran, and runs only what
 the test changed. A test that is about a fresh clone without a cache does not link it.
@@ -57,6 +57,14 @@ SMALL = {
     "cae_widths": {"widths": [0.03125]},
 }
 
+# the tests of other data (test_real_frames, test_other_datasets): nothing is restored for them, so
+# the fewest stages that still go through the report: one learner, which the ablation also trains
+DATA_PATH = {
+    **SMALL,
+    "learners": ["raw_patchnorm"],
+    "ablation": {"methods": ["raw_patchnorm"], "pair": "summer-fall", "training_seasons": [["summer"]]},
+}
+
 # What `dvc repro` writes: a developer's checkout may hold them, a fresh clone does not.
 PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock", "benchmarks/results/")
 # the test modules whose workspaces start from the seed's cache, longest first (tests/conftest.py
@@ -101,7 +109,7 @@ def write_params(root: Path, overrides: dict) -> None:
 
 def make_workspace(root: Path, overrides: dict, cache: Path | None = None) -> Path:
     """A fresh git + DVC copy of the repository at `root` with params.yaml merged with `overrides`;
-    with `cache` (seed_cache()), its DVC cache starts as a hard-linked copy of that one."""
+    with `cache` (a seed phase's cache, build_seed), its DVC cache starts as a hard-linked copy of it."""
     for name in source_files():
         (root / name).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(REPO / name, root / name)
@@ -141,24 +149,50 @@ def wait_for_the_queue(root: Path, timeout_s: float = 1200) -> str:
     raise AssertionError(f"the queue did not finish in {timeout_s:.0f} s:\n{status}")
 
 
-def build_seed(folder: Path) -> Path:
-    """The seed's DVC cache, folder/repo/.dvc/cache, built once: the first caller (a worker, or the
-    background build of tests/conftest.py) runs TINY and then SMALL in folder/repo while holding
-    folder/lock; later callers wait for the lock and find folder/done. A failed build leaves no
-    done file, and the next caller tries again (and shows the failure)."""
-    folder.mkdir(parents=True, exist_ok=True)
+# the seed's phases in the order they are built: SMALL's stages are a subset of TINY's, so the
+# tests that need only SMALL's (the longest ones) start after its phase, while TINY's goes on
+PHASES = {"small": SMALL, "tiny": TINY}
+
+
+def _build_phases(folder: Path, upto: str) -> None:
+    """Run the phases not done yet, in order, up to and including `upto`; after each, a frozen
+    hard-linked copy of the cache (folder/cache-<phase>) and the file folder/done-<phase>."""
     repo = folder / "repo"
+    for phase, overrides in PHASES.items():
+        if not (folder / f"done-{phase}").exists():
+            if not (repo / ".git").exists():
+                shutil.rmtree(repo, ignore_errors=True)
+                make_workspace(repo, overrides)
+            write_params(repo, overrides)
+            result = dvc(repo, "repro")
+            assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+            # a copy that no later phase writes into: workspaces copy it while the next phase runs
+            shutil.rmtree(folder / f"cache-{phase}", ignore_errors=True)
+            shutil.copytree(repo / ".dvc" / "cache", folder / f"cache-{phase}", copy_function=os.link)
+            (folder / f"done-{phase}").write_text("")
+        if phase == upto:
+            return
+
+
+def build_seed(folder: Path, phase: str = "tiny") -> Path:
+    """The seed's DVC cache after `phase` (folder/cache-<phase>), built once: whoever holds
+    folder/lock (the background build of tests/conftest.py, or a worker when nobody is building)
+    builds the phases in order; others wait for folder/done-<phase>. A failed build leaves no done
+    file and releases the lock, and the next caller tries again (and shows the failure)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    done = folder / f"done-{phase}"
     with open(folder / "lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        if not (folder / "done").exists():
-            shutil.rmtree(repo, ignore_errors=True)
-            make_workspace(repo, TINY)
-            for overrides in (TINY, SMALL):
-                write_params(repo, overrides)
-                result = dvc(repo, "repro")
-                assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
-            (folder / "done").write_text("")
-    return repo / ".dvc" / "cache"
+        while not done.exists():
+            try:
+                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:  # being built: wait for this phase's done file
+                time.sleep(1)
+                continue
+            try:
+                _build_phases(folder, phase)
+            finally:
+                fcntl.flock(lock, fcntl.LOCK_UN)
+    return folder / f"cache-{phase}"
 
 
 def seed_folder(basetemp: Path) -> Path:
@@ -168,4 +202,4 @@ def seed_folder(basetemp: Path) -> Path:
 
 
 if __name__ == "__main__":
-    build_seed(Path(sys.argv[1]))
+    build_seed(Path(sys.argv[1]), "tiny")

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import os
 import platform
-import shutil
 import subprocess
+import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -30,8 +30,6 @@ from seasonloop.params.seasons import SEASONS
 ISA_CAP = ("ATEN_CPU_CAPABILITY", "ONEDNN_MAX_CPU_ISA", "OPENBLAS_CORETYPE")
 SPLIT_DIR = Path("data/split")
 REPO = Path(__file__).resolve().parents[1]
-# what `dvc repro` writes: a fresh clone has none of it
-PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock", "benchmarks/results/")
 RESULTS_DIR = Path("benchmarks/results")
 # Fallback synthetic route: frames at the pipeline's storage size, then its preprocessing defaults.
 FRAME_HEIGHT, FRAME_WIDTH, HEIGHT, WIDTH = 72, 128, 32, 64
@@ -155,17 +153,9 @@ def write_result(name: str, record: dict[str, Any], measured_on: dict[str, Any])
 
 def copy_repository(root: Path) -> None:
     """The repository's source files (as a fresh clone has them, plus uncommitted changes) in a new
-    git repository at root, for a run that starts from nothing."""
-    listed = subprocess.run(
-        ["git", "ls-files", "--cached", "--others", "--exclude-standard"],
-        cwd=REPO,
-        check=True,
-        capture_output=True,
-        text=True,
-    ).stdout.split()
-    for name in listed:
-        if (REPO / name).is_file() and (not name.startswith(PIPELINE_OUTPUTS) or name.startswith("data/nordland/")):
-            (root / name).parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy2(REPO / name, root / name)
-    for command in (["init", "-q"], ["add", "-A"], ["-c", "user.name=b", "-c", "user.email=b@b", "commit", "-qm", "b"]):
-        subprocess.run(["git", *command], cwd=root, check=True)
+    git repository at root, for a run that starts from nothing: the tests' own copy (tests/workspaces.py)."""
+    sys.path.insert(0, str(REPO / "tests"))
+    from workspaces import commit_all, copy_sources
+
+    copy_sources(root)
+    commit_all(root)

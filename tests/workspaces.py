@@ -107,19 +107,29 @@ def write_params(root: Path, overrides: dict) -> None:
     (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
 
 
-def make_workspace(root: Path, overrides: dict, cache: Path | None = None) -> Path:
-    """A fresh git + DVC copy of the repository at `root` with params.yaml merged with `overrides`;
-    with `cache` (a seed phase's cache, build_seed), its DVC cache starts as a hard-linked copy of it."""
+def copy_sources(root: Path) -> None:
+    """The repository's source files at root, as a fresh clone has them (plus uncommitted changes)."""
     for name in source_files():
         (root / name).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(REPO / name, root / name)
+
+
+def commit_all(root: Path) -> None:
+    """A new git repository at root holding everything there in one commit."""
+    for command in (["init", "-q"], ["add", "-A"], ["commit", "-qm", "tiny"]):
+        assert git(root, *command).returncode == 0
+
+
+def make_workspace(root: Path, overrides: dict, cache: Path | None = None) -> Path:
+    """A fresh git + DVC copy of the repository at `root` with params.yaml merged with `overrides`;
+    with `cache` (a seed phase's cache, build_seed), its DVC cache starts as a hard-linked copy of it."""
+    copy_sources(root)
     write_params(root, overrides)
     if cache is not None:
         # hard links: DVC never changes a cache file in place (it writes new ones and makes them
         # read-only), so a workspace adds to its own copy without touching the seed's
         shutil.copytree(cache, root / ".dvc" / "cache", copy_function=os.link)
-    for command in (["init", "-q"], ["add", "-A"], ["commit", "-qm", "tiny"]):
-        assert git(root, *command).returncode == 0
+    commit_all(root)
     return root
 
 

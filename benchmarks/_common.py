@@ -26,8 +26,9 @@ from seasonloop.machine import cpu_model
 from seasonloop.models.core.learner import to_json_value
 from seasonloop.params.seasons import SEASONS
 
-# the variables that make this CPU run an AVX2-only CPU's kernels (torch's, oneDNN's, OpenBLAS's)
-ISA_CAP = ("ATEN_CPU_CAPABILITY", "ONEDNN_MAX_CPU_ISA", "OPENBLAS_CORETYPE")
+# the variables, and their values, that make this CPU run an AVX2-only CPU's kernels (torch's,
+# oneDNN's, OpenBLAS's): an estimate of the slowest CPU the project meets
+ISA_CAP = {"ATEN_CPU_CAPABILITY": "avx2", "ONEDNN_MAX_CPU_ISA": "AVX2", "OPENBLAS_CORETYPE": "Haswell"}
 SPLIT_DIR = Path("data/split")
 REPO = Path(__file__).resolve().parents[1]
 RESULTS_DIR = Path("benchmarks/results")
@@ -107,6 +108,13 @@ def cpu_busy_fraction(seconds: float = 1.0) -> float | None:
     if first is None or second is None or second[1] == first[1]:
         return None
     return (second[0] - first[0]) / (second[1] - first[1])
+
+
+def capped_environment(cap: dict[str, str], capped: bool) -> dict[str, str]:
+    """This process's environment for a child process: with `cap`'s variables set if `capped`,
+    without any of them otherwise (whatever this shell had set)."""
+    env = {key: value for key, value in os.environ.items() if key not in cap}
+    return {**env, **cap} if capped else env
 
 
 def machine() -> dict[str, Any]:

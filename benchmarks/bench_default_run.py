@@ -21,10 +21,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from _common import ISA_CAP, copy_repository, load_note, machine, write_result
+from _common import ISA_CAP, capped_environment, copy_repository, load_note, machine, write_result
 
-# the values of ISA_CAP's variables that make this CPU run an AVX2-only CPU's kernels
-AVX2 = {"ATEN_CPU_CAPABILITY": "avx2", "ONEDNN_MAX_CPU_ISA": "AVX2", "OPENBLAS_CORETYPE": "Haswell"}
 RUNNING = "Running stage '"
 
 
@@ -60,10 +58,9 @@ def main() -> None:
     parser.add_argument("--capped", action="store_true", help="run with an AVX2-only CPU's kernels (ISA_CAP)")
     parser.add_argument("--keep", type=Path, help="run in this new folder and keep it (its dvc.lock and DVC cache)")
     args = parser.parse_args()
-    env = {key: value for key, value in os.environ.items() if key not in ISA_CAP}
+    env = capped_environment(ISA_CAP, args.capped)
     if args.capped:
-        env.update(AVX2)
-        os.environ.update(AVX2)  # so that machine() records the cap
+        os.environ.update(ISA_CAP)  # so that machine() records the cap
     measured_on = machine()
     if args.keep:
         args.keep.mkdir(parents=True)

@@ -22,7 +22,6 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
-import os
 import shutil
 import subprocess
 import sys
@@ -30,16 +29,14 @@ import tempfile
 import time
 from pathlib import Path
 
-from _common import copy_repository, machine, write_result
+from _common import ISA_CAP, capped_environment, copy_repository, machine, write_result
 
 # the learners whose metrics must not depend on the CPU (the auto-encoders may: documented)
 LEARNERS = ("raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw")
-# every library's kernels capped at AVX2: OpenBLAS (Haswell kernels), torch's ATen, oneDNN and
-# MKL, numpy's dispatched loops (x86-64-v4 = AVX-512) and OpenCV's
+# every library's kernels capped at AVX2: the timing cap (OpenBLAS's Haswell kernels, torch's ATen,
+# oneDNN), and MKL, numpy's dispatched loops (x86-64-v4 = AVX-512) and OpenCV's
 AVX2_ONLY = {
-    "OPENBLAS_CORETYPE": "Haswell",
-    "ATEN_CPU_CAPABILITY": "avx2",
-    "ONEDNN_MAX_CPU_ISA": "AVX2",
+    **ISA_CAP,
     "MKL_ENABLE_INSTRUCTIONS": "AVX2",
     "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR",
     "OPENCV_CPU_DISABLE": "AVX512-SKX",
@@ -50,9 +47,7 @@ STAGE_OUTPUTS = ("data/frames", "data/preprocessed", "data/split", "data/augment
 
 def run_pipeline(root: Path, capped: bool) -> float:
     """`dvc repro` of the learners' evaluations in root, with or without the AVX2 cap; seconds."""
-    env = {key: value for key, value in os.environ.items() if key not in AVX2_ONLY}
-    if capped:
-        env.update(AVX2_ONLY)
+    env = capped_environment(AVX2_ONLY, capped)
     dvc = str(Path(sys.executable).parent / "dvc")
     start = time.perf_counter()
     result = subprocess.run(

@@ -39,22 +39,20 @@ def split_sections(html: str) -> tuple[str, dict[str, str]]:
     return head, {match.group(1): match.group(0) for match in SECTION.finditer(html)}
 
 
-def content_bottom(path: Path) -> int:
+def content_bottom(image: Image.Image) -> int:
     """One past the screenshot's last non-white row (0 when all white)."""
-    pixels = np.asarray(Image.open(path).convert("RGB"))
-    rows = np.flatnonzero((pixels < 250).any(axis=(1, 2)))
+    rows = np.flatnonzero((np.asarray(image.convert("RGB")) < 250).any(axis=(1, 2)))
     return int(rows[-1]) + 1 if rows.size else 0
 
 
 def trim_white(path: Path, margin: int = 16) -> tuple[int, int]:
     """Cut the screenshot below its last non-white row; returns (width, height)."""
     image = Image.open(path).convert("RGB")
-    pixels = np.asarray(image)
-    rows = np.flatnonzero((pixels < 250).any(axis=(1, 2)))
-    bottom = min(pixels.shape[0], int(rows[-1]) + 1 + margin) if rows.size else pixels.shape[0]
+    last = content_bottom(image)
+    bottom = min(image.height, last + margin) if last else image.height
     # 256 colours: a page of text and plots loses nothing visible, and the files shrink ~3x
-    image.crop((0, 0, pixels.shape[1], bottom)).quantize(256).save(path, optimize=True)
-    return pixels.shape[1], bottom
+    image.crop((0, 0, image.width, bottom)).quantize(256).save(path, optimize=True)
+    return image.width, bottom
 
 
 def screenshot(browser: str, page: Path, out: Path, width: int, height: int) -> None:
@@ -89,7 +87,7 @@ def main() -> int:
             height = args.height
             screenshot(browser, page, shot, args.width, height)
             # the section fills the window to its bottom: it may go on below, so shoot it taller
-            while content_bottom(shot) >= height - 4 and height < MAX_HEIGHT:
+            while content_bottom(Image.open(shot)) >= height - 4 and height < MAX_HEIGHT:
                 height = min(2 * height, MAX_HEIGHT)
                 screenshot(browser, page, shot, args.width, height)
             width, height = trim_white(shot)

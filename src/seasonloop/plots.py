@@ -14,6 +14,8 @@ import matplotlib
 import numpy as np
 import pandas as pd
 from matplotlib.artist import Artist
+from matplotlib.cm import ScalarMappable
+from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
@@ -163,14 +165,11 @@ def plot_similarity_grid(thumbnails: Mapping[str, Mapping[str, np.ndarray]], pat
     cell = min(1.6, 9.4 / len(columns))
     figure = Figure(figsize=(len(columns) * cell + 1.8, len(rows) * cell + 1.0), layout="constrained")
     grid = figure.subplots(len(rows), len(columns), squeeze=False)
-    images = []
     for row_index, row in enumerate(rows):
         for col_index, column in enumerate(columns):
             axes = grid[row_index, col_index]
             matrix = np.asarray(thumbnails[row][column], dtype=np.float64)
-            images.append(
-                axes.imshow(matrix, cmap="viridis", vmin=0.0, vmax=1.0, aspect="auto", interpolation="nearest")
-            )
+            axes.imshow(matrix, cmap="viridis", vmin=0.0, vmax=1.0, aspect="auto", interpolation="nearest")
             axes.set_xticks([])
             axes.set_yticks([])
             if col_index == 0:
@@ -179,7 +178,9 @@ def plot_similarity_grid(thumbnails: Mapping[str, Mapping[str, np.ndarray]], pat
                 axes.set_title(column, fontsize="medium")
             if row_index == len(rows) - 1:
                 axes.set_xlabel("database", fontsize="small")
-    figure.colorbar(images[0], ax=grid, shrink=0.6, label="similarity, scaled per matrix (1: nearest)")
+    # every panel shares the fixed [0, 1] scale, so the colour bar is that scale's, not one panel's
+    scale = ScalarMappable(Normalize(0.0, 1.0), cmap="viridis")
+    figure.colorbar(scale, ax=grid, shrink=0.6, label="similarity, scaled per matrix (1: nearest)")
     figure.suptitle(title)
     _save(figure, path)
 

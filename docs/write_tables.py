@@ -257,6 +257,29 @@ def _default_run_stages(path: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _bench_training_schedule(path: Path) -> str:
+    """Every run of the auto-encoders' training settings, then the script's verdicts."""
+    record = json.loads(path.read_text())
+    lines = [
+        f"`python benchmarks/bench_training_schedule.py --learners {record['args']['learners']} "
+        f"--seeds {record['args']['seeds']}"
+        + "".join(f' --settings "{setting}"' for setting in record["args"]["settings"])
+        + "`:",
+        "",
+        "| learner | setting | seed | seconds | epochs | s / epoch | stop | best validation loss | fraction correct % |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for name, measured in record["learners"].items():
+        for run in measured["runs"]:
+            lines.append(
+                f"| {name} | {run['setting']} | {run['seed']} | {run['seconds']:.0f} | {run['epochs_run']} "
+                f"| {run['seconds_per_epoch']:.2f} | {run['stop_reason']} | {run['best_validation_loss']:.5f} "
+                f"| {run['mean_fraction_correct']:.1f} |"
+            )
+    verdicts = "\n".join(f"- {line}" for line in record["headline"])
+    return "\n".join(lines) + "\n\n" + verdicts + "\n\n" + _where(record) + "\n"
+
+
 def _bench_headline(path: Path) -> str:
     """A CPU benchmark's own headline (ratio, convergence and quality, as the script states them) and
     where it ran."""
@@ -353,6 +376,11 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
         _default_run_stages,
     ),
     "bench_pca": ("benchmarks/results/bench_pca.json", "bench_pca.json", _bench_headline),
+    "bench_training_schedule": (
+        "benchmarks/results/bench_training_schedule.json",
+        "bench_training_schedule.json",
+        _bench_training_schedule,
+    ),
     "bench_matching": ("benchmarks/results/bench_matching.json", "bench_matching.json", _bench_headline),
 }
 

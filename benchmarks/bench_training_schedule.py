@@ -1,0 +1,173 @@
+"""What the auto-encoders' training settings cost and give: each learner trained to its validation
+plateau (the pipeline's stopping rule) on the pipeline's own training set under several settings
+of its section (learning rate, batch size, training subset, ...), side by side in one run: seconds,
+epochs, why it stopped, best validation loss, and the single-image fraction correct (cosine) on
+every pair of evaluate.pairs. A faster setting counts only at equal quality: converged, best
+validation loss no higher than the reference's (+2%), fraction correct within the spread the
+reference itself shows between seeds.
+
+    python benchmarks/bench_training_schedule.py [--learners fae,cae] [--seeds 0,1]
+        [--settings "cae=learning_rate=0.002,batch_size=64;max_train_images=1024"]
+
+Run from the repository root after `dvc repro` (reads data/split and data/augmented, and
+params.yaml's sections of the learners). The first setting of each learner is the reference
+(params.yaml's own). Writes benchmarks/results/bench_training_schedule.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from _common import load_note, machine, write_result
+from seasonloop.data import datasets
+from seasonloop.evaluation.matching import distance_matrix
+from seasonloop.evaluation.metrics import evaluate_pair
+from seasonloop.io import read_json
+from seasonloop.models.registry import get_learner
+
+SPLIT, AUGMENTED = Path("data/split"), Path("data/augmented")
+
+QUALITY_TOLERANCE = 0.02  # best validation loss may exceed the reference's by this fraction
+# settings per learner: ';'-separated, each a ','-separated list of key=value of the learner's section
+DEFAULT_SETTINGS = {
+    "fae": "learning_rate=0.002;batch_size=256,learning_rate=0.002;max_train_images=5440",
+    "cae": "learning_rate=0.002;batch_size=64,learning_rate=0.002;max_train_images=1024",
+}
+
+
+def parse_settings(texts: list[str], learners: list[str]) -> dict[str, list[dict]]:
+    """learner -> [overrides of its section, ...], params.yaml's own ({}) first."""
+    given = dict(DEFAULT_SETTINGS)
+    for text in texts:
+        name, _, values = text.partition("=")
+        given[name] = values
+    return {
+        name: [{}]
+        + [
+            {key: yaml.safe_load(value) for key, value in (item.split("=") for item in setting.split(","))}
+            for setting in given[name].split(";")
+        ]
+        for name in learners
+    }
+
+
+def label(overrides: dict) -> str:
+    return " ".join(f"{key}={value}" for key, value in overrides.items()) or "params.yaml"
+
+
+def fraction_correct(learner, params: dict) -> dict[str, float]:
+    """pair -> single-image fraction correct (%), cosine, exact place (the default run's setting)."""
+    pairs = [pair.split("-") for pair in params["evaluate"]["pairs"]]
+    seasons = sorted({season for pair in pairs for season in pair})
+    images = datasets.test_images(SPLIT, seasons)
+    places = np.asarray(read_json(Path("data/split/split.json"))["test"])
+    descriptors = {season: learner.describe(images[season]) for season in seasons}
+    tolerance = int(params["evaluate"]["tolerance_frames"])
+    return {
+        f"{database}-{query}": 100
+        * evaluate_pair(
+            distance_matrix(descriptors[database], descriptors[query], metric="cosine"), places, places, tolerance
+        )[0]["fraction_correct"]
+        for database, query in pairs
+    }
+
+
+def fit_once(name: str, section: dict, overrides: dict, seed: int, data: tuple) -> dict:
+    learner = get_learner(name)({**section, **overrides}, seed=seed)
+    images, places, params = data
+    start = time.perf_counter()
+    info = learner.fit(images, progress=False, places=places)
+    seconds = time.perf_counter() - start
+    correct = fraction_correct(learner, params)
+    return {
+        "setting": label(overrides),
+        "overrides": overrides,
+        "seed": seed,
+        "seconds": seconds,
+        "seconds_per_epoch": seconds / info["epochs_run"],
+        "epochs_run": info["epochs_run"],
+        "best_epoch": info["best_epoch"],
+        "stop_reason": info["stop_reason"],
+        "converged": info["converged"],
+        "best_validation_loss": info["best_validation_loss"],
+        "fraction_correct": correct,
+        "mean_fraction_correct": float(np.mean(list(correct.values()))),
+        "validation_loss_per_epoch": info["validation_loss_per_epoch"],
+        "learning_rate_per_epoch": info["learning_rate_per_epoch"],
+    }
+
+
+def verdicts(runs: list[dict]) -> list[str]:
+    """One line per setting: its mean over seeds against the reference's (the first setting)."""
+    settings = list(dict.fromkeys(run["setting"] for run in runs))
+
+    def values(setting: str, key: str) -> list:
+        return [run[key] for run in runs if run["setting"] == setting]
+
+    def mean(setting: str, key: str) -> float:
+        return float(np.mean(values(setting, key)))
+
+    reference = settings[0]
+    reference_spread = max(values(reference, "mean_fraction_correct")) - min(values(reference, "mean_fraction_correct"))
+    lines = []
+    for setting in settings:
+        converged = all(values(setting, "converged"))
+        loss_change = mean(setting, "best_validation_loss") / mean(reference, "best_validation_loss") - 1
+        correct_change = mean(setting, "mean_fraction_correct") - mean(reference, "mean_fraction_correct")
+        equal = converged and loss_change <= QUALITY_TOLERANCE and abs(correct_change) <= max(reference_spread, 1.0)
+        lines.append(
+            f"{setting}: {mean(setting, 'seconds'):.0f} s ({mean(reference, 'seconds') / mean(setting, 'seconds'):.2f}x), "
+            f"{mean(setting, 'epochs_run'):.0f} epochs of {mean(setting, 'seconds_per_epoch'):.2f} s, "
+            f"converged {converged}, best validation loss {mean(setting, 'best_validation_loss'):.5f} "
+            f"({loss_change:+.1%}), fraction correct {mean(setting, 'mean_fraction_correct'):.1f}% "
+            f"({correct_change:+.1f}; seeds {', '.join(f'{value:.1f}' for value in values(setting, 'mean_fraction_correct'))}): "
+            f"{'equal quality' if equal else 'NOT equal quality'}" + (" [reference]" if setting == reference else "")
+        )
+    return lines
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--learners", default="fae,cae")
+    parser.add_argument("--seeds", default="0,1", help="seeds of each setting (the spread is the noise)")
+    parser.add_argument(
+        "--settings", action="append", default=[], help="learner=key=value,key=value;key=value (';' between settings)"
+    )
+    args = parser.parse_args()
+    params = yaml.safe_load(Path("params.yaml").read_text())
+    if not Path("data/augmented").is_dir():
+        raise SystemExit("data/augmented: missing; run `dvc repro` first")
+    # the training set of fit@<learner> (stages/_datasets.py): train.seasons in data.seasons order
+    seasons = [season for season in params["data"]["seasons"] if season in params["train"]["seasons"]]
+    augmented = bool(params["train"]["augmented"])
+    copies = int(params["augment"]["copies"]) if augmented else 0
+    images = datasets.training_images(SPLIT, AUGMENTED if augmented else None, seasons)
+    data = (images, datasets.training_places(SPLIT, seasons, copies), params)
+    learners = args.learners.split(",")
+    seeds = [int(seed) for seed in args.seeds.split(",")]
+    measured_on = machine()
+    results: dict = {"args": vars(args), "learners": {}}
+    headline = []
+    for name, settings in parse_settings(args.settings, learners).items():
+        runs = []
+        for overrides in settings:
+            for seed in seeds:
+                runs.append(fit_once(name, params[name], overrides, seed, data))
+                shown = {key: value for key, value in runs[-1].items() if not isinstance(value, (dict, list))}
+                print(name, shown, flush=True)
+        results["learners"][name] = {"runs": runs, "verdicts": verdicts(runs)}
+        headline += [f"{name} {line}" for line in results["learners"][name]["verdicts"]]
+    results["headline"] = headline
+    results["load_note"] = load_note(measured_on)
+    write_result("bench_training_schedule", results, measured_on)
+    print("\n".join(headline))
+    print(f"Measured on {measured_on['cpu']}, ISA cap {measured_on['isa_cap']}. {results['load_note']}")
+
+
+if __name__ == "__main__":
+    main()

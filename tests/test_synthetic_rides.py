@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import json
+from concurrent.futures import ProcessPoolExecutor as Executor
 from pathlib import Path
 
 import cv2
@@ -12,7 +13,15 @@ import pytest
 import yaml
 
 from seasonloop.data import sources
-from seasonloop.data.synthetic import RideTimeline, RouteDifficulty, SeasonRide, SyntheticRoute, render_route, world
+from seasonloop.data.synthetic import (
+    RideTimeline,
+    RouteDifficulty,
+    SeasonRide,
+    SyntheticRoute,
+    render_route,
+    video,
+    world,
+)
 from seasonloop.params.schema import RIDE_SCHEMA, check_params
 from seasonloop.params.settings import SyntheticConfig
 
@@ -76,6 +85,23 @@ def test_default_rides_render_todays_videos(tmp_path) -> None:
         ref = (tmp_path / "ref" / "positions" / f"{season}.csv").read_text()
         assert ref == (tmp_path / "rides" / "positions" / f"{season}.csv").read_text()
     assert not (tmp_path / "ref" / "rides.json").exists()
+
+
+def test_render_workers_write_the_same_files_as_rendering_here(tmp_path, monkeypatch) -> None:
+    rides = {"fall": SeasonRide(speed=1.25, start_s=3.0)}
+    render_route(tmp_path / "here", ["summer", "fall"], 20, 2, W, H, 4, progress=False, rides=rides)
+    # small chunks and a low threshold: two worker processes, several chunks each, uneven lengths
+    monkeypatch.setattr(video, "_FRAMES_PER_WORKER", 10)
+    monkeypatch.setattr(video, "_CHUNK_FRAMES", 7)
+    monkeypatch.setattr(video, "_cores_for_workers", lambda: 2)
+    started = []
+    monkeypatch.setattr(video, "ProcessPoolExecutor", lambda *args, **kw: started.append(args) or Executor(*args, **kw))
+    render_route(tmp_path / "workers", ["summer", "fall"], 20, 2, W, H, 4, progress=False, rides=rides)
+    assert started and started[0][0] == 2
+    files = sorted(path.relative_to(tmp_path / "here") for path in (tmp_path / "here").rglob("*") if path.is_file())
+    assert len(files) == 6  # two videos, layout, rides and two positions
+    for name in files:
+        assert (tmp_path / "here" / name).read_bytes() == (tmp_path / "workers" / name).read_bytes(), name
 
 
 def test_a_faster_season_has_fewer_frames_and_covers_the_same_route(tmp_path, route) -> None:

@@ -4,7 +4,11 @@
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Mapping, Sequence
+import multiprocessing
+import os
+import sys
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures import ProcessPoolExecutor
 from functools import partial
 from pathlib import Path
 
@@ -102,7 +106,10 @@ def render_route(
     written = [*video_paths, out_dir / "layout.json", *(positions_dir / f"{s}.csv" for s in seasons)]
     written += [out_dir / "rides.json"] if rides else []
     try:
-        _write_videos(video_paths, [clocks[season] for season in seasons], fps, width, height, progress)
+        frames = _rendered_frames(
+            (seconds, seed, difficulty, seasons, fps, rides), [clocks[season] for season in seasons], width, height
+        )
+        _write_videos(video_paths, frames, max(count for count, _, _ in clocks.values()), fps, width, height, progress)
         positions_dir.mkdir(exist_ok=True)
         for season in seasons:
             _write_positions(positions_dir / f"{season}.csv", clocks[season][2], fps)
@@ -123,10 +130,75 @@ def render_route(
     return route.layout
 
 
+# Frames are rendered in chunks of consecutive video frames, every season of a frame together (the
+# seasons share a place's geometry), by worker processes when the render is large enough to pay
+# for a worker's start-up (~0.5 s, a few hundred frames' rendering); the videos are written here,
+# in order, so the files are the same whatever the number of workers.
+_CHUNK_FRAMES = 64
+_FRAMES_PER_WORKER = 2000
+_worker_clocks: list[tuple[int, Frames, np.ndarray]] = []
+
+
+def _render_chunk(
+    clocks: list[tuple[int, Frames, np.ndarray]], first: int, stop: int, fps: int, width: int, height: int
+) -> list[list[np.ndarray | None]]:
+    """Frames first..stop-1 of every clock (None past a clock's last frame)."""
+    return [
+        [frame(k / fps, width, height) if k < count else None for count, frame, _ in clocks] for k in range(first, stop)
+    ]
+
+
+def _start_worker(route_args: tuple) -> None:
+    """A render worker's own route and clocks, built from the same arguments as the caller's."""
+    seconds, seed, difficulty, seasons, fps, rides = route_args
+    clocks = _season_clocks(SyntheticRoute(seconds, seed, difficulty), seasons, fps, rides)
+    _worker_clocks[:] = [clocks[season] for season in seasons]
+
+
+def _render_worker_chunk(chunk: tuple[int, int], fps: int, width: int, height: int) -> list[list[np.ndarray | None]]:
+    return _render_chunk(_worker_clocks, *chunk, fps, width, height)
+
+
+def _cores_for_workers() -> int:
+    """Cores for render workers: 1 (render here) where spawned children cannot start, i.e. when the
+    main script is not a file they can import (`python - < script`); the videos are the same."""
+    main_file = getattr(sys.modules["__main__"], "__file__", None)
+    if main_file is not None and not os.path.isfile(main_file):
+        return 1
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
+def _rendered_frames(
+    route_args: tuple, clocks: list[tuple[int, Frames, np.ndarray]], width: int, height: int
+) -> Iterator[list[np.ndarray | None]]:
+    """Video frame k of every clock, k = 0, 1, ...: rendered here or by worker processes."""
+    fps = route_args[4]
+    n_frames = max(count for count, _, _ in clocks)
+    chunks = [(first, min(first + _CHUNK_FRAMES, n_frames)) for first in range(0, n_frames, _CHUNK_FRAMES)]
+    workers = min(_cores_for_workers(), sum(count for count, _, _ in clocks) // _FRAMES_PER_WORKER, len(chunks))
+    if workers < 2:
+        for first, stop in chunks:
+            yield from _render_chunk(clocks, first, stop, fps, width, height)
+        return
+    # spawn, not fork: a forked child of a process whose OpenCV or OpenMP threads are running can
+    # hang; a worker that cannot start raises BrokenProcessPool here instead of hanging
+    context = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(workers, context, initializer=_start_worker, initargs=(route_args,)) as pool:
+        render = partial(_render_worker_chunk, fps=fps, width=width, height=height)
+        for chunk in pool.map(render, chunks):
+            yield from chunk
+
+
 def _write_videos(
-    paths: list[Path], clocks: list[tuple[int, Frames, np.ndarray]], fps: int, width: int, height: int, progress: bool
+    paths: list[Path],
+    frames: Iterator[list[np.ndarray | None]],
+    n_frames: int,
+    fps: int,
+    width: int,
+    height: int,
+    progress: bool,
 ) -> None:
-    """One video per (path, clock): frame k of each at its time k/fps, all seasons side by side."""
+    """One video per path: frame k of each (frames' k-th item, None past its end) at time k/fps."""
     writers: list[cv2.VideoWriter] = []
     try:
         for path in paths:
@@ -134,12 +206,10 @@ def _write_videos(
             if not writer.isOpened():
                 raise OSError(f"cannot open video writer for {path}")
             writers.append(writer)
-        n_frames = max(count for count, _, _ in clocks)
-        for k in tqdm(range(n_frames), desc="render route", unit="frame", disable=not progress):
-            t = k / fps
-            for (count, frame, _), writer in zip(clocks, writers):
-                if k < count:
-                    writer.write(frame(t, width, height))
+        for seasons_frames in tqdm(frames, total=n_frames, desc="render route", unit="frame", disable=not progress):
+            for image, writer in zip(seasons_frames, writers):
+                if image is not None:
+                    writer.write(image)
     finally:
         for writer in writers:
             writer.release()

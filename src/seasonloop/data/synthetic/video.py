@@ -106,9 +106,8 @@ def render_route(
     written = [*video_paths, out_dir / "layout.json", *(positions_dir / f"{s}.csv" for s in seasons)]
     written += [out_dir / "rides.json"] if rides else []
     try:
-        frames = _rendered_frames(
-            (seconds, seed, difficulty, seasons, fps, rides), [clocks[season] for season in seasons], width, height
-        )
+        route_args = (seconds, seed, difficulty, seasons, fps, rides)
+        frames = _rendered_frames(route_args, [clocks[season] for season in seasons], width, height)
         _write_videos(video_paths, frames, max(count for count, _, _ in clocks.values()), fps, width, height, progress)
         positions_dir.mkdir(exist_ok=True)
         for season in seasons:

@@ -24,6 +24,14 @@ from workspaces import SEEDED_MODULES, build_seed, seed_folder
 
 SEED_PROCESS = "_seasonloop_seed_process"
 
+# One thread per process for torch's OpenMP, OpenBLAS and MKL, in the workers and in every stage
+# the end-to-end tests start (they inherit it): two workers and the seed's stages share two cores,
+# and OpenMP threads that spin waiting for a descheduled sibling made small fits 20x slower
+# (test_training's plateau test: 1.2 s alone, 29 s in the suite). Set here, before any of them is
+# imported; a variable already set is the user's choice and kept.
+for variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(variable, "1")
+
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     def rank(item: pytest.Item) -> int:

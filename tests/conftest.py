@@ -1,8 +1,10 @@
 """Test order and the end-to-end tests' seed.
 
-Order for the two workers (xdist hands out files in collection order): the end-to-end files that
-need no seed first (a minute or more each), then the unit tests, then the end-to-end files that
-start from the seed, longest first, so that the seed is built meanwhile instead of being waited for.
+Order for the two workers (xdist hands out whole files in collection order: pyproject.toml turns
+off its reordering by file size): the longest first, so that the short ones fill the gaps at the
+end. First the end-to-end files that need no seed (a minute or more each), then those that start
+from the seed's SMALL phase (built in the first ~40 s), longest first, then test_pipeline (the
+TINY phase, ~2 minutes in), then the unit tests.
 
 The seed (tests/workspaces.py): one tiny `dvc repro` whose DVC cache the end-to-end workspaces
 start from. When a seeded module is selected, the controller starts building it in the background
@@ -36,9 +38,9 @@ for variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     def rank(item: pytest.Item) -> int:
         if item.get_closest_marker("e2e") is None:
-            return 1
+            return 1 + len(SEEDED_MODULES)
         module = item.module.__name__ if item.module else ""
-        return 2 + SEEDED_MODULES.index(module) if module in SEEDED_MODULES else 0
+        return 1 + SEEDED_MODULES.index(module) if module in SEEDED_MODULES else 0
 
     items.sort(key=rank)  # stable: within a rank, as collected
 

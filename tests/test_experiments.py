@@ -1,11 +1,10 @@
 """End to end: the README's ablations as queued experiments run two at a time, compared in a
-readable `dvc exp show` and in `dvc plots diff`; and `dvc exp run <target>` in a fresh clone.
-(A queued experiment on real frames: test_real_frames.py.)"""
+readable `dvc exp show` and in `dvc plots diff`. (`dvc exp run <target>` in a fresh clone:
+test_fresh_clone.py; a queued experiment on real frames: test_real_frames.py.)"""
 
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import pytest
 from workspaces import SMALL, dvc, git, in_a_terminal, make_workspace, wait_for_the_queue
@@ -45,34 +44,3 @@ def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path, small_see
     assert "…" not in table, table  # nothing cut to fit 120 columns
     diff = dvc(root, "plots", "diff", "discard-1", "discard-5", "--json")
     assert diff.returncode == 0 and "plots/summary/pr/summer-fall.csv" in json.loads(diff.stdout)["data"]
-
-
-@pytest.mark.e2e
-def test_exp_run_of_one_target_in_a_fresh_clone(tmp_path, small_seed_cache):
-    # the origin's stages come from the seed's run cache; the clones start without any cache
-    origin = make_workspace(tmp_path / "origin", SMALL, cache=small_seed_cache)
-    assert dvc(origin, "repro").returncode == 0
-    git(origin, "add", "-A")
-    git(origin, "commit", "-qm", "run")
-
-    def fresh_clone(name: str) -> Path:
-        clone = tmp_path / name
-        assert git(tmp_path, "clone", "-q", str(origin), str(clone)).returncode == 0
-        return clone
-
-    # DVC 3.67 saves an experiment with every output dvc.lock names, and a fresh clone without a
-    # remote holds none of those the target did not build: docs/sharing.md says so and
-    # gives the commands below (when this starts to pass, DVC has fixed it: update the README)
-    bare = dvc(fresh_clone("bare"), "exp", "run", "evaluate@pca", "-S", "pca.n_discard=2")
-    assert bare.returncode != 0 and "failed to load directory" in bare.stderr, bare.stderr[-2000:]
-    # ... without a remote, reproduce the target (no experiment is saved)
-    result = dvc(fresh_clone("repro"), "repro", "evaluate@pca")
-    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
-    assert dvc(origin, "remote", "add", "-d", "store", str(tmp_path / "store")).returncode == 0
-    git(origin, "commit", "-qam", "remote")
-    assert dvc(origin, "push").returncode == 0
-    # with a remote: pull what the experiment needs while running it
-    pulled = fresh_clone("pulled")
-    result = dvc(pulled, "exp", "run", "--pull", "evaluate@pca", "-S", "pca.n_discard=2")
-    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
-    assert (pulled / "metrics/eval/pca/summer-fall.json").is_file()

@@ -67,9 +67,10 @@ DATA_PATH = {
 
 # What `dvc repro` writes: a developer's checkout may hold them, a fresh clone does not.
 PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock", "benchmarks/results/")
-# the test modules whose workspaces start from the seed's cache, longest first (tests/conftest.py
-# starts the seed early when any of them is selected, and runs them last)
-SEEDED_MODULES = ("test_experiments", "test_remote", "test_pipeline")
+# the test modules whose workspaces start from the seed's cache, in the order they run: SMALL's
+# longest first, then test_pipeline, which waits for TINY (tests/conftest.py starts the seed early
+# when any of them is selected)
+SEEDED_MODULES = ("test_remote", "test_experiments", "test_fresh_clone", "test_pipeline")
 
 
 def merge(base: dict, override: dict) -> dict:

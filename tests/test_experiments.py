@@ -21,7 +21,7 @@ def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path, small_see
         queued = dvc(root, "exp", "run", "--queue", "-n", name, "-S", f"pca.n_discard={discard}")
         assert queued.returncode == 0, queued.stderr
     assert dvc(root, "queue", "start", "-j", "2").returncode == 0
-    status = wait_for_the_queue(root)
+    status = wait_for_the_queue(root, experiments=2)
     assert "Failed" not in status, status + dvc(root, "queue", "logs", "discard-1").stdout[-3000:]
     shown = json.loads(dvc(root, "exp", "show", "--json").stdout)
     experiments = {

@@ -84,7 +84,7 @@ def test_a_queued_experiment_reads_real_frames_given_by_absolute_path(tmp_path):
     settings = ["-S", "data.source=frames", "-S", f"data.frames_dir={frames}", "-S", "train.seasons=[summer,winter]"]
     assert dvc(root, "exp", "run", "--queue", "-n", "real", *settings).returncode == 0
     assert dvc(root, "queue", "start").returncode == 0
-    status = wait_for_the_queue(root)
+    status = wait_for_the_queue(root, experiments=1)
     assert "Success" in status and "Failed" not in status, status + dvc(root, "queue", "logs", "real").stdout[-3000:]
     shown = dvc(root, "exp", "show", "--json")
     assert shown.returncode == 0 and '"real"' in shown.stdout

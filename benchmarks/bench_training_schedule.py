@@ -65,7 +65,7 @@ def fraction_correct(learner, params: dict) -> dict[str, float]:
     pairs = [pair.split("-") for pair in params["evaluate"]["pairs"]]
     seasons = sorted({season for pair in pairs for season in pair})
     images = datasets.test_images(SPLIT, seasons)
-    places = np.asarray(read_json(Path("data/split/split.json"))["test"])
+    places = np.asarray(read_json(SPLIT / "split.json")["test"])
     descriptors = {season: learner.describe(images[season]) for season in seasons}
     tolerance = int(params["evaluate"]["tolerance_frames"])
     return {
@@ -140,8 +140,8 @@ def main() -> None:
     )
     args = parser.parse_args()
     params = yaml.safe_load(Path("params.yaml").read_text())
-    if not Path("data/augmented").is_dir():
-        raise SystemExit("data/augmented: missing; run `dvc repro` first")
+    if not AUGMENTED.is_dir():
+        raise SystemExit(f"{AUGMENTED}: missing; run `dvc repro` first")
     # the training set of fit@<learner> (stages/_datasets.py): train.seasons in data.seasons order
     seasons = [season for season in params["data"]["seasons"] if season in params["train"]["seasons"]]
     augmented = bool(params["train"]["augmented"])

@@ -11,6 +11,7 @@ from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from functools import partial
 from pathlib import Path
+from typing import NamedTuple
 
 import cv2
 import numpy as np
@@ -106,8 +107,8 @@ def render_route(
     written = [*video_paths, out_dir / "layout.json", *(positions_dir / f"{s}.csv" for s in seasons)]
     written += [out_dir / "rides.json"] if rides else []
     try:
-        route_args = (seconds, seed, difficulty, seasons, fps, rides)
-        frames = _rendered_frames(route_args, [clocks[season] for season in seasons], width, height)
+        recipe = _RouteRecipe(seconds, seed, difficulty, seasons, fps, rides)
+        frames = _rendered_frames(recipe, [clocks[season] for season in seasons], width, height)
         _write_videos(video_paths, frames, max(count for count, _, _ in clocks.values()), fps, width, height, progress)
         positions_dir.mkdir(exist_ok=True)
         for season in seasons:
@@ -138,6 +139,17 @@ _FRAMES_PER_WORKER = 2000
 _worker_clocks: list[tuple[int, Frames, np.ndarray]] = []
 
 
+class _RouteRecipe(NamedTuple):
+    """What a render worker rebuilds its own route and clocks from (render_route's arguments)."""
+
+    seconds: int
+    seed: int
+    difficulty: RouteDifficulty
+    seasons: list[str]
+    fps: int
+    rides: Mapping[str, SeasonRide] | None
+
+
 def _render_chunk(
     clocks: list[tuple[int, Frames, np.ndarray]], first: int, stop: int, fps: int, width: int, height: int
 ) -> list[list[np.ndarray | None]]:
@@ -147,11 +159,12 @@ def _render_chunk(
     ]
 
 
-def _start_worker(route_args: tuple) -> None:
+def _start_worker(recipe: _RouteRecipe) -> None:
     """A render worker's own route and clocks, built from the same arguments as the caller's."""
-    seconds, seed, difficulty, seasons, fps, rides = route_args
-    clocks = _season_clocks(SyntheticRoute(seconds, seed, difficulty), seasons, fps, rides)
-    _worker_clocks[:] = [clocks[season] for season in seasons]
+    clocks = _season_clocks(
+        SyntheticRoute(recipe.seconds, recipe.seed, recipe.difficulty), recipe.seasons, recipe.fps, recipe.rides
+    )
+    _worker_clocks[:] = [clocks[season] for season in recipe.seasons]
 
 
 def _render_worker_chunk(chunk: tuple[int, int], fps: int, width: int, height: int) -> list[list[np.ndarray | None]]:
@@ -168,11 +181,10 @@ def _cores_for_workers() -> int:
 
 
 def _rendered_frames(
-    route_args: tuple, clocks: list[tuple[int, Frames, np.ndarray]], width: int, height: int
+    recipe: _RouteRecipe, clocks: list[tuple[int, Frames, np.ndarray]], width: int, height: int
 ) -> Iterator[list[np.ndarray | None]]:
     """Video frame k of every clock, k = 0, 1, ...: rendered here or by worker processes."""
-    fps = route_args[4]
-    n_frames = max(count for count, _, _ in clocks)
+    fps, n_frames = recipe.fps, max(count for count, _, _ in clocks)
     chunks = [(first, min(first + _CHUNK_FRAMES, n_frames)) for first in range(0, n_frames, _CHUNK_FRAMES)]
     workers = min(_cores_for_workers(), sum(count for count, _, _ in clocks) // _FRAMES_PER_WORKER, len(chunks))
     if workers < 2:
@@ -182,7 +194,7 @@ def _rendered_frames(
     # spawn, not fork: a forked child of a process whose OpenCV or OpenMP threads are running can
     # hang; a worker that cannot start raises BrokenProcessPool here instead of hanging
     context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(workers, context, initializer=_start_worker, initargs=(route_args,)) as pool:
+    with ProcessPoolExecutor(workers, context, initializer=_start_worker, initargs=(recipe,)) as pool:
         render = partial(_render_worker_chunk, fps=fps, width=width, height=height)
         for chunk in pool.map(render, chunks):
             yield from chunk

@@ -276,9 +276,19 @@ def test_autoencoder_descriptors_and_epoch_callback(name, code_length, fitted, f
         families[0], progress=False, on_epoch=lambda epoch, metrics: epochs_seen.append((epoch, metrics))
     )
     assert [epoch for epoch, _ in epochs_seen] == [1, 2] and info["n_train_images"] == 40
+    assert get_learner(name).trains_in_epochs  # stages/fit.py logs its epochs with dvclive
     assert [metrics["train_loss"] for _, metrics in epochs_seen] == info["loss_per_epoch"]
     assert [metrics["validation_loss"] for _, metrics in epochs_seen] == info["validation_loss_per_epoch"]
     assert info["stop_reason"] == "max_epochs" and info["converged"] is False and info["epochs_run"] == 2
+
+
+@pytest.mark.parametrize("name", ["raw_patchnorm", "pca", "pca_whiten", "ica"])
+def test_learners_without_epochs_say_so_and_report_none(name, families):
+    epochs_seen = []
+    get_learner(name)(TEST_PARAMS[name][0]).fit(
+        families[0], progress=False, on_epoch=lambda epoch, metrics: epochs_seen.append(epoch)
+    )
+    assert epochs_seen == [] and not get_learner(name).trains_in_epochs
 
 
 def test_cae_layers_match_table_5():

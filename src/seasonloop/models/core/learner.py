@@ -96,6 +96,8 @@ class FeatureLearner(ABC):
 
     name: ClassVar[str]
     defaults: ClassVar[dict[str, Any]]
+    # whether fit() reports epochs to its on_epoch callback (the stage logs them with dvclive)
+    trains_in_epochs: ClassVar[bool] = False
 
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
         given = dict(params or {})

@@ -80,6 +80,7 @@ class TorchAutoEncoderLearner(FeatureLearner):
     """
 
     channels_last: bool = False
+    trains_in_epochs = True
 
     COMMON_DEFAULTS = {
         "max_epochs": 200,

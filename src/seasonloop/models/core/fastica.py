@@ -11,11 +11,13 @@ gradient, gradient_, says where it stopped.
 
 from __future__ import annotations
 
+import time
+
 import torch
 from tqdm.auto import tqdm
 
 from seasonloop.models.core.ica_densities import DENSITIES
-from seasonloop.models.core.torch_ica import TorchICA, symmetric_decorrelation
+from seasonloop.models.core.torch_ica import TorchICA, gradient_of_moments, symmetric_decorrelation
 
 
 class TorchFastICA(TorchICA):
@@ -32,7 +34,12 @@ class TorchFastICA(TorchICA):
         bar = tqdm(total=self.max_iter, desc="FastICA iterations", unit="it", disable=not progress)
         for iteration in range(1, self.max_iter + 1):  # noqa: B007 (its last value is n_iter_)
             squashed, mean_derivative = score(unmixing @ whitened)
-            updated = symmetric_decorrelation(squashed @ whitened.T / n_samples - mean_derivative[:, None] * unmixing)
+            expectation = squashed @ whitened.T / n_samples  # E[g(y) z^T]
+            del squashed
+            # the trace's gradient costs a k x k product: E[g(y) y^T] = E[g(y) z^T] W^T
+            gradient = gradient_of_moments(expectation @ unmixing.T, mean_derivative)
+            self.trace_.append((time.perf_counter() - self.started_, float(gradient.abs().max())))
+            updated = symmetric_decorrelation(expectation - mean_derivative[:, None] * unmixing)
             change = float(((updated * unmixing).sum(dim=1).abs() - 1.0).abs().max())
             unmixing = updated
             bar.update()

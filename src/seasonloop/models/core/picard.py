@@ -20,6 +20,9 @@ rounding does not accumulate between Y and W; W is made orthogonal again at the 
 
 from __future__ import annotations
 
+import contextlib
+import io
+import re
 import time
 from collections import deque
 
@@ -185,20 +188,23 @@ class LibraryPicard(TorchICA):
 
     algorithm = "picard-o"
     criterion_name = "gradient"
-    # python-picard's names of the densities
-    DENSITY_NAMES = {"logcosh": "tanh", "exp": "exp", "cube": "cube"}
 
     def _rotate(self, whitened: torch.Tensor, unmixing: torch.Tensor, progress: bool) -> torch.Tensor:
         import warnings
 
         from picard import picard
+        from picard.densities import Cube, Exp, Tanh
 
+        # python-picard's densities of the torch ones (ica_densities, alpha 1): its fun="exp" is
+        # Exp(alpha=0.1), another contrast, so the objects are passed, not the names
+        densities = {"logcosh": Tanh(params={"alpha": 1.0}), "exp": Exp(params={"alpha": 1.0}), "cube": Cube()}
         data = whitened.double().cpu().numpy()
-        with warnings.catch_warnings(record=True) as caught:
+        printed = _TracedPrints(self)
+        with warnings.catch_warnings(record=True) as caught, contextlib.redirect_stdout(printed):
             warnings.simplefilter("always")
             _, result, _, n_iter = picard(
                 data,
-                fun=self.DENSITY_NAMES[self.fun],
+                fun=densities[self.fun],
                 ortho=True,
                 extended=True,
                 whiten=False,
@@ -208,6 +214,7 @@ class LibraryPicard(TorchICA):
                 tol=self.tol,
                 w_init=unmixing.double().cpu().numpy(),
                 check_fun=False,
+                verbose=True,  # its only report of each iteration's gradient: traced by _TracedPrints
             )
         for warning in caught:
             message = str(warning.message)
@@ -219,4 +226,24 @@ class LibraryPicard(TorchICA):
         # its last gradient norm is only printed: the same measure, from its result
         self.criterion_ = float(gradient_of_sources(rotated @ whitened, self.fun).abs().max())
         self.converged_ = self.criterion_ < self.tol
+        if self.converged_:  # the iteration that met tol stops before printing
+            self.trace_.append((time.perf_counter() - self.started_, self.criterion_))
         return rotated
+
+
+class _TracedPrints(io.TextIOBase):
+    """python-picard's verbose lines ("iteration n, gradient norm = g, loss = l"), kept as `ica`'s
+    trace_: the gradient at the start of iteration n, timed when the line is printed, after that
+    iteration's line search (so up to one iteration later than TorchPicard's, which times it when
+    computed); other lines are dropped."""
+
+    LINE = re.compile(r"iteration \d+, gradient norm = ([^,]+),")
+
+    def __init__(self, ica: TorchICA):
+        self.ica = ica
+
+    def write(self, text: str) -> int:
+        now = time.perf_counter() - self.ica.started_
+        for match in self.LINE.finditer(text):
+            self.ica.trace_.append((now, float(match.group(1))))
+        return len(text)

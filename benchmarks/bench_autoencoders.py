@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from _common import HEIGHT, WIDTH, load_note, machine, pair_images, timed, training_images, write_result
+from _bench_common import HEIGHT, WIDTH, load_note, machine, pair_images, timed, training_images, write_result
 from seasonloop.ablations.cae_widths import width_channels, width_label
 from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair

@@ -21,7 +21,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from _common import ISA_CAP, capped_environment, copy_repository, load_note, machine, write_result
+from _bench_common import ISA_CAP, capped_environment, copy_repository, load_note, machine, write_result
 
 RUNNING = "Running stage '"
 

@@ -16,7 +16,7 @@ import argparse
 
 import numpy as np
 
-from _common import load_note, machine, timed, write_result
+from _bench_common import load_note, machine, timed, write_result
 from seasonloop.evaluation.matching import METRICS, best_matches, distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
 

@@ -19,7 +19,7 @@ import yaml
 from scipy.linalg import subspace_angles
 from sklearn.decomposition import PCA
 
-from _common import load_note, machine, timed, training_images, write_result
+from _bench_common import load_note, machine, timed, training_images, write_result
 from seasonloop.models.core.learner import to_float
 from seasonloop.models.core.projection import SVD_SOLVERS
 from seasonloop.models.pca import PCALearner

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from _common import load_note, machine, write_result
+from _bench_common import load_note, machine, write_result
 from seasonloop.data import datasets
 from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair

@@ -29,7 +29,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from _common import ISA_CAP, capped_environment, copy_repository, machine, write_result
+from _bench_common import ISA_CAP, capped_environment, copy_repository, machine, write_result
 
 # the learners whose metrics must not depend on the CPU (the auto-encoders may: documented)
 LEARNERS = ("raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw")

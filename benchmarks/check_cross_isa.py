@@ -38,7 +38,7 @@ def fit_once(name: str, precision: str, images: int, epochs: int, out: Path) -> 
     """(child process) fit one learner and save its weights as .npz with its losses."""
     import torch
 
-    from _common import training_images
+    from _bench_common import training_images
     from seasonloop.models.registry import get_learner
 
     data, _ = training_images(images, seed=0)
@@ -101,7 +101,7 @@ def main() -> None:
         name, precision, out = args.child
         fit_once(name, precision, args.images, args.epochs, Path(out))
         return
-    from _common import machine, write_result
+    from _bench_common import machine, write_result
 
     measured_on = machine()
     print(f"CPU: {measured_on['cpu']}; {args.images} images, {args.epochs} epochs from seed 0")

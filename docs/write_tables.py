@@ -318,7 +318,30 @@ def _bench_ica(path: Path) -> str:
             f"| {fit['peak_rss_bytes'] / 2**30:.2f} | {'' if amari is None else f'{amari:.4f}'} |"
         )
     ratios = "\n\n".join(record["headline"].split(" | "))
-    return "\n".join(lines) + "\n\n" + ratios + "\n\n" + _where(record) + "\n"
+    return "\n".join(lines) + "\n\n" + _bench_ica_times(record) + ratios + "\n\n" + _where(record) + "\n"
+
+
+def _bench_ica_times(record: dict) -> str:
+    """Seconds (whitening included) until each solver's gradient stays below each target, per size;
+    '-' where it never does (records of before the traces were kept: nothing)."""
+    lines: list[str] = []
+    for size, measured in record["sizes"].items():
+        table = measured.get("seconds_to_stay_below")
+        if not table:
+            continue
+        targets = list(next(iter(table.values())))
+        lines += [
+            f"{size}: seconds until the gradient stays below each target ('-': never)",
+            "",
+            "| solver | " + " | ".join(targets) + " |",
+            "|---|" + "---|" * len(targets),
+        ]
+        for name, times in table.items():
+            lines.append(
+                f"| {name} | " + " | ".join("-" if times[t] is None else f"{times[t]:.1f}" for t in targets) + " |"
+            )
+        lines.append("")
+    return "\n".join(lines) + ("\n" if lines else "")
 
 
 def _where(record: dict) -> str:
@@ -403,7 +426,7 @@ FIGURES = {
 
 
 def measured_at(path: Path, run: dict) -> str:
-    """The commit a benchmark ran at: its own record's (benchmarks/_common.write_result writes it),
+    """The commit a benchmark ran at: its own record's (benchmarks/_bench_common.write_result writes it),
     else the one the snapshot was taken at."""
     record = json.loads(path.read_text()) if path.suffix == ".json" else {}
     commit, dirty = record.get("commit") or run.get("commit", "?"), record.get("dirty", run.get("dirty"))

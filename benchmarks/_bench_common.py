@@ -1,4 +1,6 @@
 """Shared helpers of the benchmark scripts (run from the repository root; not a pytest module).
+Not named _common: stages/_common.py is imported under that name, and a test process that imports
+both would get whichever came first.
 
 Data: the pipeline's preprocessed images when `dvc repro` has written data/split/, otherwise
 images rendered by seasonloop.data.synthetic and preprocessed by seasonloop.data.preprocess.
@@ -118,8 +120,11 @@ def capped_environment(cap: dict[str, str], capped: bool) -> dict[str, str]:
 
 
 def machine() -> dict[str, Any]:
-    """What the timings are measured on, and how busy the CPU is with other work just now."""
+    """What the timings are measured on, how busy the CPU is with other work just now, and the
+    source measured (git_state: taken here, at the start, as a commit made during a long run
+    is not what ran)."""
     return {
+        "source": git_state(),
         "cpu": cpu_model(),
         # an ISA cap (ATEN_CPU_CAPABILITY=avx2 ONEDNN_MAX_CPU_ISA=AVX2 OPENBLAS_CORETYPE=Haswell)
         # estimates an AVX2-only CPU
@@ -153,9 +158,9 @@ def git_state() -> dict[str, Any]:
 
 def write_result(name: str, record: dict[str, Any], measured_on: dict[str, Any]) -> Path:
     """Write benchmarks/results/<name>.json with `measured_on` (machine(), taken at the start) and
-    the commit measured, and return its path."""
+    the commit measured (at the start), and return its path."""
     path = RESULTS_DIR / f"{name}.json"
-    write_json(path, to_json_value({**record, "machine": measured_on, **git_state()}))
+    write_json(path, to_json_value({**record, "machine": measured_on, **measured_on.get("source", git_state())}))
     return path
 
 

@@ -2,7 +2,8 @@
 
 Writes under plots/figures/: fig02_pca_projection.png (an image of one place in two seasons and
 its projection on the first, condition-dependent principal components vs the kept ones),
-fig12_patch_ica_filters.png, fig13_visual_words.png, fig19_autoencoder_descriptors.png (code vs
+fig12_patch_ica_filters.png, fig12b_global_ica_basis.png (the global ICA's basis images, the study
+shows only patch filters), fig13_visual_words.png, fig19_autoencoder_descriptors.png (code vs
 output vs patch-normalised output, single-image fraction correct), fig19b_autoencoder_reconstructions.png
 (test inputs of every season beside the FAE's and CAE's reconstructions) and
 fig19c_autoencoder_loss.png (training and validation loss per epoch) and metrics/autoencoder_descriptors.json.

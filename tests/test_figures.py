@@ -69,11 +69,34 @@ def test_draw_figures_without_their_learners_draws_nothing(tmp_path):
     )
     assert records.notes == [
         "pca is not in learners: no Figure 2",
+        "ica is not in learners: no global ICA basis",
         "ica_bovw is not in learners: no Figures 12 and 13",
         "neither fae nor cae is in learners: no Figures 19, 19b, 19c",
     ]
     assert records.autoencoder_descriptors == {}
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_global_ica_basis_figure_shows_the_mixing_columns_of_the_fitted_ica(tmp_path, monkeypatch):
+    from seasonloop.reporting import figures
+
+    rng = np.random.default_rng(0)
+    images = (128 + 4 * rng.laplace(size=(300, 6)) @ rng.normal(size=(6, 8 * 16))).clip(0, 255)  # little clipped
+    ica = get_learner("ica")({"n_components": 6, "device": "cpu"}, seed=0)
+    images = images.astype(np.uint8)
+    ica.fit(images.reshape(300, 8, 16), progress=False)
+    shown = {}
+    monkeypatch.setattr(figures, "plot_image_grid", lambda rows, path, **kwargs: shown.update(rows=rows, path=path))
+    figures.ica_basis_figure(ica, tmp_path / "basis.png")
+    basis = np.stack([image.ravel() for row in shown["rows"] for image in row], axis=1)  # (pixels, shown)
+    assert basis.shape == (8 * 16, 6) and shown["rows"][0][0].shape == (8, 16)
+    # most pixel variance first, and the sources times the basis give back the centred images
+    norms = np.linalg.norm(basis, axis=0)
+    assert list(norms) == sorted(norms, reverse=True)
+    sources = ica.estimator.transform(images.reshape(300, -1) / 255)
+    order = np.argsort(-np.linalg.norm(np.linalg.pinv(ica.estimator.components_.astype(np.float64)), axis=0))
+    centred = images.reshape(300, -1) / 255 - ica.estimator.mean_
+    np.testing.assert_allclose(sources[:, order] @ basis.T, centred, atol=0.02)
 
 
 def test_patchnorm_output_is_the_learners_output_patchnorm_descriptor():

@@ -125,7 +125,6 @@ def test_ica_learner_defaults_to_picard_and_records_the_shared_measure(tmp_path)
     assert record["own_criterion"]["name"] == "change" and record["own_criterion"]["met"] is True
     assert record["converged"] == (record["gradient"] < 1e-7)
     assert bool(record["convergence_warnings"]) == (not record["converged"])
-    flat = train.reshape(len(train), -1).astype(np.float32) / 255
     # judged on the stored model: the gradient of the sources its descriptors are, nothing else
     for fitted, fit_record in ((fastica, record), (learner, info)):
         assert fit_record["gradient"] == pytest.approx(relative_gradient(fitted.describe(train)), rel=1e-6)

@@ -77,6 +77,7 @@ def test_learners_metrics_and_plots_exist(workspace):
     for figure in (
         "fig02_pca_projection",
         "fig12_patch_ica_filters",
+        "fig12b_global_ica_basis",
         "fig13_visual_words",
         "fig19_autoencoder_descriptors",
     ):

@@ -28,6 +28,7 @@ FIGURE_LEARNERS = ("pca", "ica_bovw", *AUTOENCODERS)
 N_WORDS_SHOWN, N_EXAMPLES_SHOWN = 12, 10
 FILTERS_PER_ROW = 16
 N_RECONSTRUCTIONS = 2  # test places shown per season
+N_BASIS_SHOWN, BASIS_PER_ROW = 32, 8  # global ICA basis images
 
 
 @dataclass(frozen=True)
@@ -191,6 +192,22 @@ def autoencoder_figures(
     return fraction_correct
 
 
+def ica_basis_figure(ica, path: Path) -> None:
+    """The global ICA's basis images: columns of its mixing matrix (the pseudo-inverse of the
+    unmixing components, so that image - mean = sum of sources x basis), those that carry the most
+    pixel variance (largest norm: the sources have unit variance) first."""
+    components = np.asarray(ica.estimator.components_, dtype=np.float64)
+    mixing = np.linalg.pinv(components)
+    order = np.argsort(-np.linalg.norm(mixing, axis=0), kind="stable")[:N_BASIS_SHOWN]
+    height, width = ica.image_shape
+    basis = [mixing[:, i].reshape(height, width) for i in order]
+    plot_image_grid(
+        [basis[i : i + BASIS_PER_ROW] for i in range(0, len(basis), BASIS_PER_ROW)],
+        path,
+        title=f"Global ICA basis images: {len(basis)} of {len(components)}, most pixel variance first",
+    )
+
+
 def draw_figures(
     models_dir: Path,
     out: Path,
@@ -210,6 +227,10 @@ def draw_figures(
         pca_projection_figure(load_learner(models_dir / "pca"), test, truths, seasons, out / "fig02_pca_projection.png")
     else:
         notes.append("pca is not in learners: no Figure 2")
+    if "ica" in learners:
+        ica_basis_figure(load_learner(models_dir / "ica"), out / "fig12b_global_ica_basis.png")
+    else:
+        notes.append("ica is not in learners: no global ICA basis")
     if "ica_bovw" in learners:
         ica_figures(load_learner(models_dir / "ica_bovw"), test[seasons[0]], seasons[0], out)
     else:

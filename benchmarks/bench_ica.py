@@ -39,7 +39,7 @@ import numpy as np
 import yaml
 
 from _bench_common import load_note, machine, timed, training_images, write_result
-from seasonloop.models.core.torch_ica import amari_distance, relative_gradient
+from seasonloop.models.core.ica_stationarity import amari_distance, relative_gradient
 from seasonloop.models.registry import get_learner
 
 # (name, ica.solver, ica.precision): every solver, the torch ones in both precisions

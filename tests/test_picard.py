@@ -7,9 +7,9 @@ import torch
 from ica_data import images, mixed_sources
 
 from seasonloop.models.core.fastica import TorchFastICA
+from seasonloop.models.core.ica_stationarity import amari_distance, relative_gradient
 from seasonloop.models.core.learner import RUN_KEYS
 from seasonloop.models.core.picard import LibraryPicard, TorchPicard
-from seasonloop.models.core.torch_ica import amari_distance, relative_gradient
 from seasonloop.models.registry import get_learner, load_learner
 
 N_SUPER, N_SUB, N_FEATURES, N_SAMPLES = 5, 3, 16, 5000

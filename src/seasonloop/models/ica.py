@@ -14,7 +14,7 @@ point of the same contrast (log cosh for fun "logcosh"); they differ in how they
 FastICA stops on its own test, the change of W between iterations below ica.change_tol, which
 says how far one step moves W, not how far W is from a stationary point. So every solver's fit
 record reports the same stationarity measure, the max |entry| of the relative gradient
-(seasonloop.models.core.torch_ica.relative_gradient), and `converged` means exactly that it is
+(seasonloop.models.core.ica_stationarity.relative_gradient), and `converged` means exactly that it is
 below ica.tol; the solver's own test is recorded beside it. benchmarks/bench_ica.py compares them.
 """
 
@@ -31,9 +31,10 @@ from sklearn.decomposition import FastICA
 
 from seasonloop.models.core.fastica import TorchFastICA
 from seasonloop.models.core.fastica_sklearn import fit_fastica
+from seasonloop.models.core.ica_stationarity import relative_gradient
 from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
 from seasonloop.models.core.picard import LibraryPicard, TorchPicard
-from seasonloop.models.core.torch_ica import TorchICA, relative_gradient
+from seasonloop.models.core.torch_ica import TorchICA
 from seasonloop.models.core.torch_learner import resolve_device
 from seasonloop.params.learners import DEVICES, ICA_ALGORITHMS, ICA_PRECISIONS
 

@@ -17,7 +17,8 @@ import torch
 from tqdm.auto import tqdm
 
 from seasonloop.models.core.ica_densities import DENSITIES
-from seasonloop.models.core.torch_ica import TorchICA, gradient_of_moments, symmetric_decorrelation
+from seasonloop.models.core.ica_stationarity import gradient_of_moments
+from seasonloop.models.core.torch_ica import TorchICA, symmetric_decorrelation
 
 
 class TorchFastICA(TorchICA):

@@ -5,7 +5,7 @@ The algorithm of python-picard's `picard(ortho=True, extended=True)` (Ablin, Car
 whitened data it minimises sum_i s_i E[G(y_i)], y = W z, over orthogonal W, with s_i the sign that
 makes source i super- or sub-Gaussian (the "extended" rule, as FastICA's fixed point adapts to
 either); the relative gradient is the skew part of diag(s) E[g(y) y^T]
-(seasonloop.models.core.torch_ica), preconditioned by Picard's cheap Hessian approximation
+(seasonloop.models.core.ica_stationarity), preconditioned by Picard's cheap Hessian approximation
 (the row means of g'), with an L-BFGS memory of `memory` steps and a backtracking line search on
 W <- expm(alpha D) W. It stops when max |gradient| < tol: the stationarity measure every solver
 reports, so its own criterion is the shared one. Its stationary points are FastICA's fixed
@@ -30,7 +30,8 @@ import torch
 from tqdm.auto import tqdm
 
 from seasonloop.models.core.ica_densities import DENSITIES, Density
-from seasonloop.models.core.torch_ica import TorchICA, gradient_of_sources, symmetric_decorrelation
+from seasonloop.models.core.ica_stationarity import gradient_of_sources
+from seasonloop.models.core.torch_ica import TorchICA, symmetric_decorrelation
 
 # python-picard's defaults
 MEMORY = 7

@@ -15,42 +15,11 @@ from __future__ import annotations
 import argparse
 import os
 import resource
-import subprocess
-import sys
 import tempfile
-import time
 from pathlib import Path
 
 from _bench_common import ISA_CAP, capped_environment, copy_repository, load_note, machine, write_result
-
-RUNNING = "Running stage '"
-
-
-def timed_repro(root: Path, env: dict[str, str]) -> tuple[float, dict[str, float]]:
-    """(total seconds, stage -> seconds) of `dvc repro` in root: a stage's time runs from its
-    "Running stage" line to the next one (or to the end), so it includes DVC's own work on it."""
-    dvc = str(Path(sys.executable).parent / "dvc")
-    start = time.perf_counter()
-    stages: dict[str, float] = {}
-    current, since = None, start
-    log = []
-    with subprocess.Popen(
-        [dvc, "repro"], cwd=root, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1
-    ) as process:
-        assert process.stdout is not None
-        for line in process.stdout:
-            log.append(line)
-            if line.startswith(RUNNING):
-                now = time.perf_counter()
-                if current is not None:
-                    stages[current] = now - since
-                current, since = line[len(RUNNING) :].split("'")[0], now
-    end = time.perf_counter()
-    if process.returncode != 0:
-        raise SystemExit(f"dvc repro failed in {root}:\n{''.join(log[-40:])}")
-    if current is not None:
-        stages[current] = end - since
-    return end - start, stages
+from _pipeline_run import timed_repro
 
 
 def main() -> None:
@@ -65,11 +34,12 @@ def main() -> None:
     if args.keep:
         args.keep.mkdir(parents=True)
         copy_repository(args.keep)
-        total, stages = timed_repro(args.keep, env)
+        total, measured = timed_repro(args.keep, env)
     else:
         with tempfile.TemporaryDirectory(prefix="default-run-") as folder:
             copy_repository(Path(folder))
-            total, stages = timed_repro(Path(folder), env)
+            total, measured = timed_repro(Path(folder), env)
+    stages = {stage: record["seconds"] for stage, record in measured.items()}
     # the largest resident set of any stage process (Linux: kilobytes)
     peak_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
     note = load_note(measured_on)
@@ -82,6 +52,7 @@ def main() -> None:
         "capped": args.capped,
         "total_seconds": total,
         "stages": stages,
+        "stage_peak_rss_mb": {stage: record["peak_rss_mb"] for stage, record in measured.items()},
         "peak_memory_mb": peak_mb,
         "load_note": note,
         "headline": headline,

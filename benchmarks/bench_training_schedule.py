@@ -17,20 +17,24 @@ params.yaml's sections of the learners). The first setting of each learner is th
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import yaml
 
-from _bench_common import load_note, machine, write_result
+from _bench_common import REPO, load_note, machine, write_result
 from seasonloop.data import datasets
 from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
 from seasonloop.io import read_json
 from seasonloop.models.registry import get_learner
 
-SPLIT, AUGMENTED = Path("data/split"), Path("data/augmented")
+sys.path.insert(0, str(REPO / "stages"))
+import _datasets as stage_datasets  # noqa: E402  (the stages' binding of params to data/split, data/augmented)
+
+SPLIT, AUGMENTED = stage_datasets.SPLIT, stage_datasets.AUGMENTED
 
 QUALITY_TOLERANCE = 0.02  # best validation loss may exceed the reference's by this fraction
 # settings per learner: ';'-separated, each a ','-separated list of key=value of the learner's section
@@ -142,12 +146,9 @@ def main() -> None:
     params = yaml.safe_load(Path("params.yaml").read_text())
     if not AUGMENTED.is_dir():
         raise SystemExit(f"{AUGMENTED}: missing; run `dvc repro` first")
-    # the training set of fit@<learner> (stages/_datasets.py): train.seasons in data.seasons order
-    seasons = [season for season in params["data"]["seasons"] if season in params["train"]["seasons"]]
-    augmented = bool(params["train"]["augmented"])
-    copies = int(params["augment"]["copies"]) if augmented else 0
-    images = datasets.training_images(SPLIT, AUGMENTED if augmented else None, seasons)
-    data = (images, datasets.training_places(SPLIT, seasons, copies), params)
+    # the training set of fit@<learner>, chosen by the stages' own code
+    seasons = list(params["train"]["seasons"])
+    data = (stage_datasets.training_images(params, seasons), stage_datasets.training_places(params, seasons), params)
     learners = args.learners.split(",")
     seeds = [int(seed) for seed in args.seeds.split(",")]
     measured_on = machine()

@@ -257,6 +257,58 @@ def _default_run_stages(path: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _ica_fit(path: Path) -> str:
+    """metrics/fit/ica.json as one row: how the global ICA was fitted and whether it converged."""
+    record = json.loads(path.read_text())
+    info = record["info"]
+    return (
+        "| solver | components | training images | iterations | relative gradient (stored model) | tol "
+        "| converged | fit seconds |\n|---|---|---|---|---|---|---|---|\n"
+        f"| {info['solver']} ({info.get('precision', 'float64')}) | {info['n_components']} | {record['n_train_images']} "
+        f"| {info['n_iter']} | {info['gradient']:.2e} | {info['tol']:.0e} | {str(info['converged']).lower()} "
+        f"| {record['fit_seconds']:.1f} |\n"
+    )
+
+
+def _training_seasons(path: Path) -> str:
+    """metrics/training_seasons.json: fraction correct (%) of each ablation learner per training-season set."""
+    record = json.loads(path.read_text())
+    sets = record["season_sets"]
+    lines = [
+        f"Pair {record['pair']}, single image; columns: the seasons the learner was trained on.",
+        "",
+        "| learner | " + " | ".join(sets) + " |",
+        "|---|" + "---|" * len(sets),
+    ]
+    for learner, fractions in record["fraction_correct"].items():
+        lines.append(f"| {learner} | " + " | ".join(f"{100 * fractions[s]:.1f}" for s in sets) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _full_run_stages(path: Path) -> str:
+    """benchmarks/bench_full_run.py's record: the headline, each call, and every stage's seconds and peak memory."""
+    record = json.loads(path.read_text())
+    calls = "; ".join(
+        f"{call['seconds'] / 60:.0f} min on {call['machine']['cpu']}{' (' + call['load_note'] + ')' if call['load_note'] else ''}"
+        for call in record["calls"]
+    )
+    lines = [
+        f"{record['headline']}. Calls: {calls}.",
+        "",
+        "| stage | seconds | share | peak memory MB |",
+        "|---|---|---|---|",
+    ]
+    total = record["total_seconds"]
+    for stage, measured in sorted(record["stages"].items(), key=lambda item: -item[1]["seconds"]):
+        lines.append(
+            f"| {stage} | {measured['seconds']:.0f} | {100 * measured['seconds'] / total:.0f}% | {measured['peak_rss_mb']:.0f} |"
+        )
+    lines += ["", "| learner | how its fit ended |", "|---|---|"]
+    for learner, ended in record["convergence"].items():
+        lines.append(f"| {learner} | " + ", ".join(f"{key} {value}" for key, value in ended.items()) + " |")
+    return "\n".join(lines) + "\n"
+
+
 def _bench_training_schedule(path: Path) -> str:
     """Every run of the auto-encoders' training settings, then the script's verdicts."""
     record = json.loads(path.read_text())
@@ -360,6 +412,8 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "runtime": ("plots/summary/runtime.md", "runtime.md", _fraction_correct),
     "autoencoder_training": ("metrics/autoencoder_training.json", "autoencoder_training.json", _autoencoder_training),
     "cae_widths": ("metrics/cae_widths.json", "cae_widths_sweep.json", _cae_widths),
+    # the global ICA's fit and its basis images (docs/results.md)
+    "ica_basis": ("metrics/fit/ica.json", "ica_fit.json", _ica_fit),
     "output_sizes": ("dvc.lock", "dvc_lock_sizes.yaml", _output_sizes),
     # the synthetic route ridden at a different speed in each season, ground truth from positions
     # (docs/other-datasets.md; a run in another clone: --from)
@@ -422,6 +476,7 @@ OTHER_RUNS = ("rides_dataset", "rides_fraction_correct")
 FIGURES = {
     "cae_widths": ("plots/cae_widths.png", "cae_widths_sweep.png"),
     "fraction_correct": ("plots/summary/fraction_correct.png", "fraction_correct.png"),
+    "ica_basis": ("plots/figures/fig12b_global_ica_basis.png", "ica_basis.png"),
 }
 
 
@@ -487,7 +542,7 @@ def snapshot(names: list[str], command: str, workspace: Path = ROOT) -> None:
             raise FileNotFoundError(f"{workspace / source}: not found (run the pipeline first)")
         shutil.copyfile(workspace / source, RESULTS / copy)
         if name in FIGURES:
-            shutil.copyfile(ROOT / FIGURES[name][0], RESULTS / FIGURES[name][1])
+            shutil.copyfile(workspace / FIGURES[name][0], RESULTS / FIGURES[name][1])
         provenance[name] = {"commit": commit, "dirty": dirty, "command": command, "cpu": cpu_model()}
     PROVENANCE.write_text(json.dumps(provenance, indent=2, sort_keys=True) + "\n")
 

@@ -1,0 +1,102 @@
+"""Cost against size: presets/full.yaml's pipeline at fractions of the study's places, stage by
+stage (wall time and peak memory), and how each stage grows.
+
+    python benchmarks/bench_scaling.py ROOT [--fractions 0.125 0.25 0.5] [--capped]
+
+Each fraction f runs the full preset with synthetic.seconds = 35,768 f places a season and
+split.section_length = 3,000 f (the same 12 sections, so the test fraction keeps its meaning) in its
+own folder ROOT/<f>, made and resumed as bench_full_run.py's (a session that stops part way goes on
+where it stopped). The full size (f = 1) is benchmarks/results/bench_full_run.json, the run of
+bench_full_run.py. Prints every stage's seconds and peak memory against places and its growth
+exponent (the least-squares slope of log seconds on log places; 1 = linear), and names the stages
+growing faster than linearly (exponent above SUPERLINEAR) with their share of the full run. Writes
+benchmarks/results/bench_scaling.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from _bench_common import REPO, RESULTS_DIR, write_result
+from bench_full_run import run
+
+PRESET = REPO / "presets" / "full.yaml"
+SUPERLINEAR = 1.15  # a slope this far above 1 over an 8x range is more than timing noise
+
+
+def overrides(fraction: float) -> dict[str, int]:
+    params = yaml.safe_load(PRESET.read_text())
+    return {
+        "synthetic.seconds": round(params["synthetic"]["seconds"] * fraction),
+        "split.section_length": round(params["split"]["section_length"] * fraction),
+    }
+
+
+def growth(places: list[int], values: list[float]) -> float | None:
+    """Slope of log value on log places (None with fewer than two positive values)."""
+    points = [(np.log(p), np.log(v)) for p, v in zip(places, values) if v > 0]
+    if len(points) < 2:
+        return None
+    x, y = np.array(points).T
+    return float(np.polyfit(x, y, 1)[0])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("root", type=Path, help="a folder for the runs (ROOT/<fraction>)")
+    parser.add_argument("--fractions", type=float, nargs="+", default=[0.125, 0.25, 0.5])
+    parser.add_argument("--capped", action="store_true", help="an AVX2-only CPU's kernels (ISA_CAP)")
+    args = parser.parse_args()
+    full_places = yaml.safe_load(PRESET.read_text())["synthetic"]["seconds"]
+    runs = {}
+    for fraction in args.fractions:
+        result = run(args.root / f"{fraction:g}", PRESET, args.capped, overrides(fraction))
+        runs[overrides(fraction)["synthetic.seconds"]] = result
+        print(f"HEADLINE ({fraction:g}): {result['headline']}")
+    full_path = RESULTS_DIR / "bench_full_run.json"
+    if not full_path.is_file():
+        raise SystemExit(f"{full_path}: missing; the full size is bench_full_run.py's run (run it first)")
+    runs[full_places] = json.loads(full_path.read_text())
+    sizes = sorted(runs)
+    stages = sorted({stage for result in runs.values() for stage in result["stages"]})
+    table = {}
+    for stage in stages:
+        seconds = [runs[size]["stages"].get(stage, {}).get("seconds", 0.0) for size in sizes]
+        memory = [runs[size]["stages"].get(stage, {}).get("peak_rss_mb", 0.0) for size in sizes]
+        table[stage] = {
+            "seconds": seconds,
+            "peak_rss_mb": memory,
+            "time_exponent": growth(sizes, seconds),
+            "memory_exponent": growth(sizes, memory),
+            "share_of_full_run": seconds[-1] / runs[full_places]["total_seconds"],
+        }
+    superlinear = {
+        stage: row
+        for stage, row in table.items()
+        if row["time_exponent"] is not None and row["time_exponent"] > SUPERLINEAR
+    }
+    print(f"{'stage':34s} " + " ".join(f"{size:>9d}" for size in sizes) + "  exponent  share")
+    for stage, row in sorted(table.items(), key=lambda item: -item[1]["seconds"][-1]):
+        exponent = "-" if row["time_exponent"] is None else f"{row['time_exponent']:.2f}"
+        print(
+            f"{stage:34s} "
+            + " ".join(f"{value:9.0f}" for value in row["seconds"])
+            + f"  {exponent:>8s}  {100 * row['share_of_full_run']:4.0f}%"
+        )
+    names = ", ".join(
+        f"{stage} ({row['time_exponent']:.2f}, {100 * row['share_of_full_run']:.0f}%)"
+        for stage, row in superlinear.items()
+    )
+    headline = f"places {sizes}: stages growing faster than linearly: {names or 'none'}"
+    result = {"places": sizes, "runs": {str(size): runs[size] for size in sizes}, "stages": table, "headline": headline}
+    path = write_result("bench_scaling", result, runs[sizes[0]]["calls"][-1]["machine"])
+    print(f"wrote {path}\nHEADLINE: {headline}")
+
+
+if __name__ == "__main__":
+    main()

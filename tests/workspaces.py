@@ -136,13 +136,7 @@ def make_workspace(root: Path, overrides: dict, cache: Path | None = None) -> Pa
 
 
 def dvc(root: Path, *args: str) -> subprocess.CompletedProcess:
-    # the stages import the workspace's own copy of the library (the editable install points at the
-    # checkout's src/, which a developer may edit while the tests run)
-    env = dict(
-        os.environ,
-        PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}",
-        PYTHONPATH=os.pathsep.join(filter(None, [str(root / "src"), os.environ.get("PYTHONPATH")])),
-    )
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
     return subprocess.run(
         [str(Path(sys.executable).parent / "dvc"), *args], cwd=root, env=env, capture_output=True, text=True
     )

@@ -50,7 +50,7 @@ def main() -> None:
 
     for width in sweep.widths:  # every width and the CAE section are checked before the first fit
         new_cae(width_channels(width))
-    pairs = available_pairs(data_seasons(params), sweep.pairs)
+    pairs = available_pairs(data_seasons(params), sweep.pairs, "cae_widths.pairs")
     if not pairs:
         raise ValueError(f"cae_widths.pairs: none of {list(sweep.pairs)} has both seasons in data.seasons")
     seasons = sorted({season for pair in pairs for season in pair}, key=data_seasons(params).index)

@@ -64,7 +64,7 @@ def test_no_usable_training_list_is_skipped():
 
 
 def test_unknown_names_are_errors():
-    with pytest.raises(ValueError, match="ablation.training_seasons: unknown season 'autumn'"):
+    with pytest.raises(ValueError, match="ablation.training_seasons: unknown traverse 'autumn'"):
         plan_ablation(["summer", "fall"], "summer-fall", [["autumn"]], PAIRS)
     with pytest.raises(ValueError, match="ablation.pair"):
         plan_ablation(["summer", "fall"], "summer_fall", STUDY_SETS, PAIRS)

@@ -173,8 +173,10 @@ def test_mismatched_season_lengths_are_an_error_unless_trimmed():
 
 
 def test_season_checks_name_the_key():
-    with pytest.raises(ValueError, match="data.seasons: unknown season 'autumn'"):
-        check_seasons(["summer", "autumn"], "data.seasons")
+    with pytest.raises(ValueError, match="data.seasons: unknown traverse 'autumn'"):
+        check_seasons(["summer", "autumn"], "data.seasons", allowed=["summer", "fall"])
+    with pytest.raises(ValueError, match="data.seasons: repeated traverse"):
+        check_seasons(["summer", "summer"], "data.seasons")
     assert available_pairs(["summer", "winter"], ["summer-fall", "winter-summer"]) == [("winter", "summer")]
 
 

@@ -32,7 +32,7 @@ import numpy as np
 from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matchers import match_pair, result_suffix
 from seasonloop.io import read_json, write_json
-from seasonloop.params.schema import check_seasons, pair_name, pair_present, parse_pair
+from seasonloop.params.schema import SEASONS, check_seasons, pair_name, pair_present, parse_pair
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 from seasonloop.plots import plot_message, plot_series
 
@@ -53,9 +53,11 @@ def plan_ablation(
     seasons: Sequence[str], pair: str, training_seasons: Sequence[Sequence[str]], evaluate_pairs: Sequence[str]
 ) -> AblationPlan:
     """The pair and training-season lists to run with `seasons` present (see the module doc)."""
-    parse_pair(pair, "ablation.pair")
-    # names are checked against every season, so a typo is an error, not a silently dropped list
-    requested = [check_seasons(chosen, "ablation.training_seasons") for chosen in training_seasons]
+    parse_pair(pair, "ablation.pair", known=seasons)
+    # names are checked against the data's and the study's seasons, so a typo is an error, not a
+    # silently dropped list
+    known = list(dict.fromkeys([*seasons, *SEASONS]))
+    requested = [check_seasons(chosen, "ablation.training_seasons", allowed=known) for chosen in training_seasons]
     if not requested:
         raise ValueError("ablation.training_seasons: expected a non-empty list of season lists")
     if len(seasons) < 2:

@@ -9,7 +9,7 @@ import numbers
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-from seasonloop.params.seasons import SEASONS, check_seasons, parse_pair
+from seasonloop.params.seasons import check_name, check_seasons, parse_pair
 
 Check = Callable[[str, Any], None]  # (dotted key, value) -> None, or a ValueError naming the key
 
@@ -97,18 +97,22 @@ def seasons(key: str, value: Any) -> None:
 
 
 def pair(key: str, value: Any) -> None:
-    if not isinstance(value, str):
-        _fail(key, "a pair name such as summer-fall", value)
+    if isinstance(value, str) and value.count("-") > 1:
+        # a hyphen inside a name: split against data.seasons (params.schema's check across keys)
+        return
     parse_pair(value, key)
 
 
-def season_map(item: Check) -> Check:
+def season_map(item: Check, allowed: Sequence[str] | None = None) -> Check:
+    """A mapping of traverse name (one of `allowed`, when given) to a value checked by `item`."""
+
     def check(key: str, value: Any) -> None:
         if not isinstance(value, Mapping):
-            _fail(key, "a mapping of season to value", value)
+            _fail(key, "a mapping of traverse to value", value)
         for season, entry in value.items():
-            if season not in SEASONS:
-                raise ValueError(f"{key}: unknown season '{season}' (known: {', '.join(SEASONS)})")
+            check_name(season, key)
+            if allowed is not None and season not in allowed:
+                raise ValueError(f"{key}: unknown season '{season}' (known: {', '.join(allowed)})")
             item(f"{key}.{season}", entry)
 
     return check

@@ -28,8 +28,10 @@ from seasonloop.params.learners import LEARNER_SCHEMA, check_learner
 from seasonloop.params.seasons import (  # noqa: F401
     SEASONS,
     STUDY_PAIRS,
+    TRAVERSE_KEYS,
     available_pairs,
     check_seasons,
+    check_traverses,
     pair_name,
     pair_present,
     parse_pair,
@@ -102,7 +104,7 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "edge_margin_s": integer(0),
         "winter_contrast": number(0, 2, low_open=True),
         "winter_shading": number(0, 2),
-        "rides": season_map(record(RIDE_SCHEMA)),
+        "rides": season_map(record(RIDE_SCHEMA), allowed=SEASONS),
     },
     "extract": {
         "fps": number(0, None, low_open=True),
@@ -253,6 +255,8 @@ def check_params(params: Mapping[str, Any], keys: Sequence[str]) -> None:
             if name not in section:
                 raise ValueError(f"params.yaml: missing key '{section_name}.{name}'")
             schema[name](f"{section_name}.{name}", section[name])
+            if f"{section_name}.{name}" in TRAVERSE_KEYS:
+                check_traverses(f"{section_name}.{name}", section[name], params)
         if not sub and section_name in SECTION_CHECKS:
             SECTION_CHECKS[section_name](section)
 

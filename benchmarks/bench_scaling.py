@@ -46,23 +46,12 @@ def growth(places: list[int], values: list[float]) -> float | None:
     return float(np.polyfit(x, y, 1)[0])
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("root", type=Path, help="a folder for the runs (ROOT/<fraction>)")
-    parser.add_argument("--fractions", type=float, nargs="+", default=[0.125, 0.25, 0.5])
-    parser.add_argument("--capped", action="store_true", help="an AVX2-only CPU's kernels (ISA_CAP)")
-    args = parser.parse_args()
-    full_places = yaml.safe_load(PRESET.read_text())["synthetic"]["seconds"]
-    runs = {}
-    for fraction in args.fractions:
-        result = run(args.root / f"{fraction:g}", PRESET, args.capped, overrides(fraction))
-        runs[overrides(fraction)["synthetic.seconds"]] = result
-        print(f"HEADLINE ({fraction:g}): {result['headline']}")
-    full_path = RESULTS_DIR / "bench_full_run.json"
-    if not full_path.is_file():
-        raise SystemExit(f"{full_path}: missing; the full size is bench_full_run.py's run (run it first)")
-    runs[full_places] = json.loads(full_path.read_text())
+def scaling_table(runs: dict[int, dict]) -> tuple[dict[str, dict], dict[str, dict]]:
+    """places -> a run's record (bench_full_run.run's; the largest is the full run) to every
+    stage's seconds and peak memory by places, their growth exponents and the stage's share of
+    the full run; and the stages growing faster than linearly. A stage missing at a size counts 0."""
     sizes = sorted(runs)
+    full = runs[sizes[-1]]
     stages = sorted({stage for result in runs.values() for stage in result["stages"]})
     table = {}
     for stage in stages:
@@ -73,13 +62,39 @@ def main() -> None:
             "peak_rss_mb": memory,
             "time_exponent": growth(sizes, seconds),
             "memory_exponent": growth(sizes, memory),
-            "share_of_full_run": seconds[-1] / runs[full_places]["total_seconds"],
+            "share_of_full_run": seconds[-1] / full["total_seconds"],
         }
     superlinear = {
         stage: row
         for stage, row in table.items()
         if row["time_exponent"] is not None and row["time_exponent"] > SUPERLINEAR
     }
+    return table, superlinear
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("root", type=Path, help="a folder for the runs (ROOT/<fraction>)")
+    parser.add_argument("--fractions", type=float, nargs="+", default=[0.125, 0.25, 0.5])
+    parser.add_argument("--capped", action="store_true", help="an AVX2-only CPU's kernels (ISA_CAP)")
+    args = parser.parse_args()
+    full_places = yaml.safe_load(PRESET.read_text())["synthetic"]["seconds"]
+    full_path = RESULTS_DIR / "bench_full_run.json"
+    if not full_path.is_file():
+        raise SystemExit(f"{full_path}: missing; the full size is bench_full_run.py's run (run it first)")
+    full_run = json.loads(full_path.read_text())
+    full_capped = any((full_run["calls"][-1]["machine"].get("isa_cap") or {}).values())
+    if full_capped != args.capped:
+        raise SystemExit(
+            f"{full_path}: its run was {'' if full_capped else 'not '}capped; run these sizes the same way"
+        )
+    runs = {full_places: full_run}
+    for fraction in args.fractions:
+        result = run(args.root / f"{fraction:g}", PRESET, args.capped, overrides(fraction))
+        runs[overrides(fraction)["synthetic.seconds"]] = result
+        print(f"HEADLINE ({fraction:g}): {result['headline']}")
+    sizes = sorted(runs)
+    table, superlinear = scaling_table(runs)
     print(f"{'stage':34s} " + " ".join(f"{size:>9d}" for size in sizes) + "  exponent  share")
     for stage, row in sorted(table.items(), key=lambda item: -item[1]["seconds"][-1]):
         exponent = "-" if row["time_exponent"] is None else f"{row['time_exponent']:.2f}"

@@ -18,7 +18,7 @@ from seasonloop.data.positions import (
 from seasonloop.data.season_split import by_matrix, by_position, split_seasons
 from seasonloop.data.truth_matrix import matrix_between, read_matrix
 from seasonloop.evaluation.ground_truth import PairTruth, aligned_truth, matrix_truth, position_truth
-from seasonloop.evaluation.metrics import evaluate_pair, evaluate_truth, pr_curve
+from seasonloop.evaluation.metrics import evaluate_pair, evaluate_truth, pr_curve, truth_matches
 from seasonloop.models.core.learner import PlaceRows
 from seasonloop.models.precomputed import PrecomputedDescriptors
 from seasonloop.params.settings import SplitConfig
@@ -228,6 +228,22 @@ def test_a_query_whose_places_are_all_soft_is_a_wrong_match_at_the_lowest_confid
     assert metrics["fraction_correct"] == pytest.approx(2 / 3)
     assert pr["precision"].tolist() == [1.0, 1.0, pytest.approx(2 / 3)]
     assert np.isfinite(metrics["auc_pr_vpr_tutorial"])
+
+
+def test_an_all_soft_query_under_sequence_distances_with_infinite_cells_gets_the_largest_finite_one():
+    # SeqSLAM's distance matrices hold +inf where no window fits: "the lowest confidence" is then
+    # minus the largest finite distance, not -inf (which made auc_pr_vpr_tutorial refuse the pair)
+    hard = np.eye(3, dtype=bool)
+    hard[2, 2] = False
+    soft = hard.copy()
+    soft[:, 2] = True
+    truth = matrix_truth(hard, soft, np.arange(3), np.arange(3), "x.npz")
+    distances = np.array([[0.1, 0.9, np.inf], [0.9, 0.2, np.inf], [0.05, 0.05, np.inf]])
+    metrics, pr = evaluate_truth(distances, truth)
+    assert metrics["fraction_correct"] == pytest.approx(2 / 3)
+    assert np.isfinite(metrics["auc_pr_vpr_tutorial"])
+    _, confidence, _ = truth_matches(distances, truth)
+    assert confidence[2] == -0.9
 
 
 def test_example_matches_skip_soft_cells_as_the_metrics_do():

@@ -217,7 +217,10 @@ def _masked_matches(
     correct = truth.correct[np.arange(len(columns)), columns] & ~all_soft
     if all_soft.any():
         others = scores[~all_soft]
-        lowest = -float(distances.max()) if confidence == "distance" else (others.min() if others.size else 0.0)
+        # the largest finite distance: SeqSLAM's matrices hold +inf where no window fits
+        finite = distances[np.isfinite(distances)]
+        largest = float(finite.max()) if finite.size else 0.0
+        lowest = -largest if confidence == "distance" else (others.min() if others.size else 0.0)
         scores = np.where(all_soft, lowest, scores)
     return columns, scores, correct
 
@@ -230,7 +233,7 @@ def truth_matches(
     confidence and ratio_exclusion (in place ids) go to seasonloop.evaluation.matching.best_matches.
     Cells the truth ignores (soft ground truth) are never picked. A query whose places are all soft
     has no match to pick: as VPR_Tutorial (soft cells set to the lowest similarity) it counts as a
-    wrong match at the lowest confidence: -(the largest distance of the pair) under "distance"
+    wrong match at the lowest confidence: -(the largest finite distance of the pair) under "distance"
     confidence, as VPR_Tutorial's, and tied with the least confident other query under "ratio".
     """
     distances = _check_distances(distances, truth.database_places, truth.query_places)

@@ -15,7 +15,7 @@ from seasonloop.data.positions import (
     read_table,
     season_positions,
 )
-from seasonloop.data.season_split import by_matrix, by_position, split_seasons
+from seasonloop.data.season_split import by_matrix, by_position, distance_to_track, split_seasons
 from seasonloop.data.truth_matrix import matrix_between, read_matrix
 from seasonloop.evaluation.ground_truth import PairTruth, aligned_truth, matrix_truth, position_truth
 from seasonloop.evaluation.metrics import evaluate_pair, evaluate_truth, pr_curve, truth_matches
@@ -258,6 +258,30 @@ def test_example_matches_skip_soft_cells_as_the_metrics_do():
     examples = select_examples(distances, truth, "distance", n=3)
     assert metrics["fraction_correct"] == 1.0
     assert all(example.correct for example in examples) and examples[-1].match == 0
+
+
+def test_a_season_sampled_between_the_reference_places_stays_on_its_track():
+    # reference every 21 m (the synthetic route at 1 fps), the other season half a frame later:
+    # 10.5 m from every reference place, yet on the track; tolerance 10 m (params.yaml's)
+    reference = np.c_[21.0 * np.arange(600), np.zeros(600)]
+    between = reference + [10.5, 0.0]
+    mapped = by_position({"summer": reference, "fall": between}, "summer", max_distance_m=10.0)
+    assert (mapped["summer"] == np.arange(600)).all()
+    # the last lies 10.5 m past the reference's end: off its track
+    assert (mapped["fall"][:-1] >= 0).all() and mapped["fall"][-1] == -1
+    assert (np.abs(mapped["fall"][:-1] - np.arange(599)) <= 1).all()
+    noisy = between + np.random.default_rng(0).normal(0.0, 1.0, between.shape)
+    kept = by_position({"summer": reference, "fall": noisy}, "summer", max_distance_m=10.0)["fall"] >= 0
+    assert kept[:-1].all()
+
+
+def test_the_distance_to_a_track_follows_its_segments_round_a_corner():
+    track = np.array([[0.0, 0.0], [100.0, 0.0], [100.0, 100.0]])  # long segments, a right angle
+    points = np.array([[50.0, 3.0], [103.0, 50.0], [110.0, -10.0], [50.0, 50.0], [-4.0, 0.0]])
+    distances = distance_to_track(track, points, within=20.0)
+    assert distances[:3] == pytest.approx([3.0, 3.0, np.hypot(10.0, 10.0)])
+    assert distances[3] > 20.0 and distances[4] == pytest.approx(4.0)
+    assert distance_to_track(track[:1], points[:1], within=20.0) == pytest.approx([np.hypot(50.0, 3.0)])
 
 
 def test_frames_beyond_the_reference_route_belong_to_no_place():

@@ -1,7 +1,8 @@
 """The geographic split of traverses that are not frame-aligned (different lengths, speeds, starts).
 
 Each frame of every season is mapped onto the first season's places (the reference): the reference
-place nearest it in position if one is within the evaluation's tolerance (else none), or, with a ground-truth matrix, the middle of the reference places
+place nearest it in position if the reference's track passes within the evaluation's tolerance
+(else none), or, with a ground-truth matrix, the middle of the reference places
 that the matrix says show it (-1: none, and the frame is used for nothing). The sections, test
 blocks and gaps are cut along the reference's places (seasonloop.data.split.split_masks), so they
 are the same stretches of track in every season, and a frame takes the part of its reference place:
@@ -50,19 +51,51 @@ class SeasonSplits:
 
 
 def by_position(positions: Mapping[str, np.ndarray], reference: str, max_distance_m: float) -> dict[str, np.ndarray]:
-    """season -> the reference place nearest each of its places ((n, k) metres each), -1 where
-    none is within max_distance_m (the evaluation's tolerance: a frame that far from every
-    reference place lies on track the reference never drove, e.g. past its end)."""
+    """season -> the reference place nearest each of its places ((n, k) metres each), -1 where the
+    reference's track (the straight segments between its consecutive places) passes no closer than
+    max_distance_m (the evaluation's tolerance: a frame that far lies on track the reference never
+    drove, e.g. past its end). The track, not its places: a season sampled between the reference's
+    places lies up to half their spacing from every place, and is still on the track."""
     from sklearn.neighbors import NearestNeighbors  # here: only traverses that are not aligned need it
 
     if not np.isfinite(max_distance_m) or max_distance_m < 0:
         raise ValueError(f"max_distance_m must be a non-negative number of metres, got {max_distance_m!r}")
-    index = NearestNeighbors(n_neighbors=1).fit(positions[reference])
+    track = np.asarray(positions[reference], dtype=np.float64)
+    index = NearestNeighbors(n_neighbors=1).fit(track)
     mapped = {}
     for season, own in positions.items():
-        metres, nearest = index.kneighbors(own)
-        mapped[season] = np.where(metres[:, 0] <= max_distance_m, nearest[:, 0], -1).astype(np.int64)
+        _, nearest = index.kneighbors(own)
+        on_track = distance_to_track(track, np.asarray(own, dtype=np.float64), max_distance_m, index) <= max_distance_m
+        mapped[season] = np.where(on_track, nearest[:, 0], -1).astype(np.int64)
     return mapped
+
+
+def distance_to_track(track: np.ndarray, points: np.ndarray, within: float, index=None) -> np.ndarray:
+    """Each point's distance to the polyline through `track`'s places in order ((n, k) metres),
+    exact where it is at most `within` (beyond, a value above `within`, possibly not the least).
+    `index`: a NearestNeighbors fitted on track, when the caller has one."""
+    from sklearn.neighbors import NearestNeighbors
+
+    if len(track) < 2:
+        return np.linalg.norm(points - track[0], axis=1) if len(track) else np.full(len(points), np.inf)
+    index = index or NearestNeighbors().fit(track)
+    # the closest point of a segment within `within` lies within half the segment's length of one
+    # of its ends, so the segments ending at places within within + half the longest hold it
+    half_longest = float(np.linalg.norm(np.diff(track, axis=0), axis=1).max()) / 2
+    candidates = index.radius_neighbors(points, radius=within + half_longest, return_distance=False)
+    owner = np.repeat(np.arange(len(points)), [len(places) for places in candidates])
+    places = np.concatenate([*candidates, np.empty(0, dtype=np.int64)]).astype(np.int64)
+    start = np.concatenate([places, places - 1])  # the segments leaving and reaching each place
+    owner = np.concatenate([owner, owner])
+    valid = (start >= 0) & (start < len(track) - 1)
+    start, owner = start[valid], owner[valid]
+    a, step, point = track[start], track[start + 1] - track[start], points[owner]
+    squared = (step * step).sum(axis=1)
+    along = np.divide(((point - a) * step).sum(axis=1), squared, out=np.zeros_like(squared), where=squared > 0)
+    metres = np.linalg.norm(point - (a + np.clip(along, 0.0, 1.0)[:, None] * step), axis=1)
+    distances = np.full(len(points), np.inf)
+    np.minimum.at(distances, owner, metres)
+    return distances
 
 
 def by_matrix(truth: np.ndarray, name: str) -> np.ndarray:

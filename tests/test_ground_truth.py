@@ -97,10 +97,9 @@ def test_positions_files_are_read_checked_and_converted(tmp_path):
     good.write_text("name,lat,lon\n2.png,63.0,10.0\n1.png,63.001,10.0\n")
     coordinates, names = read_table(good, ["lat", "lon"], "name")
     assert coordinates.shape == (2, 2) and list(names) == ["2.png", "1.png"]
-    metres = degrees_to_metres({"summer": coordinates})["summer"]
-    # 0.001 degree of latitude at 63 degrees north is 111.4 m on the WGS84 ellipsoid, mostly north
+    metres = degrees_to_metres(coordinates, ("lat", "lon"), good)
+    # 0.001 degree of latitude at 63 degrees north is 111.4 m on the WGS84 ellipsoid
     assert np.linalg.norm(metres[1] - metres[0]) == pytest.approx(111.4, abs=0.1)
-    assert metres[1, 0] - metres[0, 0] == pytest.approx(111.4, abs=0.1)
     files = [tmp_path / "1.png", tmp_path / "2.png"]
     assert for_files(coordinates, names, files, good)[0, 0] == pytest.approx(63.001)
     with pytest.raises(ValueError, match="no position for 1 frames"):
@@ -356,13 +355,69 @@ def test_degrees_become_metres_that_keep_true_distances_along_nordland():
     east, north, _ = geod.fwd(14.40, 67.28, 90.0, 20.0)
     lon_s, lat_s, _ = geod.fwd(10.39, 63.43, 0.0, 20.0)
     route = np.array([[63.43, 10.39], [lat_s, lon_s], [67.28, 14.40], [north, east]])
-    metres = degrees_to_metres({"summer": route}, ("lat", "lon"))["summer"]
-    assert np.linalg.norm(metres[1] - metres[0]) == pytest.approx(20.0, abs=0.01)
-    assert np.linalg.norm(metres[3] - metres[2]) == pytest.approx(20.0, abs=0.01)
-    # and the whole route's length as the geodesic says (within 0.05%)
+    metres = degrees_to_metres(route, ("lat", "lon"), "summer.csv")
+    assert np.linalg.norm(metres[1] - metres[0]) == pytest.approx(20.0, abs=1e-6)
+    assert np.linalg.norm(metres[3] - metres[2]) == pytest.approx(20.0, abs=1e-6)
+    # the whole route: the chord under a 450 km geodesic is (d / R)^2 / 24 shorter (0.02%)
     _, _, length = geod.inv(10.39, 63.43, 14.40, 67.28)
-    assert np.linalg.norm(metres[2] - metres[0]) == pytest.approx(length, rel=5e-4)
+    assert np.linalg.norm(metres[2] - metres[0]) == pytest.approx(length * (1 - (length / 6.371e6) ** 2 / 24), rel=2e-5)
     with pytest.raises(ValueError, match=r"\['lon', 'lat'\] is longitude first"):
-        degrees_to_metres({"summer": route[:, ::-1]}, ("lon", "lat"))
-    with pytest.raises(ValueError, match="are the columns swapped"):
-        degrees_to_metres({"summer": np.array([[150.0, 60.0]])}, ("a", "b"))
+        degrees_to_metres(route[:, ::-1], ("lon", "lat"), "summer.csv")
+    with pytest.raises(ValueError, match="summer.csv: .*are the columns swapped"):
+        degrees_to_metres(np.array([[150.0, 60.0]]), ("lat", "lon"), "summer.csv")
+
+
+@pytest.mark.parametrize(
+    "start, bearing, steps",
+    [
+        ((65.0, 179.985), 90.0, 100),  # east across +-180 at Nordland's latitude (2 km, 19% west of it)
+        ((-0.0001, 179.999), 45.0, 50),  # north-east across the equator and +-180 at once
+        ((89.9995, 0.0), 0.0, 20),  # over the North Pole
+    ],
+)
+def test_twenty_metre_steps_read_twenty_metres_anywhere_on_earth(start, bearing, steps):
+    from pyproj import Geod
+
+    geod = Geod(ellps="WGS84")
+    lon, lat, az = [start[1]], [start[0]], bearing
+    for _ in range(steps):
+        next_lon, next_lat, back = geod.fwd(lon[-1], lat[-1], az, 20.0)
+        lon.append(next_lon)
+        lat.append(next_lat)
+        az = back + 180.0  # keep going the same way along the geodesic
+    route = np.c_[lat, lon]
+    metres = degrees_to_metres(route, ("latitude", "longitude"), "x.csv")
+    assert np.linalg.norm(np.diff(metres, axis=0), axis=1) == pytest.approx(np.full(steps, 20.0), abs=1e-6)
+
+
+def test_a_forty_degree_equatorial_route_keeps_local_distances_everywhere_along_it():
+    from pyproj import Geod
+
+    geod = Geod(ellps="WGS84")
+    starts = np.linspace(-20.0, 20.0, 9)  # a 4,450 km route: UTM's one zone was ~7% off at its ends
+    ends = np.array([geod.fwd(lon, 0.0, 90.0, 20.0)[0] for lon in starts])
+    metres = degrees_to_metres(np.c_[np.zeros(18), np.r_[starts, ends]], ("lat", "lon"), "x.csv")
+    assert np.linalg.norm(metres[9:] - metres[:9], axis=1) == pytest.approx(np.full(9, 20.0), abs=1e-6)
+
+
+def test_degree_columns_must_be_named_as_degrees():
+    with pytest.raises(ValueError, match=r"data.position_columns: \['y', 'x'\] are not named as degrees"):
+        degrees_to_metres(np.array([[10.0, 63.0]]), ("y", "x"), "x.csv")
+    for columns in (("lat", "lon"), ("Latitude", "Longitude"), ("lat", "lng")):
+        degrees_to_metres(np.array([[63.0, 10.0]]), columns, "x.csv")
+
+
+def test_video_positions_in_degrees_are_interpolated_in_metres_across_180(tmp_path):
+    from pyproj import Geod
+
+    # two rows 20 m apart east-west astride +-180: the kept sample half way lies between them,
+    # not (as degrees interpolated linearly would put it) half way round the Earth at 0 degrees
+    geod = Geod(ellps="WGS84")
+    west = (65.0, 179.9998)
+    east_lon, east_lat, _ = geod.fwd(west[1], west[0], 90.0, 20.0)
+    assert east_lon < 0
+    (tmp_path / "summer.csv").write_text(f"time_s,lat,lon\n0,{west[0]},{west[1]}\n2,{east_lat},{east_lon}\n")
+    files = PositionFiles(tmp_path, ("lat", "lon"), "degrees", "time_s")
+    positions = season_positions("video", files, "summer", 3, 1.0, 1, [])
+    steps = np.linalg.norm(np.diff(positions, axis=0), axis=1)
+    assert steps == pytest.approx([10.0, 10.0], abs=1e-3)

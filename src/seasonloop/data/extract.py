@@ -15,7 +15,7 @@ import numpy as np
 
 from seasonloop.data.alignment import apply_offsets, check_alignment
 from seasonloop.data.frames import list_frame_files, video_sample_count
-from seasonloop.data.positions import PositionFiles, degrees_to_metres, season_positions
+from seasonloop.data.positions import PositionFiles, season_positions
 from seasonloop.data.sources import check_aligned, pair_season_files, place_description, read_season
 from seasonloop.io import load_array, save_array
 from seasonloop.params.settings import ExtractConfig
@@ -72,7 +72,7 @@ def extract_seasons(
                 out / f"{season}.npy", np.ascontiguousarray(load_array(out / f"{season}.npy", mmap=True)[kept[season]])
             )
     if positions is not None:
-        write_positions(out, coordinates, positions, kept)
+        write_positions(out, coordinates, kept)
     places = {season: kept[season].stop - kept[season].start for season in seasons}
     stored = {season: load_array(out / f"{season}.npy", mmap=True) for season in seasons}
     return {
@@ -90,13 +90,10 @@ def extract_seasons(
     }
 
 
-def write_positions(
-    out: Path, coordinates: Mapping[str, np.ndarray], files: PositionFiles, kept: Mapping[str, slice]
-) -> None:
+def write_positions(out: Path, coordinates: Mapping[str, np.ndarray], kept: Mapping[str, slice]) -> None:
     """out/<season>_positions.npy: the kept places' positions in metres."""
-    metres = degrees_to_metres(coordinates, files.columns) if files.units == "degrees" else coordinates
     for season, slice_ in kept.items():
-        save_array(out / f"{season}_positions.npy", np.ascontiguousarray(metres[season][slice_]))
+        save_array(out / f"{season}_positions.npy", np.ascontiguousarray(coordinates[season][slice_]))
 
 
 def kept_places(

@@ -3,22 +3,22 @@
 A positions CSV holds one row per frame (for a frame folder: in the folder's natural order, or
 keyed by a column of file names) or one row per time (for a video: a column of video seconds,
 interpolated at each kept sample's time). Its coordinate columns are metres (x, y; or one
-column of distance along the route) or degrees (latitude, longitude), converted to metres in the
-UTM zone of the route (pyproj), the same for every season.
+column of distance along the route) or degrees (latitude, longitude), converted to Earth-centred
+metres (pyproj; degrees_to_metres says why not a map projection) before any interpolation.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from seasonloop.params.checks import check_degree_columns
+
 UNITS = ("metres", "degrees")
-LATITUDE_NAMES = ("lat", "latitude")
-LONGITUDE_NAMES = ("lon", "lng", "long", "longitude")
 
 
 def read_table(path: Path, columns: Sequence[str], key: str | None) -> tuple[np.ndarray, pd.Series | None]:
@@ -46,38 +46,24 @@ def read_table(path: Path, columns: Sequence[str], key: str | None) -> tuple[np.
     return coordinates, (table[key] if key else None)
 
 
-def utm_zone(latitudes: np.ndarray, longitudes: np.ndarray) -> str:
-    """The EPSG code of the UTM zone at the route's mean longitude (north or south by its mean
-    latitude): a route of a few hundred km, as Nordland's, stays within 0.05% of true distances."""
-    zone = int(np.floor((float(np.mean(longitudes)) + 180.0) / 6.0)) % 60 + 1
-    return f"EPSG:{32600 + zone if float(np.mean(latitudes)) >= 0 else 32700 + zone}"
-
-
-def degrees_to_metres(
-    coordinates: Mapping[str, np.ndarray], columns: Sequence[str] = ("lat", "lon")
-) -> dict[str, np.ndarray]:
-    """season -> (n, 2) (latitude, longitude) degrees, to (north, east) metres in one UTM zone
-    shared by every season (utm_zone; pyproj), so positions compare across seasons. Columns
-    named as longitude first, or a first column beyond +-90 degrees, are swapped columns: an error."""
+def degrees_to_metres(coordinates: np.ndarray, columns: Sequence[str], source: Path | str) -> np.ndarray:
+    """(n, 2) (latitude, longitude) degrees of one season to (n, 3) Earth-centred (geocentric,
+    EPSG:4978) metres on the WGS84 ellipsoid, by pyproj. No projection and no zone: the straight
+    line between two places is the chord under their geodesic, shorter by (d / R)^2 / 24 of it
+    (under 1e-9 for d up to 1 km, R the Earth's radius), anywhere on Earth, across +-180 degrees
+    and at the poles alike; every season is converted on its own and compares with every other.
+    Places are on the ellipsoid (height 0)."""
     from pyproj import Transformer  # here: only positions in degrees need it (0.3 s import)
 
-    names = [str(name).lower() for name in columns]
-    if len(names) == 2 and names[0] in LONGITUDE_NAMES and names[1] in LATITUDE_NAMES:
+    check_degree_columns(columns)
+    if (np.abs(coordinates[:, 0]) > 90).any() or (np.abs(coordinates[:, 1]) > 180).any():
         raise ValueError(
-            f"data.position_columns: {list(columns)} is longitude first; degrees must be [latitude, longitude]"
-        )
-    every = np.concatenate(list(coordinates.values()))
-    if (np.abs(every[:, 0]) > 90).any() or (np.abs(every[:, 1]) > 180).any():
-        raise ValueError(
-            "data.position_columns: degrees must be (latitude, longitude) within +-90, +-180 "
+            f"{source}: degrees must be (latitude, longitude) within +-90, +-180 "
             "(a first column beyond +-90 is a longitude: are the columns swapped?)"
         )
-    to_utm = Transformer.from_crs("EPSG:4326", utm_zone(every[:, 0], every[:, 1]), always_xy=True)
-    metres = {}
-    for season, values in coordinates.items():
-        east, north = to_utm.transform(values[:, 1], values[:, 0])
-        metres[season] = np.stack([np.asarray(north, np.float64), np.asarray(east, np.float64)], axis=1)
-    return metres
+    to_geocentric = Transformer.from_crs("EPSG:4326", "EPSG:4978", always_xy=True)
+    x, y, z = to_geocentric.transform(coordinates[:, 1], coordinates[:, 0], np.zeros(len(coordinates)))
+    return np.stack([np.asarray(axis, np.float64) for axis in (x, y, z)], axis=1)
 
 
 def at_times(coordinates: np.ndarray, times: np.ndarray, wanted: np.ndarray, source: Path) -> np.ndarray:
@@ -136,10 +122,12 @@ RENDERED = PositionFiles(Path("positions"), ("distance_m",), "metres", "time_s")
 def season_positions(
     kind: str, files: PositionFiles, season: str, n_read: int, fps: float, frame_step: int, frame_files: list[Path]
 ) -> np.ndarray:
-    """(n_read, k) coordinates of the `n_read` places read of one season (before offsets), in the
-    CSV's units: a video's at each kept sample's time, a folder's per kept file."""
+    """(n_read, k) metres of the `n_read` places read of one season (before offsets): a video's at
+    each kept sample's time, a folder's per kept file (degrees: geocentric, k = 3)."""
     source = files.file(season)
     coordinates, key = read_table(source, files.columns, files.key)
+    if files.units == "degrees":  # to metres before interpolating: degrees jump at +-180
+        coordinates = degrees_to_metres(coordinates, files.columns, source)
     if kind == "video":
         if key is None:
             raise ValueError(f"data.position_key: name the column of video seconds in {source}")

@@ -13,6 +13,9 @@ from seasonloop.params.seasons import check_name, check_seasons, parse_pair
 
 Check = Callable[[str, Any], None]  # (dotted key, value) -> None, or a ValueError naming the key
 
+LATITUDE_NAMES = ("lat", "latitude")
+LONGITUDE_NAMES = ("lon", "lng", "long", "longitude")
+
 
 def _fail(key: str, expected: str, value: Any) -> None:
     raise ValueError(f"{key}: expected {expected}, got {value!r}")
@@ -130,3 +133,20 @@ def record(fields: Mapping[str, Check]) -> Check:
             fields[name](f"{key}.{name}", entry)
 
     return check
+
+
+def check_degree_columns(columns: Sequence[str]) -> None:
+    """Degrees need their columns named: [latitude, longitude] as lat/latitude and lon/lng/long/
+    longitude (generic names such as y, x could hold either, and swapped columns still pass a
+    range check near the equator)."""
+    names = [str(name).lower() for name in columns]
+    if len(names) == 2 and names[0] in LATITUDE_NAMES and names[1] in LONGITUDE_NAMES:
+        return
+    if len(names) == 2 and names[0] in LONGITUDE_NAMES and names[1] in LATITUDE_NAMES:
+        problem = "is longitude first; degrees must be [latitude, longitude]"
+    else:
+        problem = (
+            f"are not named as degrees: name them [latitude, longitude] "
+            f"({'/'.join(LATITUDE_NAMES)}, {'/'.join(LONGITUDE_NAMES)})"
+        )
+    raise ValueError(f"data.position_columns: {list(columns)} {problem}")

@@ -13,6 +13,7 @@ from typing import Any
 from seasonloop.params.checks import (  # noqa: F401
     Check,
     boolean,
+    check_degree_columns,
     integer,
     list_of,
     number,
@@ -199,8 +200,8 @@ def _check_sequence(section: Mapping[str, Any]) -> None:
 
 def _check_data(section: Mapping[str, Any]) -> None:
     degrees = section["ground_truth"] == "positions" and section["position_units"] == "degrees"
-    if degrees and len(section["position_columns"]) != 2:
-        raise ValueError("data.position_columns: degrees need two columns, latitude then longitude")
+    if degrees:
+        check_degree_columns(section["position_columns"])
 
 
 def _check_evaluate(section: Mapping[str, Any]) -> None:

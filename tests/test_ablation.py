@@ -30,7 +30,7 @@ def matching_settings(extra_metrics: tuple[str, ...] = ()) -> tuple[EvaluateConf
         tolerance_m=10.0,
         matchers=("single",),
     )
-    return evaluate, SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2)
+    return evaluate, SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2, window_at_breaks="clip")
 
 
 def test_all_seasons_keep_the_study_plan():

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from seasonloop.evaluation.sequence import enhance_distance_contrast, sequence_distances
+from seasonloop.evaluation.sequence import enhance_distance_contrast, enhancement_windows, sequence_distances
 
 
 def reference_enhance(distances: np.ndarray, window: int, database_places=None) -> np.ndarray:
@@ -201,3 +201,31 @@ def test_contrast_enhancement_windows_stop_at_breaks_in_the_database():
     # without the places the windows cross the break and the first block moves
     crossing = enhance_distance_contrast(distances, 6)[:, :12] - enhance_distance_contrast(changed, 6)[:, :12]
     assert np.ptp(crossing) > 1e-2
+
+
+def test_the_three_window_rules_at_a_break():
+    # database segments: places 0-4, 10-11 (a 2-place fragment), 20-29; window 4 (half 2)
+    places = np.r_[np.arange(5), 10, 11, np.arange(20, 30)]
+    ignore = enhancement_windows(len(places), 4, places, "ignore")
+    clip = enhancement_windows(len(places), 4, places, "clip")
+    shift = enhancement_windows(len(places), 4, places, "shift")
+    assert (ignore[0][5], ignore[1][5]) == (3, 8)  # across both breaks, as OpenSeqSLAM
+    assert (ignore[0][0], ignore[1][0]) == (0, 3)  # clipped at the database's start
+    assert (clip[0][5], clip[1][5]) == (5, 7) and (clip[0][7], clip[1][7]) == (7, 10)
+    assert (shift[0][5], shift[1][5]) == (5, 7)  # the whole 2-place fragment
+    assert (shift[0][7], shift[1][7]) == (7, 12) and (shift[0][16], shift[1][16]) == (12, 17)
+    assert ((shift[1] - shift[0])[places >= 20] == 5).all()  # a fixed size inside the segment
+    with pytest.raises(ValueError, match="sequence.window_at_breaks: expected one of ignore, shift, clip"):
+        enhancement_windows(len(places), 4, places, "wrap")
+
+
+def test_a_two_place_fragment_enhances_to_plus_minus_one_only_when_windows_stop_at_breaks():
+    # the case: [0.10, 0.95] and [0.90, 0.91] give the same values inside the fragment
+    places = np.r_[np.arange(6), 10, 11, np.arange(20, 26)]
+    rows = np.random.default_rng(2).random((2, 14)) + 1.0
+    rows[0, 6:8], rows[1, 6:8] = [0.10, 0.95], [0.90, 0.91]
+    clipped = enhance_distance_contrast(rows, window=4, database_places=places, window_at_breaks="clip")
+    # -1 and +1 in both rows (then one shift for the whole matrix)
+    assert np.diff(clipped[:, 6:8], axis=1).ravel() == pytest.approx([2.0, 2.0], abs=1e-5)
+    ignored = enhance_distance_contrast(rows, window=4, database_places=places, window_at_breaks="ignore")
+    assert not np.allclose(np.diff(ignored[0, 6:8]), np.diff(ignored[1, 6:8]), atol=1e-3)

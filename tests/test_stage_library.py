@@ -95,7 +95,7 @@ def test_evaluate_learner_writes_every_pair_metric_and_matcher(tmp_path):
         tolerance_m=10.0,
         matchers=("single", "sequence"),
     )
-    sequence = SequenceConfig(length=3, v_min=1.0, v_max=1.0, v_steps=1, window=4)
+    sequence = SequenceConfig(length=3, v_min=1.0, v_max=1.0, v_steps=1, window=4, window_at_breaks="clip")
     dirs = [tmp_path / name for name in ("metrics", "pr", "similarity")]
     for folder in dirs:
         folder.mkdir()

@@ -57,6 +57,7 @@ def _sequence(
         window=int(sequence.window),
         query_places=query_places,
         database_places=database_places,
+        window_at_breaks=sequence.window_at_breaks,
     )
 
 

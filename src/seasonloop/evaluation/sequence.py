@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from seasonloop.params.schema import MIN_SEQUENCE_WINDOW
+from seasonloop.params.schema import MIN_SEQUENCE_WINDOW, WINDOW_RULES
 
 # Rows processed at once by enhance_distance_contrast: bounds its float64 temporaries (~6 x rows x M x 8 B).
 _ENHANCE_ROWS_PER_BLOCK = 256
@@ -24,27 +24,43 @@ def _as_distance_matrix(distances: np.ndarray) -> np.ndarray:
     return distances
 
 
+def enhancement_windows(
+    n_database: int, window: int, database_places: np.ndarray | None, rule: str
+) -> tuple[np.ndarray, np.ndarray]:
+    """(first column, one past the last) of each database column's contrast-enhancement window
+    under `rule` (WINDOW_RULES)."""
+    if rule not in WINDOW_RULES:
+        raise ValueError(f"sequence.window_at_breaks: expected one of {', '.join(WINDOW_RULES)}, got {rule!r}")
+    half = int(window) // 2
+    columns = np.arange(n_database)
+    since_start, to_end = segment_offsets(None if rule == "ignore" else database_places, n_database, "database_places")
+    first, last = columns - since_start, columns + to_end
+    if rule == "shift":
+        size = np.minimum(2 * half + 1, last - first + 1)
+        start = np.clip(columns - half, first, last + 1 - size)
+        return start, start + size
+    return np.maximum(columns - half, first), np.minimum(columns + half, last) + 1
+
+
 def enhance_distance_contrast(
-    distances: np.ndarray, window: int = 10, database_places: np.ndarray | None = None
+    distances: np.ndarray, window: int = 10, database_places: np.ndarray | None = None, window_at_breaks: str = "clip"
 ) -> np.ndarray:
     """SeqSLAM local contrast enhancement of an (N queries, M database) distance matrix.
 
     Each entry (i, j) becomes (d[i, j] - mean) / std, with mean and (population) std of row i over
-    database columns j - window//2 .. j + window//2, clipped at the matrix edges (as OpenSeqSLAM
-    does) and at breaks in database_places (segment_offsets; None: no break), so that no column is
-    normalised by places on another stretch of the route. Windows with zero spread give 0. As in OpenSeqSLAM the result is then shifted so its
+    the database columns of j's window: j - window//2 .. j + window//2, clipped at the matrix
+    edges (as OpenSeqSLAM does) and meeting breaks in database_places (segment_offsets; None: no
+    break) as `window_at_breaks` says (WINDOW_RULES). The window holds only database columns of
+    the same query row: whichever the rule, nothing of the ground truth or of another query enters.
+    Windows with zero spread give 0. As in OpenSeqSLAM the result is then shifted so its
     minimum is 0, which keeps it a non-negative distance (a uniform shift changes no ranking).
     Window sums come from cumulative sums; returns float32.
     """
     distances = _as_distance_matrix(distances)
     if isinstance(window, bool) or not isinstance(window, (int, np.integer)) or window < MIN_SEQUENCE_WINDOW:
         raise ValueError(f"window must be an integer >= {MIN_SEQUENCE_WINDOW} (database columns), got {window!r}")
-    half = int(window) // 2
     n_queries, n_database = distances.shape
-    columns = np.arange(n_database)
-    since_start, to_end = segment_offsets(database_places, n_database, "database_places")
-    window_start = np.maximum(columns - half, columns - since_start)
-    window_stop = np.minimum(columns + half, columns + to_end) + 1
+    window_start, window_stop = enhancement_windows(n_database, window, database_places, window_at_breaks)
     window_size = window_stop - window_start
 
     enhanced = np.empty((n_queries, n_database), dtype=np.float32)
@@ -141,6 +157,7 @@ def sequence_distances(
     window: int = 10,
     query_places: np.ndarray | None = None,
     database_places: np.ndarray | None = None,
+    window_at_breaks: str = "clip",
 ) -> np.ndarray:
     """SeqSLAM sequence scores as an (N, M) distance (lower = better), float32.
 
@@ -153,14 +170,14 @@ def sequence_distances(
     shorter sequences. A trajectory whose database index leaves its database segment (or the
     matrix) is disqualified (infinite score for that velocity), as OpenSeqSLAM does at the matrix
     edge: averaging over only the points left would let the shorter, noisier sequences at the first
-    database columns win by chance. Each (v, k) adds one shifted copy of the enhanced matrix (no
+    database columns win by chance. window and window_at_breaks: enhance_distance_contrast's. Each (v, k) adds one shifted copy of the enhanced matrix (no
     loop over cells).
     Cells with no complete trajectory at any velocity are +inf (e.g. the first database columns
     of a segment for queries deep into theirs); ValueError when a whole query row has none.
     """
     distances = _as_distance_matrix(distances)
     _check_trajectories(length, v_min, v_max, v_steps)
-    enhanced = enhance_distance_contrast(distances, window, database_places)
+    enhanced = enhance_distance_contrast(distances, window, database_places, window_at_breaks)
     n_queries, n_database = enhanced.shape
     query_since_start, _ = segment_offsets(query_places, n_queries, "query_places")
     database_since_start, database_to_end = segment_offsets(database_places, n_database, "database_places")

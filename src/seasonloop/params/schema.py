@@ -57,6 +57,12 @@ LEARNER_SECTIONS = tuple(LEARNER_SCHEMA)
 
 # SeqSLAM's contrast-enhancement window spans at least 2 database columns
 MIN_SEQUENCE_WINDOW = 2
+# How SeqSLAM's contrast-enhancement window meets a break in the database's place ids
+# (seasonloop.evaluation.sequence.enhancement_windows):
+#   ignore: as OpenSeqSLAM, breaks are not looked at; windows are clipped at the database's ends only
+#   shift:  a window of fixed size shifted to lie inside the column's segment (the whole segment when shorter)
+#   clip:   clipped at the segment's ends (a 2-place segment then always enhances to +-1)
+WINDOW_RULES = ("ignore", "shift", "clip")
 
 # synthetic.rides.<season>: seasonloop.data.synthetic.SeasonRide's fields and ranges, each optional
 # (tests/test_synthetic_rides.py keeps them in step)
@@ -155,6 +161,7 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "v_steps": integer(1),
         # one source for the range: seasonloop.evaluation.sequence checks the same constant
         "window": integer(MIN_SEQUENCE_WINDOW),
+        "window_at_breaks": one_of(*WINDOW_RULES),
     },
     "ablation": {"methods": list_of(one_of(*LEARNER_SECTIONS)), "pair": pair, "training_seasons": list_of(seasons)},
     "report": {"example_pair": pair},

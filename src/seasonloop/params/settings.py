@@ -166,6 +166,7 @@ class SequenceConfig(Section):
     v_max: float
     v_steps: int
     window: int
+    window_at_breaks: str
 
 
 @dataclass(frozen=True)

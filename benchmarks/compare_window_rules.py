@@ -1,0 +1,102 @@
+"""How SeqSLAM's contrast-enhancement window should meet a break in the database: the three rules
+of `sequence.window_at_breaks` (ignore: OpenSeqSLAM's, clipped at the database's ends only;
+shift: a fixed-size window shifted inside the segment; clip: clipped at the segment's ends) on a
+finished run's own descriptors and ground truth.
+
+    python benchmarks/compare_window_rules.py WORKSPACE [WORKSPACE ...]
+
+For each WORKSPACE (a clone that ran `dvc repro`: data/features, data/ground_truth, params.yaml),
+every learner, pair and metric of its params is matched with `+seq` under each rule through the
+pipeline's own functions (seasonloop.evaluation.matchers.match_distances); single images do not
+depend on the rule. Prints each rule's fraction correct against `clip` (cells up / down, mean and
+range of the difference in points) and writes benchmarks/results/compare_window_rules.json.
+Whichever rule, the window holds only database columns of the query's own row: no ground truth
+and no other query enters the enhancement, so no rule leaks.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from _bench_common import machine, write_result
+from seasonloop.evaluation.ground_truth import PairTruth
+from seasonloop.evaluation.matchers import match_distances
+from seasonloop.evaluation.matching import distance_matrix
+from seasonloop.evaluation.pair_truths import truth_file
+from seasonloop.io import load_array
+from seasonloop.params.schema import WINDOW_RULES, available_pairs, pair_name
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+
+BASELINE = "clip"
+
+
+def workspace_fractions(workspace: Path) -> dict[str, dict[str, float]]:
+    """'<learner>/<pair>@<metric>' -> rule -> `+seq` fraction correct (%) in one finished run."""
+    params = yaml.safe_load((workspace / "params.yaml").read_text())
+    params["sequence"].setdefault("window_at_breaks", BASELINE)  # a run from before the key
+    evaluate, sequence = EvaluateConfig.from_params(params), SequenceConfig.from_params(params)
+    pairs = available_pairs(params["data"]["seasons"], evaluate.pairs)
+    found: dict[str, dict[str, float]] = {}
+    for learner in sorted(path.name for path in (workspace / "data/features").iterdir() if path.is_dir()):
+        features = workspace / "data/features" / learner
+        for database, query in pairs:
+            truth = PairTruth.load(truth_file(workspace / "data/ground_truth", database, query))
+            descriptors = [load_array(features / f"{season}.npy") for season in (database, query)]
+            for metric in [evaluate.metric, *evaluate.extra_metrics]:
+                distances = distance_matrix(descriptors[0], descriptors[1], metric=metric)
+                cell = found.setdefault(f"{learner}/{pair_name(database, query)}@{metric}", {})
+                for rule in WINDOW_RULES:
+                    ruled = dataclasses.replace(sequence, window_at_breaks=rule)
+                    metrics, _, _ = match_distances(distances, truth, "sequence", evaluate, ruled)
+                    cell[rule] = 100 * float(metrics["fraction_correct"])
+    return found
+
+
+def against_baseline(fractions: dict[str, dict[str, float]]) -> dict[str, dict[str, float]]:
+    """rule -> cells up, down, equal, and the mean, least and largest difference (points) from BASELINE."""
+    summary = {}
+    for rule in WINDOW_RULES:
+        differences = np.array([cell[rule] - cell[BASELINE] for cell in fractions.values()])
+        summary[rule] = {
+            "cells": int(differences.size),
+            "up": int((differences > 1e-9).sum()),
+            "down": int((differences < -1e-9).sum()),
+            "mean_points": float(differences.mean()),
+            "min_points": float(differences.min()),
+            "max_points": float(differences.max()),
+        }
+    return summary
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("workspaces", type=Path, nargs="+")
+    args = parser.parse_args()
+    runs = {}
+    for workspace in args.workspaces:
+        fractions = workspace_fractions(workspace.resolve())
+        summary = against_baseline(fractions)
+        runs[str(workspace)] = {"fractions": fractions, "against_clip": summary}
+        print(f"{workspace}: +seq fraction correct against '{BASELINE}' over {len(fractions)} learner x pair x metric")
+        for rule, row in summary.items():
+            print(
+                f"  {rule:7s} up {row['up']:3d}  down {row['down']:3d}  mean {row['mean_points']:+.2f}  "
+                f"range {row['min_points']:+.1f} .. {row['max_points']:+.1f} points"
+            )
+    means = {
+        rule: np.mean([run["against_clip"][rule]["mean_points"] for run in runs.values()]) for rule in WINDOW_RULES
+    }
+    headline = "mean +seq difference from 'clip' (points): " + ", ".join(
+        f"{rule} {value:+.2f}" for rule, value in means.items()
+    )
+    path = write_result("compare_window_rules", {"runs": runs, "headline": headline}, machine())
+    print(f"wrote {path}\nHEADLINE: {headline}")
+
+
+if __name__ == "__main__":
+    main()

@@ -41,7 +41,11 @@ def main() -> None:
             PositionFiles(SOURCES.parent / RENDERED.folder, RENDERED.columns, RENDERED.units, RENDERED.key)
             if data.source == "synthetic"
             else PositionFiles(
-                Path(data.positions_dir), data.position_columns, data.position_units, data.position_key or None
+                Path(data.positions_dir),
+                data.position_columns,
+                data.position_units,
+                data.position_key or None,
+                in_names=data.position_source == "image_names",
             )
         )
     with staged_dir(OUT) as out:

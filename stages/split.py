@@ -4,7 +4,7 @@ Writes data/split/split.json (the place ids of every part), data/split/<season>_
 and metrics/detection.json: how well tunnel and stop detection matched the renderer's truth when the
 data is synthetic and aligned (empty otherwise). The scores live outside data/split so that scoring
 changes do not invalidate the learners, which depend on data/split. Seasons that are not aligned
-(data.ground_truth positions or matrix) are split along the first season's places
+(data.ground_truth positions, matrix or vpr_bench) are split along the first season's places
 (seasonloop.data.season_split), each season with its own parts.
 """
 
@@ -39,8 +39,9 @@ def reference_places(
         return by_position(positions, seasons[0], tolerance_m)
     first = seasons[0]
     mapped = {first: np.arange(counts[first])}
+    vpr_bench = (seasons[0], seasons[1]) if kind == "vpr_bench" else None
     for season in seasons[1:]:
-        matrix = matrix_between(truth_dir, first, season, counts[first], counts[season])
+        matrix = matrix_between(truth_dir, first, season, counts[first], counts[season], vpr_bench)
         mapped[season] = by_matrix(matrix, f"{first}-{season}")
     return mapped
 

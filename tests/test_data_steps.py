@@ -36,6 +36,7 @@ DATA = DataConfig(
     offsets={},
     ground_truth="aligned",
     positions_dir="positions",
+    position_source="csv",
     position_columns=("x", "y"),
     position_units="metres",
     position_key="",

@@ -196,7 +196,8 @@ def test_the_schema_knows_every_kind_of_ground_truth():
     from seasonloop.evaluation.ground_truth import KINDS
     from seasonloop.params.schema import GROUND_TRUTHS
 
-    assert GROUND_TRUTHS == KINDS
+    # every kind of truth has a params value; vpr_bench is a matrix truth read from VPR-Bench's file
+    assert set(GROUND_TRUTHS) == {*KINDS, "vpr_bench"}
 
 
 def test_recall_at_n_leaves_out_queries_without_a_correct_place():
@@ -421,3 +422,54 @@ def test_video_positions_in_degrees_are_interpolated_in_metres_across_180(tmp_pa
     positions = season_positions("video", files, "summer", 3, 1.0, 1, [])
     steps = np.linalg.norm(np.diff(positions, axis=0), axis=1)
     assert steps == pytest.approx([10.0, 10.0], abs=1e-3)
+
+
+def test_vpr_bench_ground_truth_reads_as_the_reference_by_query_matrix(tmp_path):
+    from seasonloop.data.truth_matrix import pair_matrix, read_vpr_bench
+
+    # VPR-Bench's Nordland: query i correct at references 10i-1 .. 10i+1 (query 0 at 0 and 1)
+    rows = np.empty((3, 2), dtype=object)
+    for i in range(3):
+        rows[i, 0], rows[i, 1] = i, np.arange(max(0, 10 * i - 1), 10 * i + 2)
+    path = tmp_path / "ground_truth_new.npy"
+    np.save(path, rows, allow_pickle=True)
+    hard = read_vpr_bench(path, 30, 3)
+    assert hard.shape == (30, 3) and hard.sum(axis=0).tolist() == [2, 3, 3]
+    assert np.flatnonzero(hard[:, 2]).tolist() == [19, 20, 21]
+    forward, _, _ = pair_matrix(tmp_path, "ref", "query", 30, 3, "x", vpr_bench=("ref", "query"))
+    backward, _, _ = pair_matrix(tmp_path, "query", "ref", 3, 30, "x", vpr_bench=("ref", "query"))
+    assert np.array_equal(forward, hard) and np.array_equal(backward, hard.T)
+    with pytest.raises(
+        ValueError, match=r"ground_truth_new.npy: row 2: reference indices .* beyond the 20 reference places"
+    ):
+        read_vpr_bench(path, 20, 3)
+    with pytest.raises(ValueError, match=r"row 2: query index 2 is not one of the 2 query places"):
+        read_vpr_bench(path, 30, 2)
+    rows[1, 0] = 0
+    np.save(path, rows, allow_pickle=True)
+    with pytest.raises(ValueError, match="query 0 on two rows"):
+        read_vpr_bench(path, 30, 3)
+    with pytest.raises(FileNotFoundError, match="VPR-Bench ground truth not found"):
+        read_vpr_bench(tmp_path / "missing.npy", 30, 3)
+    with pytest.raises(ValueError, match="holds the pair ref-query only, not ref-other"):
+        pair_matrix(tmp_path, "ref", "other", 30, 3, "x", vpr_bench=("ref", "query"))
+
+
+def test_positions_read_from_image_names_as_gmberton_writes_them(tmp_path):
+    from seasonloop.data.positions import positions_in_names
+
+    folder = tmp_path / "queries"
+    folder.mkdir()
+    names = ["@0547312.58@7032515.21@33@W@.jpg", "@0547330.00@7032515.21@33@W@.jpg", "@0547348.5@7032520@.jpg"]
+    files = [folder / name for name in names]
+    assert positions_in_names(files).tolist() == [
+        [547312.58, 7032515.21],
+        [547330.0, 7032515.21],
+        [547348.5, 7032520.0],
+    ]
+    frames = PositionFiles(tmp_path, ("x", "y"), "metres", None, in_names=True)
+    assert season_positions("frames", frames, "queries", 2, 1.0, 2, files).tolist()[1] == [547348.5, 7032520.0]
+    with pytest.raises(ValueError, match=r"0001.jpg: no UTM position in its name"):
+        positions_in_names([folder / "0001.jpg"])
+    with pytest.raises(ValueError, match="image_names needs data.source: frames"):
+        season_positions("video", frames, "queries", 2, 1.0, 1, [])

@@ -101,15 +101,35 @@ def for_files(coordinates: np.ndarray, names: pd.Series | None, files: Sequence[
     return coordinates[[row[file.name] for file in files]]
 
 
+def positions_in_names(files: Sequence[Path]) -> np.ndarray:
+    """(n, 2) (east, north) UTM metres read from image names as gmberton's VPR datasets write them,
+    `@<utm_east>@<utm_north>@...@.jpg`; a name without them is one line naming the file."""
+    coordinates = np.empty((len(files), 2))
+    for i, file in enumerate(files):
+        fields = Path(file).name.split("@")
+        try:
+            coordinates[i] = float(fields[1]), float(fields[2])
+        except (IndexError, ValueError):
+            raise ValueError(
+                f"{file}: no UTM position in its name (data.position_source: image_names expects "
+                "'@<utm_east>@<utm_north>@...')"
+            ) from None
+    if not np.isfinite(coordinates).all():
+        raise ValueError(f"{Path(files[0]).parent}: a UTM position in an image name is not finite")
+    return coordinates
+
+
 @dataclass(frozen=True)
 class PositionFiles:
     """Where the seasons' positions are: <folder>/<season>.csv, its coordinate columns and units,
-    and its key column (videos: seconds; frames: file names, or None for rows in frame order)."""
+    and its key column (videos: seconds; frames: file names, or None for rows in frame order); or,
+    in_names, each frame file's own name (positions_in_names)."""
 
     folder: Path
     columns: tuple[str, ...]
     units: str
     key: str | None
+    in_names: bool = False
 
     def file(self, season: str) -> Path:
         return Path(self.folder) / f"{season}.csv"
@@ -124,6 +144,13 @@ def season_positions(
 ) -> np.ndarray:
     """(n_read, k) metres of the `n_read` places read of one season (before offsets): a video's at
     each kept sample's time, a folder's per kept file (degrees: geocentric, k = 3)."""
+    if files.in_names:
+        if kind != "frames":
+            raise ValueError("data.position_source: image_names needs data.source: frames")
+        chosen = positions_in_names(frame_files)[::frame_step]
+        if len(chosen) != n_read:
+            raise ValueError(f"{Path(frame_files[0]).parent}: {len(chosen)} positions for {n_read} places")
+        return chosen
     source = files.file(season)
     coordinates, key = read_table(source, files.columns, files.key)
     if files.units == "degrees":  # to metres before interpolating: degrees jump at +-180

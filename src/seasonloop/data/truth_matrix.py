@@ -1,6 +1,8 @@
 """Ground-truth matrices given with a dataset: <folder>/<database>-<query>.npz holding 'hard' (and
 optionally 'soft'), boolean (database places, query places) over the places extract_frames keeps
-(rows of data/frames/<season>.npy), as VPR_Tutorial's GThard / GTsoft."""
+(rows of data/frames/<season>.npy), as VPR_Tutorial's GThard / GTsoft; or VPR-Bench's
+<folder>/ground_truth_new.npy (rows [query index, array of correct reference indices]) for its two
+traverses, the reference (database) and the queries."""
 
 from __future__ import annotations
 
@@ -11,6 +13,9 @@ import numpy as np
 
 # what np.load raises on a file that is not a readable .npy/.npz, opening it or reading an array
 UNREADABLE = (OSError, ValueError, EOFError, zipfile.BadZipFile)
+
+
+VPR_BENCH_FILE = "ground_truth_new.npy"
 
 
 def matrix_file(folder: Path, database: str, query: str) -> Path:
@@ -46,12 +51,58 @@ def read_matrix(path: Path, n_database: int, n_query: int) -> tuple[np.ndarray, 
     return arrays["hard"].astype(bool), (arrays["soft"].astype(bool) if "soft" in arrays else None)
 
 
+def read_vpr_bench(path: Path, n_reference: int, n_query: int) -> np.ndarray:
+    """VPR-Bench's ground truth (an object array of rows [query index, array of correct reference
+    indices], indices into each folder's images in order) as the hard (reference places, query
+    places) matrix; a query without a row has no correct place. Anything else is one line naming
+    the file. The format is a pickled object array: read only files you trust."""
+    if not Path(path).is_file():
+        raise FileNotFoundError(f"{path}: VPR-Bench ground truth not found (data.ground_truth_dir)")
+    try:
+        rows = np.load(path, allow_pickle=True)
+    except (*UNREADABLE, ImportError) as error:  # a pickle naming a missing module: ImportError
+        raise ValueError(f"{path}: cannot read the VPR-Bench ground truth ({error})") from None
+    if rows.ndim != 2 or rows.shape[1] != 2:
+        raise ValueError(f"{path}: expected rows of [query index, reference indices], got shape {rows.shape}")
+    hard = np.zeros((n_reference, n_query), dtype=bool)
+    seen = np.zeros(n_query, dtype=bool)
+    for row, (query, references) in enumerate(rows):
+        references = np.atleast_1d(np.asarray(references))
+        if not (np.issubdtype(np.asarray(query).dtype, np.integer) and 0 <= query < n_query):
+            raise ValueError(f"{path}: row {row}: query index {query!r} is not one of the {n_query} query places")
+        if references.size and (
+            not np.issubdtype(references.dtype, np.integer) or references.min() < 0 or references.max() >= n_reference
+        ):
+            raise ValueError(
+                f"{path}: row {row}: reference indices {references.tolist()} beyond the {n_reference} reference places"
+            )
+        if seen[query]:
+            raise ValueError(f"{path}: query {query} on two rows")
+        seen[query] = True
+        hard[references, query] = True
+    return hard
+
+
 def pair_matrix(
-    folder: Path, first: str, second: str, n_first: int, n_second: int, needed_for: str
+    folder: Path,
+    first: str,
+    second: str,
+    n_first: int,
+    n_second: int,
+    needed_for: str,
+    vpr_bench: tuple[str, str] | None = None,
 ) -> tuple[np.ndarray, np.ndarray | None, Path]:
     """(hard, soft or None, the file read) as (first places, second places) matrices, from
     <first>-<second>.npz or, transposed, <second>-<first>.npz: one file per pair of seasons, in
-    either order. needed_for says in the error what the matrix is for."""
+    either order; with vpr_bench = (reference, query) traverses, from VPR-Bench's file instead.
+    needed_for says in the error what the matrix is for."""
+    if vpr_bench is not None:
+        path = Path(folder) / VPR_BENCH_FILE
+        if (first, second) == vpr_bench:
+            return read_vpr_bench(path, n_first, n_second), None, path
+        if (second, first) == vpr_bench:
+            return read_vpr_bench(path, n_second, n_first).T, None, path
+        raise ValueError(f"{path}: holds the pair {'-'.join(vpr_bench)} only, not {first}-{second}")
     forward, backward = matrix_file(folder, first, second), matrix_file(folder, second, first)
     if forward.is_file():
         return (*read_matrix(forward, n_first, n_second), forward)
@@ -61,7 +112,9 @@ def pair_matrix(
     raise FileNotFoundError(f"{forward}: ground-truth matrix not found (nor {backward.name}); {needed_for}")
 
 
-def matrix_between(folder: Path, first: str, second: str, n_first: int, n_second: int) -> np.ndarray:
+def matrix_between(
+    folder: Path, first: str, second: str, n_first: int, n_second: int, vpr_bench: tuple[str, str] | None = None
+) -> np.ndarray:
     """The hard (first places, second places) matrix (pair_matrix)."""
     needed_for = f"the split maps every season onto {first}'s places through it"
-    return pair_matrix(folder, first, second, n_first, n_second, needed_for)[0]
+    return pair_matrix(folder, first, second, n_first, n_second, needed_for, vpr_bench)[0]

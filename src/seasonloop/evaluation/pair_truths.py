@@ -13,9 +13,9 @@ import numpy as np
 
 from seasonloop.data.datasets import season_part, season_split
 from seasonloop.data.truth_matrix import pair_matrix
-from seasonloop.evaluation.ground_truth import KINDS, PairTruth, aligned_truth, matrix_truth, position_truth
+from seasonloop.evaluation.ground_truth import PairTruth, aligned_truth, matrix_truth, position_truth
 from seasonloop.io import load_array
-from seasonloop.params.schema import pair_name
+from seasonloop.params.schema import GROUND_TRUTHS, pair_name
 from seasonloop.params.settings import EvaluateConfig
 
 
@@ -35,9 +35,11 @@ def build_truths(
     """(database, query) -> its ground truth on the test places, for every ordered pair of seasons.
 
     positions are read from frames_dir/<season>_positions.npy, matrices from
-    matrix_dir/<database>-<query>.npz or its reverse, transposed (seasonloop.data.truth_matrix)."""
-    if kind not in KINDS:
-        raise ValueError(f"data.ground_truth: unknown kind '{kind}' (known: {', '.join(KINDS)})")
+    matrix_dir/<database>-<query>.npz or its reverse, transposed, or VPR-Bench's
+    matrix_dir/ground_truth_new.npy for (seasons[0], seasons[1]) = (reference, query)
+    (seasonloop.data.truth_matrix)."""
+    if kind not in GROUND_TRUTHS:
+        raise ValueError(f"data.ground_truth: unknown kind '{kind}' (known: {', '.join(GROUND_TRUTHS)})")
     test = {season: season_part(split, season, "test") for season in seasons}
     build: Callable[[str, str], PairTruth]
     if kind == "aligned":
@@ -59,10 +61,13 @@ def build_truths(
 
     else:
         counts = {season: int(season_split(split, season)["n_places"]) for season in seasons}
+        vpr_bench = (seasons[0], seasons[1]) if kind == "vpr_bench" else None
 
         def build(database: str, query: str) -> PairTruth:
             needed_for = f"the evaluation of {query} queries against the {database} database needs it"
-            hard, soft, path = pair_matrix(matrix_dir, database, query, counts[database], counts[query], needed_for)
+            hard, soft, path = pair_matrix(
+                matrix_dir, database, query, counts[database], counts[query], needed_for, vpr_bench
+            )
             return matrix_truth(hard, soft, test[database], test[query], str(path))
 
     return {(database, query): build(database, query) for database, query in permutations(seasons, 2)}
@@ -74,6 +79,8 @@ def tolerance_text(kind: str, evaluate: EvaluateConfig) -> str:
         return f"the query's own frame index +- {evaluate.tolerance_frames} places"
     if kind == "positions":
         return f"a database place within {float(evaluate.tolerance_m):g} m of the query's position"
+    if kind == "vpr_bench":
+        return "the reference places VPR-Bench's ground_truth_new.npy lists for the query"
     return "the ground-truth matrix given with the data ('hard'; 'soft' cells neither right nor wrong)"
 
 

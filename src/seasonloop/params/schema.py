@@ -50,7 +50,10 @@ CONFIDENCES = ("distance", "ratio")
 MATCHER_NAMES = ("single", "sequence")
 CONTRAST_METHODS = ("clahe", "equalize", "none")
 SOURCES = ("synthetic", "videos", "frames")
-GROUND_TRUTHS = ("aligned", "positions", "matrix")
+GROUND_TRUTHS = ("aligned", "positions", "matrix", "vpr_bench")
+# where positions come from: <positions_dir>/<season>.csv, or each image's name (gmberton's
+# '@<utm_east>@<utm_north>@...' layout)
+POSITION_SOURCES = ("csv", "image_names")
 POSITION_UNITS = ("metres", "degrees")
 # the learner sections: their keys and checks are in seasonloop.params.learners
 LEARNER_SECTIONS = tuple(LEARNER_SCHEMA)
@@ -86,6 +89,7 @@ SCHEMA: dict[str, dict[str, Check]] = {
         # what makes a match correct (seasonloop.evaluation.ground_truth)
         "ground_truth": one_of(*GROUND_TRUTHS),
         "positions_dir": text,
+        "position_source": one_of(*POSITION_SOURCES),
         "position_columns": list_of(text),
         "position_units": one_of(*POSITION_UNITS),
         "position_key": optional_text,
@@ -207,8 +211,14 @@ def _check_sequence(section: Mapping[str, Any]) -> None:
 
 def _check_data(section: Mapping[str, Any]) -> None:
     degrees = section["ground_truth"] == "positions" and section["position_units"] == "degrees"
+    if degrees and section["position_source"] == "image_names":
+        raise ValueError("data.position_units: image names hold UTM metres (position_source image_names); set metres")
     if degrees:
         check_degree_columns(section["position_columns"])
+    if section["ground_truth"] == "vpr_bench" and len(section["seasons"]) != 2:
+        raise ValueError(
+            f"data.seasons: VPR-Bench's ground truth holds two traverses, [reference, query]; got {list(section['seasons'])}"
+        )
 
 
 def _check_evaluate(section: Mapping[str, Any]) -> None:

@@ -61,6 +61,7 @@ class DataConfig(Section):
     offsets: dict[str, int]
     ground_truth: str
     positions_dir: str
+    position_source: str
     position_columns: tuple[str, ...]
     position_units: str
     position_key: str

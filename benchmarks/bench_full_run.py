@@ -35,9 +35,10 @@ from _bench_common import (
     write_result,
 )
 from _pipeline_run import timed_repro
+from seasonloop.fit_ending import how_fit_ended
 
 SOURCE = "bench_source.json"  # in FOLDER: the commit it was made from, and each call's machine
-FULL_SCALE_TABLES = "full_fraction_correct full_pr_landmarks full_training_seasons full_cae_widths full_ica_basis"
+FULL_SCALE_TABLES = "full_fraction_correct full_pr_landmarks full_autoencoder_training full_training_seasons full_cae_widths full_ica_basis"
 
 
 def prepare(folder: Path, preset: Path, overrides: dict[str, Any] | None = None) -> dict:
@@ -80,13 +81,14 @@ def prepare(folder: Path, preset: Path, overrides: dict[str, Any] | None = None)
 
 
 def convergence(folder: Path) -> dict[str, dict]:
-    """learner -> how its fit ended (metrics/fit/<learner>.json): ICA's converged flag and gradient,
-    the auto-encoders' stop reason and epochs."""
+    """learner -> how its fit ended (metrics/fit/<learner>.json; seasonloop's how_fit_ended), and
+    "<learner> on <seasons>" for every fit of the training-season ablation that records it."""
     found = {}
     for path in sorted((folder / "metrics" / "fit").glob("*.json")):
-        info = json.loads(path.read_text()).get("info", {})
-        keys = ("converged", "gradient", "tol", "n_iter", "stop_reason", "epochs_run", "best_validation_loss")
-        found[path.stem] = {key: info[key] for key in keys if key in info}
+        found[path.stem] = how_fit_ended(json.loads(path.read_text()).get("info", {}))
+    for path in sorted((folder / "metrics" / "training_seasons").glob("*.json")):
+        for seasons, ended in json.loads(path.read_text()).get("fits", {}).items():
+            found[f"{path.stem} on {seasons}"] = ended
     return found
 
 

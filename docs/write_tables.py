@@ -285,6 +285,13 @@ def _training_seasons(path: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _cell(value: object) -> str:
+    """A value in a table: booleans lower case, floats to 3 significant digits."""
+    if isinstance(value, bool):
+        return str(value).lower()
+    return f"{value:.3g}" if isinstance(value, float) else str(value)
+
+
 def _full_run_stages(path: Path) -> str:
     """benchmarks/bench_full_run.py's record: the headline, each call, and every stage's seconds and peak memory."""
     record = json.loads(path.read_text())
@@ -305,7 +312,8 @@ def _full_run_stages(path: Path) -> str:
         )
     lines += ["", "| learner | how its fit ended |", "|---|---|"]
     for learner, ended in record["convergence"].items():
-        lines.append(f"| {learner} | " + ", ".join(f"{key} {value}" for key, value in ended.items()) + " |")
+        shown = ", ".join(f"{key} {_cell(value)}" for key, value in ended.items()) or "closed form (no iterations)"
+        lines.append(f"| {learner} | {shown} |")
     return "\n".join(lines) + "\n"
 
 
@@ -466,17 +474,44 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
         _bench_training_schedule,
     ),
     "bench_matching": ("benchmarks/results/bench_matching.json", "bench_matching.json", _bench_headline),
+    # presets/full.yaml run in one piece by benchmarks/bench_full_run.py (docs/full-scale.md): its
+    # timing record here, its outputs in the run's own folder (--from FOLDER)
+    "full_run_stages": ("benchmarks/results/bench_full_run.json", "bench_full_run.json", _full_run_stages),
+    "full_fraction_correct": ("plots/summary/fraction_correct.md", "full_fraction_correct.md", _fraction_correct),
+    "full_pr_landmarks": ("plots/summary/pr_landmarks.md", "full_pr_landmarks.md", _fraction_correct),
+    "full_autoencoder_training": (
+        "metrics/autoencoder_training.json",
+        "full_autoencoder_training.json",
+        _autoencoder_training,
+    ),
+    "full_training_seasons": ("metrics/training_seasons.json", "full_training_seasons.json", _training_seasons),
+    "full_cae_widths": ("metrics/cae_widths.json", "full_cae_widths_sweep.json", _cae_widths),
+    "full_ica_basis": ("metrics/fit/ica.json", "full_ica_fit.json", _ica_fit),
 }
 
 
-# tables of runs with other params, made in another clone (--snapshot NAMES --from CLONE)
-OTHER_RUNS = ("rides_dataset", "rides_fraction_correct")
+# tables of runs with other params, made in another clone (--snapshot NAMES --from CLONE), and the
+# full run's timing record: left out of a bare --snapshot, which copies this clone's default run
+OTHER_RUNS = (
+    "full_run_stages",
+    "rides_dataset",
+    "rides_fraction_correct",
+    "full_fraction_correct",
+    "full_pr_landmarks",
+    "full_autoencoder_training",
+    "full_training_seasons",
+    "full_cae_widths",
+    "full_ica_basis",
+)
 
 # figures copied beside a table's snapshot (the README shows the copy): table name -> (figure, copy)
 FIGURES = {
     "cae_widths": ("plots/cae_widths.png", "cae_widths_sweep.png"),
     "fraction_correct": ("plots/summary/fraction_correct.png", "fraction_correct.png"),
     "ica_basis": ("plots/figures/fig12b_global_ica_basis.png", "ica_basis.png"),
+    "full_fraction_correct": ("plots/summary/fraction_correct.png", "full_fraction_correct.png"),
+    "full_cae_widths": ("plots/cae_widths.png", "full_cae_widths_sweep.png"),
+    "full_ica_basis": ("plots/figures/fig12b_global_ica_basis.png", "full_ica_basis.png"),
 }
 
 
@@ -534,6 +569,10 @@ def snapshot(names: list[str], command: str, workspace: Path = ROOT) -> None:
             [*git, "status", "--porcelain", "--untracked-files=no"], capture_output=True, text=True, check=True
         ).stdout.strip()
     )
+    bench_source = workspace / "bench_source.json"  # a folder of bench_full_run.py: its own commit only sets params
+    if bench_source.is_file():
+        made_from = json.loads(bench_source.read_text())["made_from"]
+        commit, dirty = made_from["commit"], made_from["dirty"]
     provenance = json.loads(PROVENANCE.read_text()) if PROVENANCE.is_file() else {}
     RESULTS.mkdir(parents=True, exist_ok=True)
     for name in names:

@@ -70,6 +70,7 @@ def main() -> None:
         print(
             f"training_seasons_fit@{method}: {reused} is fit@{method}'s training set: evaluate@{method}'s result is used"
         )
+    fits: dict[str, dict[str, dict]] = {}
     fraction_correct = run_ablation(
         plan,
         {method: new_learner},
@@ -80,8 +81,9 @@ def main() -> None:
         SequenceConfig.from_params(params),
         batch_size=int(param(params, "features.batch_size")),
         skip={method: reused},
+        fits=fits,
     )
-    write_learner_record(plan, fraction_correct, record, reused)
+    write_learner_record(plan, fraction_correct, record, reused, fits.get(method))
 
 
 if __name__ == "__main__":

@@ -79,6 +79,7 @@ class MeanLearner:
     def fit(self, images, progress=False, places=None):
         MeanLearner.fitted_on.append(len(images))
         MeanLearner.places.append(places)
+        return {"converged": True, "n_iter": len(images), "n_components": 4}  # fit info, as a learner's
 
     def describe(self, images, batch_size=1024):
         return images.mean(axis=2)
@@ -103,6 +104,7 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
         return np.zeros((10 * len(seasons), 4, 8)), np.tile(np.repeat(np.arange(5), 2), len(seasons))
 
     MeanLearner.fitted_on, MeanLearner.places = [], []
+    fits: dict = {}
     fraction_correct = run_ablation(
         plan,
         {"mean": new_learner},
@@ -111,8 +113,13 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
         aligned_truth(np.arange(6), np.arange(6), 0),
         evaluate,
         sequence,
+        fits=fits,
     )
     assert len(made) == 2 and MeanLearner.fitted_on == [10, 20]
+    # how each fit ended is kept per training-season list
+    assert fits == {
+        "mean": {"summer": {"converged": True, "n_iter": 10}, "summer+winter": {"converged": True, "n_iter": 20}}
+    }
     # the place ids reach fit: an auto-encoder then validates on places it never trains on
     assert [None if places is None else list(places) for places in MeanLearner.places] == [
         list(training_set(["summer"])[1]),
@@ -206,3 +213,13 @@ def test_run_ablation_skips_the_reused_label(tmp_path):
         skip={"mean": "summer+winter"},
     )
     assert MeanLearner.fitted_on == [10] and list(fraction_correct["mean"]) == ["summer"]
+
+
+def test_how_a_fit_ended_reads_iterative_fits_and_the_nested_patch_ica():
+    from seasonloop.fit_ending import how_fit_ended
+
+    ica = {"converged": True, "gradient": 9e-8, "tol": 1e-7, "n_iter": 300, "solver": "picard"}
+    assert how_fit_ended(ica) == {"converged": True, "gradient": 9e-8, "tol": 1e-7, "n_iter": 300}
+    bovw = {"ica": {"converged": False, "n_iter": 400}, "kmeans_n_iter": 3, "n_train_patches": 10}
+    assert how_fit_ended(bovw) == {"ica converged": False, "ica n_iter": 400, "kmeans n_iter": 3}
+    assert how_fit_ended({"n_components": 4}) == {}

@@ -180,7 +180,7 @@ def test_bad_params_fail_with_one_clear_line(workspace):
     result = run_with(lambda p: p["train"].update(seasons=["summer", "autumn"]), "stages/fit.py", "pca")
     assert result.returncode == 1
     assert (
-        result.stderr.strip() == "error: train.seasons: unknown season 'autumn' (known: summer, spring, fall, winter)"
+        result.stderr.strip() == "error: train.seasons: unknown traverse 'autumn' (data.seasons: summer, fall, winter)"
     )
     result = run_with(lambda p: None, "stages/fit.py", "sift")
     assert result.returncode == 1 and "unknown method 'sift'" in result.stderr and "Traceback" not in result.stderr

@@ -7,6 +7,7 @@ released when the function returns.
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -175,14 +176,21 @@ def plot_similarity_grid(thumbnails: Mapping[str, Mapping[str, np.ndarray]], pat
             if col_index == 0:
                 axes.set_ylabel(row, fontsize="medium")
             if row_index == 0:
-                axes.set_title(column, fontsize="medium")
+                # long traverse names (a date, say) break at hyphens rather than run into the next panel
+                axes.set_title(textwrap.fill(column, _chars_across(cell)), fontsize="medium")
             if row_index == len(rows) - 1:
                 axes.set_xlabel("database", fontsize="small")
     # every panel shares the fixed [0, 1] scale, so the colour bar is that scale's, not one panel's
     scale = ScalarMappable(Normalize(0.0, 1.0), cmap="viridis")
     figure.colorbar(scale, ax=grid, shrink=0.6, label="similarity, scaled per matrix (1: nearest)")
-    figure.suptitle(title)
+    figure.suptitle(textwrap.fill(title, _chars_across(figure.get_figwidth(), fontsize=12)))
     _save(figure, path)
+
+
+def _chars_across(inches: float, fontsize: float = 10) -> int:
+    """About how many characters of text at `fontsize` points fit across `inches` (a character of
+    DejaVu Sans is ~0.6 of its size wide)."""
+    return max(8, int(inches * 72 / (0.6 * fontsize)))
 
 
 def plot_image_grid(

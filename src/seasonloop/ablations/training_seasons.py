@@ -31,6 +31,7 @@ import numpy as np
 
 from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matchers import match_pair, result_suffix
+from seasonloop.fit_ending import how_fit_ended
 from seasonloop.io import read_json, write_json
 from seasonloop.params.schema import SEASONS, check_seasons, pair_name, pair_present, parse_pair
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
@@ -108,6 +109,7 @@ def run_ablation(
     sequence: SequenceConfig,
     batch_size: int = 1024,
     skip: Mapping[str, str | None] | None = None,
+    fits: dict[str, dict[str, dict]] | None = None,
 ) -> dict[str, dict[str, float]]:
     """fraction_correct[series][training seasons joined by "+"] on the plan's pair, single-image
     matching, a series being a method under one distance ("<method>" under evaluate.metric,
@@ -116,7 +118,8 @@ def run_ablation(
     place ids go to fit, so that an auto-encoder holds out whole places (every season and augmented
     copy of them) for validation. test[season] are the test images of the pair's seasons, both at
     the test places of `truth`, the pair's ground truth, described `batch_size` at a time (the
-    features stage's batches). skip[method] names a label that is not fitted (a reused one)."""
+    features stage's batches). skip[method] names a label that is not fitted (a reused one).
+    fits, when given, is filled with fits[method][label] = how that fit ended (how_fit_ended)."""
     assert plan.pair is not None and plan.labels is not None and plan.season_sets is not None, "a skipped plan"
     database, query = plan.pair
     fraction_correct: dict[str, dict[str, float]] = {}
@@ -129,7 +132,9 @@ def run_ablation(
                 continue
             learner = new_learner()
             images, image_places = training_set(chosen)
-            learner.fit(images, progress=True, places=image_places)
+            info = learner.fit(images, progress=True, places=image_places)
+            if fits is not None:
+                fits.setdefault(method, {})[label] = how_fit_ended(info)
             database_descriptors, query_descriptors = (
                 learner.describe(test[season], batch_size=batch_size) for season in (database, query)
             )
@@ -174,10 +179,11 @@ def write_learner_record(
     fraction_correct: Mapping[str, Mapping[str, float]] | None,
     record: Path,
     reused: str | None = None,
+    fits: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> None:
     """One learner's part of the ablation: fraction_correct[series][training seasons] on the plan's
     pair (run_ablation's series of this learner; None for a skipped plan, whose record says why);
-    `reused` is the label left to fill_reused."""
+    `reused` is the label left to fill_reused; fits[label], how each fit ended (run_ablation's)."""
     if plan.skipped:
         write_json(record, {"skipped": plan.skipped})
         return
@@ -188,6 +194,7 @@ def write_learner_record(
             "pair": pair_name(*plan.pair),
             "fraction_correct": {series: dict(values) for series, values in fraction_correct.items()},
             "reused_from_pipeline": [reused] if reused else [],
+            "fits": {label: dict(ended) for label, ended in (fits or {}).items()},
         },
     )
 

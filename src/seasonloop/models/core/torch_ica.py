@@ -77,7 +77,8 @@ STATE_KEYS = ("mean", "whitening", "unmixing", "n_iter", "converged", "criterion
 
 
 class TorchICA(ABC):
-    """ICA in torch, float32 on `device` (CPU or CUDA); a subclass sets `algorithm` and
+    """ICA in torch on `device` (CPU or CUDA), whitening in float32 and the iterations in
+    `precision` (float32 or float64); a subclass sets `algorithm` and
     `criterion_name` (what its own stopping test measures) and implements `_rotate`.
 
     After `fit`: mean_ (D,), whitening_ (k, D) in float32, unmixing_ (k, k) scaled so the training
@@ -177,10 +178,12 @@ class TorchICA(ABC):
         )
         return self
 
-    def _blocks(self, data: np.ndarray, mean: torch.Tensor) -> Iterator[torch.Tensor]:
-        """Centred float32 blocks of rows of data, on the device."""
+    def _blocks(
+        self, data: np.ndarray, mean: torch.Tensor, dtype: torch.dtype = torch.float32
+    ) -> Iterator[torch.Tensor]:
+        """Centred blocks of rows of (float32) data, in `dtype`, on the device."""
         for start in range(0, len(data), BLOCK_ROWS):
-            yield torch.from_numpy(data[start : start + BLOCK_ROWS]).to(self.device) - mean
+            yield torch.from_numpy(data[start : start + BLOCK_ROWS]).to(self.device, dtype) - mean.to(dtype)
 
     def _whitening(self, data: np.ndarray, mean: torch.Tensor) -> torch.Tensor:
         """(k, D) matrix K with K @ centred.T of unit covariance, from the top-k principal axes."""
@@ -202,11 +205,8 @@ class TorchICA(ABC):
         """(k, n) whitened data, in the iterations' precision: in float64 centred and projected as
         `transform` computes a stored model's sources, so that the gradient the solver reaches is
         the stored model's."""
-        if self.dtype == torch.float32:
-            return torch.cat([whitening @ block.T for block in self._blocks(data, mean)], dim=1)
-        rows = range(0, len(data), BLOCK_ROWS)
-        blocks = (torch.from_numpy(data[start : start + BLOCK_ROWS]).to(self.device, self.dtype) for start in rows)
-        return torch.cat([whitening.to(self.dtype) @ (block - mean.to(self.dtype)).T for block in blocks], dim=1)
+        whitening = whitening.to(self.dtype)
+        return torch.cat([whitening @ block.T for block in self._blocks(data, mean, self.dtype)], dim=1)
 
     def _initial_unmixing(self) -> torch.Tensor:
         """scikit-learn's (and python-picard's) initial matrix for `seed`, made orthogonal."""

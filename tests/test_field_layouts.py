@@ -59,7 +59,7 @@ def test_a_vpr_bench_dataset_runs_from_its_own_layout(tmp_path):
     # 2i-1 .. 2i+1, as VPR-Bench's Nordland writes +-1 frame (there every 10th frame is a query)
     data = tmp_path / "Nordland"
     seasons = rendered(tmp_path / "videos", ["winter", "summer"])
-    for name, (frames, _) in (("ref", seasons["winter"][0]), ("query", seasons["summer"][0][::2])):
+    for name, frames in (("ref", seasons["winter"][0]), ("query", seasons["summer"][0][::2])):
         (data / name).mkdir(parents=True)
         for i, frame in enumerate(frames):
             cv2.imwrite(str(data / name / f"{i:07d}.jpg"), frame)

@@ -404,6 +404,24 @@ def _bench_ica_times(record: dict) -> str:
     return "\n".join(lines) + ("\n" if lines else "")
 
 
+def _compare_window_rules(path: Path) -> str:
+    """benchmarks/compare_window_rules.py's record: per run, each rule's +seq fraction correct against 'clip'."""
+    record = json.loads(path.read_text())
+    lines = [
+        "| run | cells | `ignore`: mean points, up / down | `shift`: mean points, up / down |",
+        "|---|---|---|---|",
+    ]
+    for workspace, run in record["runs"].items():
+        folder = Path(workspace)
+        name = folder.parent.name if folder.name == "repo" else folder.name  # a test's workspace: its test
+        cells = [
+            f"{row['mean_points']:+.2f}, {row['up']} / {row['down']}"
+            for row in (run["against_clip"][rule] for rule in ("ignore", "shift"))
+        ]
+        lines.append(f"| {name} | {run['against_clip']['clip']['cells']} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + f"\n\nComputed on {record['machine']['cpu']} (fractions correct; no timing).\n"
+
+
 def _where(record: dict) -> str:
     machine = record["machine"]
     capped = any((machine.get("isa_cap") or {}).values())
@@ -474,6 +492,18 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
         _bench_training_schedule,
     ),
     "bench_matching": ("benchmarks/results/bench_matching.json", "bench_matching.json", _bench_headline),
+    # two runs of benchmarks/compare_window_rules.py (its file is rewritten by each): the full preset
+    # run's outputs, then the default run's and the tests' non-aligned workspaces
+    "compare_window_rules_full": (
+        "benchmarks/results/compare_window_rules.json",
+        "compare_window_rules_full.json",
+        _compare_window_rules,
+    ),
+    "compare_window_rules": (
+        "benchmarks/results/compare_window_rules.json",
+        "compare_window_rules.json",
+        _compare_window_rules,
+    ),
     # presets/full.yaml run in one piece by benchmarks/bench_full_run.py (docs/full-scale.md): its
     # timing record here, its outputs in the run's own folder (--from FOLDER)
     "full_run_stages": ("benchmarks/results/bench_full_run.json", "bench_full_run.json", _full_run_stages),

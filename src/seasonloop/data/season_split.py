@@ -78,7 +78,7 @@ def distance_to_track(track: np.ndarray, points: np.ndarray, within: float, inde
 
     if len(track) < 2:
         return np.linalg.norm(points - track[0], axis=1) if len(track) else np.full(len(points), np.inf)
-    index = index or NearestNeighbors().fit(track)
+    index = index if index is not None else NearestNeighbors().fit(track)
     # the closest point of a segment within `within` lies within half the segment's length of one
     # of its ends, so the segments ending at places within within + half the longest hold it
     half_longest = float(np.linalg.norm(np.diff(track, axis=0), axis=1).max()) / 2

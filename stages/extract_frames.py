@@ -4,6 +4,8 @@ paired by file name when the seasons share names. Then the seasons' alignment is
 (seasonloop.data.alignment): a clear non-zero offset stops the run, and data.offsets shifts a season
 by a known one. frames.json records both.
 
+data.image_list (a file in data.frames_dir) keeps the frame files it names only.
+
 Writes data/frames/<season>.npy (N, h, w, 3) uint8 BGR, data/frames/frames.json and a preview of
 the same places in every season (plots/season_preview.png). With data.ground_truth positions, also
 data/frames/<season>_positions.npy: each place's position in metres (the renderer's exact ones for
@@ -58,6 +60,7 @@ def main() -> None:
             out,
             aligned=data.ground_truth == "aligned",
             positions=positions,
+            image_list=Path(data.frames_dir) / data.image_list if data.image_list else None,
         )
         record["ground_truth"] = data.ground_truth
         write_json(out / "frames.json", record)

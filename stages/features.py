@@ -30,9 +30,11 @@ FRAMES_RECORD = Path("data/frames/frames.json")
 
 def place_rows(season: str, frames: dict, split: dict) -> PlaceRows:
     """The source frames the test places of `season` show: place p is the (offset + p)-th kept
-    frame, every frame_step-th frame of the source."""
+    frame, every frame_step-th frame of the source (of the files data.image_list names, if any)."""
     offset = int(frames["offsets"].get(season, 0))
     rows = (offset + season_part(split, season, "test")) * int(frames["frame_step"])
+    if "listed_frames" in frames:
+        rows = np.asarray(frames["listed_frames"][season], dtype=np.int64)[rows]
     return PlaceRows(season, rows.astype(np.int64), int(frames["source_frames"][season]))
 
 

@@ -21,7 +21,7 @@ from seasonloop.models.ica import ICA_SOLVERS
 from seasonloop.models.registry import LEARNERS, get_learner
 from seasonloop.params import learners
 from seasonloop.params import schema as config
-from seasonloop.params.schema import SCHEMA, TOP_LEVEL, check_params
+from seasonloop.params.schema import SCHEMA, TOP_LEVEL, check_params, check_whole
 
 REPO = Path(__file__).resolve().parents[1]
 ALL_KEYS = [*SCHEMA, *TOP_LEVEL]
@@ -32,9 +32,11 @@ def params():
     return yaml.safe_load((REPO / "params.yaml").read_text())
 
 
-@pytest.mark.parametrize("name", ["params.yaml", "presets/full.yaml"])
+@pytest.mark.parametrize(
+    "name", ["params.yaml", *sorted(str(path.relative_to(REPO)) for path in (REPO / "presets").glob("*.yaml"))]
+)
 def test_the_shipped_params_pass(name):
-    check_params(yaml.safe_load((REPO / name).read_text()), ALL_KEYS)
+    check_whole(yaml.safe_load((REPO / name).read_text()))
 
 
 def test_every_section_of_params_yaml_has_a_schema(params):

@@ -41,6 +41,7 @@ DATA = DataConfig(
     position_units="metres",
     position_key="",
     ground_truth_dir="ground_truth",
+    image_list="",
 )
 
 

@@ -10,11 +10,15 @@ import yaml
 REPO = Path(__file__).resolve().parents[1]
 
 
+# season -> value maps: their keys are data, not schema (a preset may name a season params.yaml does not)
+SEASON_MAPS = {"data.video_files", "data.offsets", "synthetic.rides", "split.test_every"}
+
+
 def key_paths(tree: dict, prefix: str = "") -> set[str]:
     paths = set()
     for key, value in tree.items():
         paths.add(prefix + key)
-        if isinstance(value, dict):
+        if isinstance(value, dict) and prefix + key not in SEASON_MAPS:
             paths |= key_paths(value, f"{prefix}{key}.")
     return paths
 

@@ -37,8 +37,13 @@ def augmented_file(augmented_dir: Path, season: str) -> Path:
 
 def season_split(split: Mapping[str, Any], season: str) -> Mapping[str, Any]:
     """One season's split (n_places and the place ids of every part): its own when the seasons are
-    not aligned (split.json's "seasons"), else the shared one."""
+    not aligned (split.json's "seasons"), else the shared one, its test places cut to every k-th for
+    a season of "test_every" (seasonloop.data.split.Split.season)."""
     if "seasons" not in split:
+        every = split.get("test_every", {})
+        if season in every:
+            test = np.asarray(split["test"], dtype=np.int64)
+            return {**split, "test": test[test % int(every[season]) == 0].tolist()}
         return split
     if season not in split["seasons"]:
         raise ValueError(f"{season}: not in the split (rerun the split stage)")

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from seasonloop.data.alignment import apply_offsets, check_alignment
-from seasonloop.data.frames import list_frame_files, video_sample_count
+from seasonloop.data.frames import keep_listed, list_frame_files, read_image_list, video_sample_count
 from seasonloop.data.positions import PositionFiles, season_positions
 from seasonloop.data.sources import check_aligned, pair_season_files, place_description, read_season
 from seasonloop.io import load_array, save_array
@@ -37,6 +37,7 @@ def extract_seasons(
     out: Path,
     aligned: bool = True,
     positions: PositionFiles | None = None,
+    image_list: Path | None = None,
 ) -> dict[str, Any]:
     """Write out/<season>.npy, (N, h, w, 3) uint8 BGR at the storage size, one season in memory at a
     time (the full-scale route is ~1 GB a season at 72x128), and return the record of frames.json:
@@ -45,12 +46,12 @@ def extract_seasons(
     aligned: frame i of every season is the same place, so the seasons are paired and cut to one
     length and their alignment is measured; otherwise (ground truth from positions or a matrix)
     each season keeps its own frames. positions: where the seasons' positions are; each season's
-    kept places' positions (metres) go to out/<season>_positions.npy.
+    kept places' positions (metres) go to out/<season>_positions.npy. image_list: a file naming
+    the frame files to keep (season_files).
     """
     fps, height, width = float(extract.fps), int(extract.height), int(extract.width)
-    kinds = {sources[season]["kind"] for season in seasons}
     paths = {season: (sources[season]["kind"], Path(sources[season]["path"])) for season in seasons}
-    files, pairing = pair_season_files(paths) if aligned else (None, "each season its own frames (not aligned)")
+    files, pairing, listed_rows = season_files(paths, aligned, image_list)
     print(f"extract_frames: {pairing}")
     counts, coordinates, source_frames = {}, {}, {}
     for season in seasons:
@@ -63,14 +64,13 @@ def extract_seasons(
         save_array(out / f"{season}.npy", frames)
         del frames
         if positions is not None:
-            listing = list_frame_files(path) if kind == "frames" else []
+            listing = (files[season] if files else list_frame_files(path)) if kind == "frames" else []
             coordinates[season] = season_positions(kind, positions, season, counts[season], fps, frame_step, listing)
     kept = kept_places(counts, offsets, aligned, bool(extract.trim_to_shortest), sources)
-    for season in seasons:
-        if kept[season] != slice(0, counts[season]):
-            save_array(
-                out / f"{season}.npy", np.ascontiguousarray(load_array(out / f"{season}.npy", mmap=True)[kept[season]])
-            )
+    for season in (season for season in seasons if kept[season] != slice(0, counts[season])):
+        save_array(
+            out / f"{season}.npy", np.ascontiguousarray(load_array(out / f"{season}.npy", mmap=True)[kept[season]])
+        )
     if positions is not None:
         write_positions(out, coordinates, kept)
     places = {season: kept[season].stop - kept[season].start for season in seasons}
@@ -80,14 +80,44 @@ def extract_seasons(
         "places_per_season": places,
         "seasons": list(seasons),
         "frames_per_season": counts,
-        # frames of each source before data.frame_step (rows of descriptors computed elsewhere)
-        "source_frames": source_frames,
+        "source_frames": source_frames,  # before frame_step (rows of descriptors computed elsewhere)
+        **({"listed_frames": listed_rows} if listed_rows is not None else {}),
         "frame_step": frame_step,
         "pairing": pairing,
         "alignment": check_alignment(stored, int(extract.max_offset)) if aligned else {},
         "offsets": dict(offsets),
-        "place": place_description(kinds, fps, frame_step),
+        "place": place_description({kind for kind, _ in paths.values()}, fps, frame_step),
     }
+
+
+def season_files(
+    paths: Mapping[str, tuple[str, Path]], aligned: bool, image_list: Path | None
+) -> tuple[dict[str, list[Path]] | None, str, dict[str, list[int]] | None]:
+    """(season -> its files in place order, or None for videos and unpaired folders read whole; a
+    line saying how places are paired; frames.json's "listed_frames", each kept file's row in its
+    folder's full listing (the rows of descriptors computed elsewhere), or None without a list)."""
+    files, pairing = pair_season_files(paths) if aligned else (None, "each season its own frames (not aligned)")
+    if image_list is None:
+        return files, pairing, None
+    kept, rows = listed_files(image_list, paths, files)
+    return kept, f"{pairing}; {image_list.name} keeps {len(next(iter(kept.values())))} a season", rows
+
+
+def listed_files(
+    image_list: Path, paths: Mapping[str, tuple[str, Path]], files: Mapping[str, list[Path]] | None
+) -> tuple[dict[str, list[Path]], dict[str, list[int]]]:
+    """(season -> its frame files that `image_list` names, in place order; season -> each kept
+    file's row in the folder's natural-order listing)."""
+    kinds = sorted({kind for kind, _ in paths.values()} - {"frames"})
+    if kinds:
+        raise ValueError(f"data.image_list: names frame files, but a season's source is a {kinds[0]}")
+    names = read_image_list(image_list)
+    kept, rows = {}, {}
+    for season, (_, path) in paths.items():
+        kept[season] = keep_listed(files[season] if files else list_frame_files(path), names, image_list)
+        row_of = {file.name: row for row, file in enumerate(list_frame_files(path))}
+        rows[season] = [row_of[file.name] for file in kept[season]]
+    return kept, rows
 
 
 def write_positions(out: Path, coordinates: Mapping[str, np.ndarray], kept: Mapping[str, slice]) -> None:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Mapping, Sequence
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 
 import cv2
 import numpy as np
@@ -108,6 +108,31 @@ def list_frame_files(folder: Path) -> list[Path]:
     if not files:
         raise ValueError(f"{folder}: no image files ({', '.join(IMAGE_SUFFIXES)})")
     return files
+
+
+def read_image_list(path: Path) -> list[str]:
+    """The image names of a list file, one a line (cleanImageNames.txt, Patch-NetVLAD's
+    nordland_imageNames_*.txt): each line's file name, its folders ignored; blank lines skipped."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: image list not found (data.image_list)")
+    names = [PurePosixPath(line.strip().replace("\\", "/")).name for line in path.read_text().splitlines()]
+    names = [name for name in names if name]
+    if not names:
+        raise ValueError(f"{path}: the image list names no image (data.image_list)")
+    return names
+
+
+def keep_listed(files: Sequence[Path], names: Sequence[str], list_file: Path) -> list[Path]:
+    """The files of `files` (one season's, in place order) whose names `names` lists, in that
+    order; a listed name the season lacks is an error (it would shift every later place)."""
+    listed = set(names)
+    kept = [path for path in files if path.name in listed]
+    if len(kept) < len(listed):
+        lacking = sorted(listed - {path.name for path in kept}, key=natural_key)
+        folder = Path(files[0]).parent if files else "the season's folder"
+        raise ValueError(f"{list_file}: {len(lacking)} listed images are not in {folder} (first: {lacking[0]})")
+    return kept
 
 
 def align_frame_files(files: Mapping[str, Sequence[Path]]) -> tuple[dict[str, list[Path]], str]:

@@ -14,11 +14,11 @@ its reference place is.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from seasonloop.data.split import Split, detect_stops, detect_tunnels, masks_to_split, split_masks
+from seasonloop.data.split import Split, detect_stops, detect_tunnels, every_kth, masks_to_split, split_masks
 from seasonloop.params.settings import SplitConfig
 
 # reference columns handled at once when mapping through a ground-truth matrix (bounds memory)
@@ -152,4 +152,8 @@ def split_seasons(
             own_tunnel[season] | (tunnel[at] & mapped),
             own_stop[season] | (stop[at] & mapped),
         )
+        if season in config.test_every:
+            splits[season] = replace(
+                splits[season], test=every_kth(splits[season].test, config.test_every[season], season)
+            )
     return SeasonSplits(reference, splits, {s: np.asarray(reference_place[s], np.int64) for s in seasons})

@@ -3,6 +3,10 @@
 Places are frame indices along the route. The route is cut into contiguous sections; the last
 `test_fraction` of each section is a test block, and `gap` places on either side of every test
 block are used for nothing, so no training image shows a test place or its immediate neighbours.
+A test_fraction of 1 is the field's protocols (VPR-Bench, Patch-NetVLAD): every place is tested,
+and the learners train on the same places in other seasons (params.schema refuses a training season
+that is also evaluated). `test_every` keeps every k-th place of a season's test set (place id
+divisible by k): the queries of a protocol that samples them.
 Tunnels and stops are detected from per-frame statistics (seasonloop.data.preprocess.frame_statistics);
 where the true ones are known (the synthetic route), detection_record scores the detection.
 """
@@ -10,7 +14,7 @@ where the true ones are known (the synthetic route), detection_record scores the
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -29,9 +33,12 @@ class Split:
     gap: np.ndarray  # place ids in the gaps around test blocks
     dropped_tunnel: np.ndarray  # test-block places left out as tunnel (dark) frames
     dropped_stop: np.ndarray  # test-block places left out as station stops (not already tunnels)
+    test_every: Mapping[str, int] = field(default_factory=dict)  # season -> keep every k-th test place
 
     def season(self, season: str) -> Split:
-        """The split of `season`: aligned seasons share one."""
+        """The split of `season`: aligned seasons share one, but for test_every."""
+        if season in self.test_every:
+            return replace(self, test=every_kth(self.test, self.test_every[season], season), test_every={})
         return self
 
     def to_json(self) -> dict:
@@ -41,7 +48,16 @@ class Split:
                 name: getattr(self, name).tolist()
                 for name in ("train", "test", "gap", "dropped_tunnel", "dropped_stop")
             },
+            **({"test_every": dict(self.test_every)} if self.test_every else {}),
         }
+
+
+def every_kth(places: np.ndarray, k: int, season: str) -> np.ndarray:
+    """The places whose id is a multiple of k (VPR-Bench's Nordland queries: every 10th frame)."""
+    kept = np.asarray(places)[np.asarray(places) % int(k) == 0]
+    if not len(kept):
+        raise ValueError(f"split.test_every.{season}: no test place of {season} is a multiple of {k}")
+    return kept
 
 
 def section_blocks(n_places: int, section_length: int, test_fraction: float) -> list[tuple[int, int]]:
@@ -76,9 +92,12 @@ def detect_stops(change: Mapping[str, np.ndarray], stop_threshold: float) -> np.
 def split_masks(
     n_places: int, section_length: int, test_fraction: float, gap: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(in a test block, in a gap, training) masks over n_places places."""
+    """(in a test block, in a gap, training) masks over n_places places; a test_fraction of 1 tests
+    and trains on every place (a protocol's whole route: the learners see other seasons only)."""
     if gap < 0:
         raise ValueError(f"split.gap: must be >= 0, got {gap}")
+    if test_fraction == 1:
+        return np.ones(n_places, bool), np.zeros(n_places, bool), np.ones(n_places, bool)
     in_test_block = np.zeros(n_places, bool)
     near_test = np.zeros(n_places, bool)
     for start, end in section_blocks(n_places, section_length, test_fraction):
@@ -113,13 +132,21 @@ def masks_to_split(
 
 
 def make_split(
-    n_places: int, section_length: int, test_fraction: float, gap: int, tunnel: np.ndarray, stop: np.ndarray
+    n_places: int,
+    section_length: int,
+    test_fraction: float,
+    gap: int,
+    tunnel: np.ndarray,
+    stop: np.ndarray,
+    test_every: Mapping[str, int] | None = None,
 ) -> Split:
     """Sections of `section_length` places, each ending in a test block, with `gap` places unused
-    on either side; tunnels and stops left out of the test blocks."""
+    on either side; tunnels and stops left out of the test blocks; test_every: season -> k, that
+    season tested on every k-th place only."""
     if tunnel.shape != (n_places,) or stop.shape != (n_places,):
         raise ValueError(f"tunnel/stop masks must have shape ({n_places},)")
-    return masks_to_split(*split_masks(n_places, section_length, test_fraction, gap), tunnel, stop)
+    split = masks_to_split(*split_masks(n_places, section_length, test_fraction, gap), tunnel, stop)
+    return replace(split, test_every=dict(test_every or {}))
 
 
 def split_route(
@@ -130,7 +157,13 @@ def split_route(
     tunnel = detect_tunnels({s: stats[f"{s}_brightness"] for s in seasons}, float(config.dark_threshold))
     stop = detect_stops({s: stats[f"{s}_change"] for s in seasons}, float(config.stop_threshold))
     split = make_split(
-        len(tunnel), int(config.section_length), float(config.test_fraction), int(config.gap), tunnel, stop
+        len(tunnel),
+        int(config.section_length),
+        float(config.test_fraction),
+        int(config.gap),
+        tunnel,
+        stop,
+        dict(config.test_every),
     )
     return split, tunnel, stop
 

@@ -60,6 +60,15 @@ def number(
     return check
 
 
+def test_fraction(key: str, value: Any) -> None:
+    """split.test_fraction: a share of each section up to a half, or 1 (the whole route tested)."""
+    try:
+        if value != 1:
+            number(0, 0.5, low_open=True)(key, value)
+    except ValueError:
+        _fail(key, "a number in (0, 0.5] or 1", value)
+
+
 def boolean(key: str, value: Any) -> None:
     if not isinstance(value, bool):
         _fail(key, "true or false", value)

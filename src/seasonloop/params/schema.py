@@ -9,6 +9,8 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
+from seasonloop.params.across import check_across
+
 # re-exported, so that `from seasonloop.params.schema import SEASONS, parse_pair, ...` keeps working
 from seasonloop.params.checks import (  # noqa: F401
     Check,
@@ -23,6 +25,7 @@ from seasonloop.params.checks import (  # noqa: F401
     record,
     season_map,
     seasons,
+    test_fraction,
     text,
 )
 from seasonloop.params.learners import LEARNER_SCHEMA, check_learner
@@ -94,6 +97,8 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "position_units": one_of(*POSITION_UNITS),
         "position_key": optional_text,
         "ground_truth_dir": text,
+        # a file in frames_dir naming the images to keep (cleanImageNames.txt); "": every image
+        "image_list": optional_text,
     },
     "synthetic": {
         "seconds": integer(10),
@@ -133,11 +138,13 @@ SCHEMA: dict[str, dict[str, Check]] = {
     },
     "split": {
         "section_length": integer(3),
-        # more test than training places per section is no longer a training split
-        "test_fraction": number(0, 0.5, low_open=True),
+        # more test than training places per section is no longer a training split; 1: the whole
+        # route is tested (a protocol's), the learners train on other seasons (check_whole_route)
+        "test_fraction": test_fraction,
         "gap": integer(0),
         "dark_threshold": number(0, 255),
         "stop_threshold": number(0),
+        "test_every": season_map(integer(1)),
     },
     "augment": {
         "copies": integer(0),
@@ -182,6 +189,8 @@ TOP_LEVEL: dict[str, Check] = {"seed": integer(0), "learners": list_of(one_of(*L
 
 def _check_split(section: Mapping[str, Any]) -> None:
     length, fraction, gap = section["section_length"], section["test_fraction"], section["gap"]
+    if fraction == 1:
+        return
     test = max(1, round(length * fraction))
     if length - test - 2 * gap < 1:
         raise ValueError(
@@ -282,8 +291,10 @@ def check_params(params: Mapping[str, Any], keys: Sequence[str]) -> None:
 def check_whole(params: Mapping[str, Any]) -> None:
     """Check all of params.yaml before any stage works: every section of the schema whole, the
     top-level values and every learner section (a typo anywhere stops the first stage that runs,
-    not the stage that reads it). Raises a ValueError naming the first bad key."""
+    not the stage that reads it), then the checks across sections. Raises a ValueError naming the
+    first bad key."""
     check_params(params, [*TOP_LEVEL, *SCHEMA])
     for name in LEARNER_SCHEMA:
         if name in params:
             check_learner(name, params[name])
+    check_across(params)

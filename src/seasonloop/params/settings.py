@@ -66,6 +66,7 @@ class DataConfig(Section):
     position_units: str
     position_key: str
     ground_truth_dir: str
+    image_list: str
 
 
 @dataclass(frozen=True)
@@ -121,6 +122,7 @@ class SplitConfig(Section):
     gap: int
     dark_threshold: float
     stop_threshold: float
+    test_every: dict[str, int]
 
 
 @dataclass(frozen=True)

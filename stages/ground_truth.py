@@ -13,7 +13,7 @@ from pathlib import Path
 from _common import data_seasons, load_params, param, stage_main
 from _datasets import SPLIT
 from seasonloop.data.datasets import read_split
-from seasonloop.evaluation.pair_truths import build_truths, truth_file, truth_record
+from seasonloop.evaluation.pair_truths import each_truth, pair_record, truth_file, truth_record
 from seasonloop.io import staged_dir, write_json
 from seasonloop.params.settings import EvaluateConfig
 
@@ -27,10 +27,15 @@ def main() -> None:
     seasons = data_seasons(params)
     kind = param(params, "data.ground_truth")
     evaluate = EvaluateConfig.from_params(params)
-    truths = build_truths(
+    truths = each_truth(
         kind, read_split(SPLIT), seasons, evaluate, Path("data/frames"), Path(param(params, "data.ground_truth_dir"))
     )
-    record = truth_record(kind, evaluate, truths)
+    with staged_dir(OUT) as out:
+        pairs = {}
+        for (database, query), truth in truths:  # one pair in memory at a time
+            truth.save(truth_file(out, database, query))
+            pairs[database, query] = pair_record(truth)
+    record = truth_record(kind, evaluate, pairs)
     for pair, entry in record["pairs"].items():
         if entry["n_without_match"]:
             # counted as the field does (VPR_Tutorial): whatever they match is wrong, and they are
@@ -39,9 +44,6 @@ def main() -> None:
                 f"ground_truth: {pair}: {entry['n_without_match']} of {entry['n_queries']} queries have no "
                 f"correct database place ({record['correct']}); they count as wrong matches"
             )
-    with staged_dir(OUT) as out:
-        for (database, query), truth in truths.items():
-            truth.save(truth_file(out, database, query))
     write_json(RECORD, record)
 
 

@@ -16,12 +16,15 @@ set) stays a query: whatever it matches is wrong, and it is not a positive of th
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 KINDS = ("aligned", "positions", "matrix")
+# query rows whose (rows, M) distances to the database are held at once while a truth is built
+TRUTH_ROWS_PER_BLOCK = 1024
 
 
 @dataclass(frozen=True)
@@ -43,6 +46,17 @@ class PairTruth:
             raise ValueError(f"ground truth: exact must hold {shape[0]} columns, got {self.exact.shape}")
         if self.ignored is not None and self.ignored.shape != shape:
             raise ValueError(f"ground truth: ignored must be a {shape} matrix, got {self.ignored.shape}")
+
+    def query_rows(self, rows: slice) -> PairTruth:
+        """The truth of the queries `rows` only (a block of a pair evaluated in blocks)."""
+        return PairTruth(
+            self.kind,
+            self.database_places,
+            self.query_places[rows],
+            self.correct[rows],
+            self.exact[rows],
+            None if self.ignored is None else self.ignored[rows],
+        )
 
     @property
     def has_match(self) -> np.ndarray:
@@ -96,8 +110,27 @@ def aligned_truth(database_places: np.ndarray, query_places: np.ndarray, toleran
         raise ValueError(f"tolerance must be a non-negative integer number of frames, got {tolerance!r}")
     database_places = _places(database_places, "database_places")
     query_places = _places(query_places, "query_places")
-    offset = np.abs(database_places[None, :] - query_places[:, None])
-    return PairTruth("aligned", database_places, query_places, offset <= tolerance, _exact(offset, offset <= tolerance))
+
+    def offsets(rows: slice) -> np.ndarray:
+        return np.abs(database_places[None, :] - query_places[rows, None])
+
+    correct, exact = _by_row_blocks(offsets, len(query_places), len(database_places), tolerance)
+    return PairTruth("aligned", database_places, query_places, correct, exact)
+
+
+def _by_row_blocks(
+    distance: Callable[[slice], np.ndarray], n_queries: int, n_database: int, tolerance: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """(correct = distance <= tolerance, exact) built TRUTH_ROWS_PER_BLOCK query rows at a time:
+    only the (N, M) booleans are ever whole (27,592 x 27,592 int64 offsets would be 6 GB)."""
+    correct = np.empty((n_queries, n_database), dtype=bool)
+    exact = np.empty(n_queries, dtype=np.int64)
+    for start in range(0, n_queries, TRUTH_ROWS_PER_BLOCK):
+        rows = slice(start, min(start + TRUTH_ROWS_PER_BLOCK, n_queries))
+        block = distance(rows)
+        correct[rows] = block <= tolerance
+        exact[rows] = _exact(block, correct[rows])
+    return correct, exact
 
 
 def _exact(distance: np.ndarray, correct: np.ndarray) -> np.ndarray:
@@ -130,9 +163,12 @@ def position_truth(
     query_places = _places(query_places, "query_places")
     if len(database_positions) != len(database_places) or len(query_positions) != len(query_places):
         raise ValueError("positions: one position per place is needed")
-    metres = np.linalg.norm(query_positions[:, None, :] - database_positions[None, :, :], axis=2)
-    correct = metres <= tolerance_m
-    return PairTruth("positions", database_places, query_places, correct, _exact(metres, correct))
+
+    def metres(rows: slice) -> np.ndarray:
+        return np.linalg.norm(query_positions[rows, None, :] - database_positions[None, :, :], axis=2)
+
+    correct, exact = _by_row_blocks(metres, len(query_places), len(database_places), tolerance_m)
+    return PairTruth("positions", database_places, query_places, correct, exact)
 
 
 def matrix_truth(

@@ -6,14 +6,14 @@ suffix in file names and table labels: "@<metric>" for an extra metric (none for
 then the matcher's ("+seq" for sequence matching), e.g. "pca", "pca+seq", "pca@cityblock+seq".
 
 MATCHER_REGISTRY holds the matchers (name -> suffix and the function that turns descriptor
-distances into the distances matched on); MATCHERS is its name -> suffix view. The params are
+distances into the distances matched on, a block of query rows at a time); MATCHERS is its name -> suffix view. The params are
 checked once, by seasonloop.params.schema's schema when EvaluateConfig / SequenceConfig are built: this
 module only computes.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -23,11 +23,16 @@ import pandas as pd
 from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_truth
-from seasonloop.evaluation.sequence import sequence_distances
+from seasonloop.evaluation.sequence import sequence_distance_blocks
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
-# (distances (N, M), database_places (M,), query_places (N,), sequence) -> the distances to match on
-MatchDistances = Callable[[np.ndarray, np.ndarray, np.ndarray, SequenceConfig], np.ndarray]
+# The distances a matcher matches on, a block of query rows at a time: (distance_rows (query rows ->
+# their (rows, M) descriptor distances), N, M, rows per block, database_places (M,), query_places
+# (N,), sequence) -> (rows, their (rows, M) distances to match on) for consecutive blocks of rows.
+MatchBlocks = Callable[
+    [Callable[[slice], np.ndarray], int, int, int, np.ndarray, np.ndarray, SequenceConfig],
+    Iterator[tuple[slice, np.ndarray]],
+]
 
 
 @dataclass(frozen=True)
@@ -35,29 +40,39 @@ class Matcher:
     """One value of evaluate.matchers: the suffix its results carry, and what it matches on."""
 
     suffix: str
-    distances: MatchDistances
+    blocks: MatchBlocks
+
+
+def row_blocks(n_rows: int, rows_per_block: int) -> list[slice]:
+    """Consecutive blocks of at most rows_per_block of n_rows rows."""
+    return [slice(start, min(start + rows_per_block, n_rows)) for start in range(0, n_rows, rows_per_block)]
 
 
 def _single_image(
-    distances: np.ndarray, database_places: np.ndarray, query_places: np.ndarray, sequence: SequenceConfig
-) -> np.ndarray:
-    return distances
+    distance_rows: Callable[[slice], np.ndarray],
+    n_queries: int,
+    n_database: int,
+    rows_per_block: int,
+    database_places: np.ndarray,
+    query_places: np.ndarray,
+    sequence: SequenceConfig,
+) -> Iterator[tuple[slice, np.ndarray]]:
+    for rows in row_blocks(n_queries, rows_per_block):
+        yield rows, distance_rows(rows)
 
 
 def _sequence(
-    distances: np.ndarray, database_places: np.ndarray, query_places: np.ndarray, sequence: SequenceConfig
-) -> np.ndarray:
+    distance_rows: Callable[[slice], np.ndarray],
+    n_queries: int,
+    n_database: int,
+    rows_per_block: int,
+    database_places: np.ndarray,
+    query_places: np.ndarray,
+    sequence: SequenceConfig,
+) -> Iterator[tuple[slice, np.ndarray]]:
     # Sequence matching restarts at every break in the place ids (seasonloop.evaluation.sequence).
-    return sequence_distances(
-        distances,
-        length=int(sequence.length),
-        v_min=float(sequence.v_min),
-        v_max=float(sequence.v_max),
-        v_steps=int(sequence.v_steps),
-        window=int(sequence.window),
-        query_places=query_places,
-        database_places=database_places,
-        window_at_breaks=sequence.window_at_breaks,
+    return sequence_distance_blocks(
+        distance_rows, n_queries, n_database, rows_per_block, sequence, query_places, database_places
     )
 
 
@@ -93,15 +108,25 @@ def match_distances(
     distances: np.ndarray, truth: PairTruth, matcher: str, evaluate: EvaluateConfig, sequence: SequenceConfig
 ) -> tuple[dict[str, Any], pd.DataFrame, np.ndarray]:
     """(metrics, PR curve, distance matrix used for matching) from one pair's descriptor distances
-    and its ground truth (whose place ids tell the sequence matcher where the route breaks).
+    and its ground truth (whose place ids tell the sequence matcher where the route breaks), the
+    whole matrix as one block (pair_evaluation.evaluate_in_blocks: a large pair in blocks).
 
     evaluate gives the confidence and ratio exclusion; sequence the sequence matcher's settings.
     """
-    distances = get_matcher(matcher).distances(distances, truth.database_places, truth.query_places, sequence)
-    metrics, pr = evaluate_truth(
-        distances, truth, confidence=evaluate.confidence, ratio_exclusion=int(evaluate.ratio_exclusion)
+    n_queries, n_database = np.shape(distances)
+    [(_, matched)] = get_matcher(matcher).blocks(
+        lambda rows: distances[rows],
+        n_queries,
+        n_database,
+        max(1, n_queries),
+        truth.database_places,
+        truth.query_places,
+        sequence,
     )
-    return metrics, pr, distances
+    metrics, pr = evaluate_truth(
+        matched, truth, confidence=evaluate.confidence, ratio_exclusion=int(evaluate.ratio_exclusion)
+    )
+    return metrics, pr, matched
 
 
 def match_pair(

@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 
 from seasonloop.evaluation.ground_truth import PairTruth, aligned_truth
-from seasonloop.evaluation.matching import best_matches
+from seasonloop.evaluation.records import RECALL_NS, QueryRecords, block_records, final_confidence, nearest_hits
 
 METRIC_KEYS = (
     "fraction_correct",
@@ -147,32 +147,20 @@ def recall_at_n(
     return truth_recall_at_n(distances, aligned_truth(database_places, query_places, tolerance), ns)
 
 
-def truth_recall_at_n(distances: np.ndarray, truth: PairTruth, ns: Sequence[int] = (1, 5, 10)) -> dict[int, float]:
+def truth_recall_at_n(distances: np.ndarray, truth: PairTruth, ns: Sequence[int] = RECALL_NS) -> dict[int, float]:
     """Fraction of the queries that have a correct database place with one among their N nearest,
     per N; queries without any correct place are left out, as VPR_Tutorial's recallAtK does (0.0
-    when no query has one).
-
-    N larger than the database size is capped at the database size. The nearest max(ns) columns
-    are found with np.argpartition and ordered by (distance, column), so ties at the top resolve to
-    the lowest column like np.argmin; which tied columns enter at the max(ns) boundary is unspecified.
-    """
+    when no query has one). N larger than the database size is capped at the database size; ties
+    as seasonloop.evaluation.records.nearest_hits."""
     distances = _check_distances(distances, truth.database_places, truth.query_places)
     ns = [int(n) for n in ns]
     if not ns or min(ns) < 1:
         raise ValueError(f"ns must be a non-empty sequence of integers >= 1, got {ns}")
+    hits = nearest_hits(distances, truth.correct, min(max(ns), distances.shape[1]))
+    return _recalls(hits[truth.has_match], ns, distances.shape[1])
 
-    n_database = distances.shape[1]
-    depth = min(max(ns), n_database)
-    if depth < n_database:
-        nearest = np.argpartition(distances, depth - 1, axis=1)[:, :depth]
-    else:
-        nearest = np.broadcast_to(np.arange(n_database), distances.shape).copy()
-    nearest_distances = np.take_along_axis(distances, nearest, axis=1)
-    # lexsort keys: last is primary, so rows sort by distance, then by column index.
-    rank = np.lexsort((nearest, nearest_distances), axis=1)
-    nearest = np.take_along_axis(nearest, rank, axis=1)
-    hits = np.take_along_axis(truth.correct, nearest, axis=1)
-    hit_within = np.logical_or.accumulate(hits, axis=1)[truth.has_match]
+
+def _recalls(hit_within: np.ndarray, ns: Sequence[int], n_database: int) -> dict[int, float]:
     if hit_within.shape[0] == 0:
         return {n: 0.0 for n in ns}
     return {n: float(hit_within[:, min(n, n_database) - 1].mean()) for n in ns}
@@ -195,36 +183,6 @@ def evaluate_pair(
     return evaluate_truth(distances, truth, confidence, ratio_exclusion)
 
 
-def _mask_soft(distances: np.ndarray, truth: PairTruth) -> tuple[np.ndarray, np.ndarray]:
-    """(distances with the cells the truth ignores at +inf, so they are never picked nor among the
-    N nearest, except in queries whose places are all soft; which queries those are)."""
-    if truth.ignored is None or not truth.ignored.any():
-        return distances, np.zeros(len(distances), dtype=bool)
-    all_soft = np.asarray(truth.ignored.all(axis=1), dtype=bool)
-    return np.where(truth.ignored & ~all_soft[:, None], np.inf, distances).astype(distances.dtype), all_soft
-
-
-def _masked_matches(
-    distances: np.ndarray,
-    masked: np.ndarray,
-    all_soft: np.ndarray,
-    truth: PairTruth,
-    confidence: str,
-    ratio_exclusion: int,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """truth_matches on distances already masked by _mask_soft."""
-    columns, scores = best_matches(masked, confidence, truth.database_places, ratio_exclusion)
-    correct = truth.correct[np.arange(len(columns)), columns] & ~all_soft
-    if all_soft.any():
-        others = scores[~all_soft]
-        # the largest finite distance: SeqSLAM's matrices hold +inf where no window fits
-        finite = distances[np.isfinite(distances)]
-        largest = float(finite.max()) if finite.size else 0.0
-        lowest = -largest if confidence == "distance" else (others.min() if others.size else 0.0)
-        scores = np.where(all_soft, lowest, scores)
-    return columns, scores, correct
-
-
 def truth_matches(
     distances: np.ndarray, truth: PairTruth, confidence: str = "distance", ratio_exclusion: int = 0
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -233,18 +191,26 @@ def truth_matches(
     confidence and ratio_exclusion (in place ids) go to seasonloop.evaluation.matching.best_matches.
     Cells the truth ignores (soft ground truth) are never picked. A query whose places are all soft
     has no match to pick: as VPR_Tutorial (soft cells set to the lowest similarity) it counts as a
-    wrong match at the lowest confidence: -(the largest finite distance of the pair) under "distance"
-    confidence, as VPR_Tutorial's, and tied with the least confident other query under "ratio".
+    wrong match at the lowest confidence (seasonloop.evaluation.records.final_confidence).
     """
     distances = _check_distances(distances, truth.database_places, truth.query_places)
-    return _masked_matches(distances, *_mask_soft(distances, truth), truth, confidence, ratio_exclusion)
+    records = block_records(distances, truth, confidence, ratio_exclusion)
+    return records.best, final_confidence(records, confidence), records.correct
 
 
 def evaluate_truth(
     distances: np.ndarray, truth: PairTruth, confidence: str = "distance", ratio_exclusion: int = 0
 ) -> tuple[dict[str, float | int], pd.DataFrame]:
     """Summary metrics and the PR curve of one test pair from its (N queries, M database) distances
-    and its ground truth.
+    and its ground truth: summarise_records of the whole matrix as one block."""
+    distances = _check_distances(distances, truth.database_places, truth.query_places)
+    return summarise_records(block_records(distances, truth, confidence, ratio_exclusion), truth, confidence)
+
+
+def summarise_records(
+    records: QueryRecords, truth: PairTruth, confidence: str
+) -> tuple[dict[str, float | int], pd.DataFrame]:
+    """Summary metrics and the PR curve of one test pair from the records of all its queries.
 
     Metrics (keys in METRIC_KEYS): fraction_correct of best matches, in [0, 1];
     precision_at_full_recall (precision with every query accepted); recall_at_100_precision
@@ -254,16 +220,11 @@ def evaluate_truth(
     threshold; auc_pr_vpr_tutorial, the same area in VPR_Tutorial's convention (recall = TP / N,
     ending at the fraction of matchable queries matched correctly; see auc_pr_vpr_tutorial), so at
     most recall_at_1; recall_at_1/5/10 over the queries that have a correct place (as VPR_Tutorial;
-    fraction_correct counts every query, so the two differ when some have none); n_queries;
-    n_database. Matches come from truth_matches. The PR DataFrame has columns recall, precision
-    (one row per distinct confidence).
+    fraction_correct counts every query, so the two differ when some have none; an all-soft query
+    has none); n_queries; n_database. The PR DataFrame has columns recall, precision (one row per
+    distinct confidence).
     """
-    distances = _check_distances(distances, truth.database_places, truth.query_places)
-    # one mask for the matches and recall@N (an all-soft query has no correct place: recall@N leaves it out)
-    masked, all_soft = _mask_soft(distances, truth)
-    best_columns, match_confidence, correct = _masked_matches(
-        distances, masked, all_soft, truth, confidence, ratio_exclusion
-    )
+    match_confidence, correct = final_confidence(records, confidence), records.correct
     has_match = truth.has_match
     recall, precision = pr_curve(match_confidence, correct, has_match)
 
@@ -273,7 +234,8 @@ def evaluate_truth(
     # recall never decreases along the curve, so this is sklearn.metrics.auc's area (its trapezoid),
     # without importing scikit-learn (1.4 s at every evaluate stage's start)
     auc_pr = float(np.trapezoid(np.concatenate(([precision[0]], precision)), np.concatenate(([0.0], recall))))
-    recalls = truth_recall_at_n(masked, truth, ns=(1, 5, 10))
+    n_database = len(truth.database_places)
+    recalls = _recalls(records.hit_within[has_match], RECALL_NS, n_database)
 
     metrics: dict[str, float | int] = {
         "fraction_correct": float(correct.mean()),
@@ -284,7 +246,7 @@ def evaluate_truth(
         "recall_at_1": recalls[1],
         "recall_at_5": recalls[5],
         "recall_at_10": recalls[10],
-        "n_queries": int(distances.shape[0]),
-        "n_database": int(distances.shape[1]),
+        "n_queries": len(truth.query_places),
+        "n_database": n_database,
     }
     return metrics, pd.DataFrame({"recall": recall, "precision": precision})

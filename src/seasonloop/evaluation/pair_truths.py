@@ -4,7 +4,7 @@ correct database place at all."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from itertools import permutations
 from pathlib import Path
 from typing import Any
@@ -32,7 +32,21 @@ def build_truths(
     frames_dir: Path,
     matrix_dir: Path,
 ) -> dict[tuple[str, str], PairTruth]:
-    """(database, query) -> its ground truth on the test places, for every ordered pair of seasons.
+    """(database, query) -> its ground truth on the test places, for every ordered pair of seasons
+    (each_truth's, all held at once: for small runs and tests)."""
+    return dict(each_truth(kind, split, seasons, evaluate, frames_dir, matrix_dir))
+
+
+def each_truth(
+    kind: str,
+    split: Mapping[str, Any],
+    seasons: Sequence[str],
+    evaluate: EvaluateConfig,
+    frames_dir: Path,
+    matrix_dir: Path,
+) -> Iterator[tuple[tuple[str, str], PairTruth]]:
+    """((database, query), its ground truth on the test places) for every ordered pair of seasons,
+    one pair built at a time (a 27,592 x 27,592 pair's truth is 0.76 GB of booleans).
 
     positions are read from frames_dir/<season>_positions.npy, matrices from
     matrix_dir/<database>-<query>.npz or its reverse, transposed, or VPR-Bench's
@@ -70,7 +84,8 @@ def build_truths(
             )
             return matrix_truth(hard, soft, test[database], test[query], str(path))
 
-    return {(database, query): build(database, query) for database, query in permutations(seasons, 2)}
+    for database, query in permutations(seasons, 2):
+        yield (database, query), build(database, query)
 
 
 def tolerance_text(kind: str, evaluate: EvaluateConfig) -> str:
@@ -84,19 +99,23 @@ def tolerance_text(kind: str, evaluate: EvaluateConfig) -> str:
     return "the ground-truth matrix given with the data ('hard'; 'soft' cells neither right nor wrong)"
 
 
-def truth_record(kind: str, evaluate: EvaluateConfig, truths: Mapping[tuple[str, str], PairTruth]) -> dict[str, Any]:
-    """metrics/ground_truth.json: the kind, what is correct, and per pair the queries, database
-    places and queries without any correct database place."""
+def pair_record(truth: PairTruth) -> dict[str, Any]:
+    """One pair's entry of metrics/ground_truth.json: its queries, database places and queries
+    without any correct database place."""
+    return {
+        "n_queries": len(truth.query_places),
+        "n_database": len(truth.database_places),
+        "n_without_match": truth.n_without_match,
+        "mean_correct_per_query": float(np.mean(truth.correct.sum(axis=1))),
+    }
+
+
+def truth_record(
+    kind: str, evaluate: EvaluateConfig, pairs: Mapping[tuple[str, str], dict[str, Any]]
+) -> dict[str, Any]:
+    """metrics/ground_truth.json: the kind, what is correct, and (database, query) -> pair_record."""
     return {
         "kind": kind,
         "correct": tolerance_text(kind, evaluate),
-        "pairs": {
-            pair_name(database, query): {
-                "n_queries": len(truth.query_places),
-                "n_database": len(truth.database_places),
-                "n_without_match": truth.n_without_match,
-                "mean_correct_per_query": float(np.mean(truth.correct.sum(axis=1))),
-            }
-            for (database, query), truth in truths.items()
-        },
+        "pairs": {pair_name(database, query): entry for (database, query), entry in pairs.items()},
     }

@@ -7,9 +7,12 @@ velocities; the best velocity gives the score.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
+
 import numpy as np
 
 from seasonloop.params.schema import MIN_SEQUENCE_WINDOW, WINDOW_RULES
+from seasonloop.params.settings import SequenceConfig
 
 # Rows processed at once by enhance_distance_contrast: bounds its float64 temporaries (~6 x rows x M x 8 B).
 _ENHANCE_ROWS_PER_BLOCK = 256
@@ -57,12 +60,24 @@ def enhance_distance_contrast(
     Window sums come from cumulative sums; returns float32.
     """
     distances = _as_distance_matrix(distances)
+    window_start, window_stop = _windows(distances.shape[1], window, database_places, window_at_breaks)
+    enhanced = enhance_rows(distances, window_start, window_stop)
+    enhanced -= enhanced.min()
+    return enhanced
+
+
+def _windows(
+    n_database: int, window: int, database_places: np.ndarray | None, rule: str
+) -> tuple[np.ndarray, np.ndarray]:
     if isinstance(window, bool) or not isinstance(window, (int, np.integer)) or window < MIN_SEQUENCE_WINDOW:
         raise ValueError(f"window must be an integer >= {MIN_SEQUENCE_WINDOW} (database columns), got {window!r}")
-    n_queries, n_database = distances.shape
-    window_start, window_stop = enhancement_windows(n_database, window, database_places, window_at_breaks)
-    window_size = window_stop - window_start
+    return enhancement_windows(n_database, window, database_places, rule)
 
+
+def enhance_rows(distances: np.ndarray, window_start: np.ndarray, window_stop: np.ndarray) -> np.ndarray:
+    """enhance_distance_contrast's rows before the shift to a minimum of 0 (each row on its own)."""
+    n_queries, n_database = distances.shape
+    window_size = window_stop - window_start
     enhanced = np.empty((n_queries, n_database), dtype=np.float32)
     for start in range(0, n_queries, _ENHANCE_ROWS_PER_BLOCK):
         block = distances[start : start + _ENHANCE_ROWS_PER_BLOCK].astype(np.float64)
@@ -80,7 +95,6 @@ def enhance_distance_contrast(
         enhanced[start : start + block.shape[0]] = np.divide(
             block - local_mean, local_std, out=np.zeros_like(block), where=local_std > 1e-9 * scale
         )
-    enhanced -= enhanced.min()
     return enhanced
 
 
@@ -118,34 +132,74 @@ def _check_trajectories(length: int, v_min: float, v_max: float, v_steps: int) -
 def _add_trajectory_step(
     total: np.ndarray,
     enhanced: np.ndarray,
+    first_target: int,
     step: int,
     shift: int,
-    query_since_start: np.ndarray,
+    target_since_start: np.ndarray,
     database_since_start: np.ndarray,
     database_to_end: np.ndarray,
 ) -> None:
     """Add step `step` (database shift `shift`) of every trajectory to `total`, in place.
 
-    Target (i, j) reads source (i - step, j - shift), for the queries whose segment reaches back
-    `step` rows; targets whose source column lies outside their database segment ran out of data
-    and are disqualified (+inf) for this velocity.
+    Target t (row first_target + t of `enhanced`), column j reads enhanced row first_target + t -
+    step, column j - shift, for the targets whose segment reaches back `step` rows; targets whose
+    source column lies outside their database segment ran out of data and are disqualified (+inf)
+    for this velocity.
     """
     n_database = enhanced.shape[1]
-    rows = np.flatnonzero(query_since_start >= step)
+    rows = np.flatnonzero(target_since_start >= step)
     if rows.size == 0:
         return
     if abs(shift) >= n_database:
         total[rows] = np.inf
         return
     block = total[rows]
+    sources = rows + first_target - step
     if shift >= 0:
-        block[:, shift:] += enhanced[rows - step, : n_database - shift]
+        block[:, shift:] += enhanced[sources, : n_database - shift]
         outside = database_since_start < shift
     else:
-        block[:, : n_database + shift] += enhanced[rows - step, -shift:]
+        block[:, : n_database + shift] += enhanced[sources, -shift:]
         outside = database_to_end < -shift
     block[:, outside] = np.inf
     total[rows] = block
+
+
+def trajectory_scores(
+    enhanced: np.ndarray,
+    first_target: int,
+    target_since_start: np.ndarray,
+    database_places: np.ndarray | None,
+    n_steps: int,
+    velocities: np.ndarray,
+) -> np.ndarray:
+    """Sequence scores (n targets, M) of the rows first_target.. of `enhanced` (the rows before
+    them: the trajectories' history); target_since_start: each target's rows since its segment's
+    start; n_steps: the trajectories' points, min(length, the pair's queries)."""
+    n_targets, n_database = len(target_since_start), enhanced.shape[1]
+    database_since_start, database_to_end = segment_offsets(database_places, n_database, "database_places")
+    best = np.full((n_targets, n_database), np.inf, dtype=np.float32)
+    total = np.empty_like(best)
+    steps = np.arange(n_steps)
+    # Points before the query's segment start are left out: query i averages min(offset + 1, length).
+    points = np.minimum(target_since_start + 1, steps.size).astype(np.float32)[:, None]
+    for velocity in velocities:
+        shifts = np.floor(velocity * steps + 0.5).astype(np.int64)
+        total.fill(0.0)
+        for step, shift in zip(steps, shifts):
+            _add_trajectory_step(
+                total,
+                enhanced,
+                first_target,
+                int(step),
+                int(shift),
+                target_since_start,
+                database_since_start,
+                database_to_end,
+            )
+        total /= points
+        np.minimum(best, total, out=best)
+    return best
 
 
 def sequence_distances(
@@ -178,24 +232,54 @@ def sequence_distances(
     distances = _as_distance_matrix(distances)
     _check_trajectories(length, v_min, v_max, v_steps)
     enhanced = enhance_distance_contrast(distances, window, database_places, window_at_breaks)
-    n_queries, n_database = enhanced.shape
-    query_since_start, _ = segment_offsets(query_places, n_queries, "query_places")
-    database_since_start, database_to_end = segment_offsets(database_places, n_database, "database_places")
-    best = np.full((n_queries, n_database), np.inf, dtype=np.float32)
-    total = np.empty_like(best)
-    steps = np.arange(min(int(length), n_queries))
-    # Points before the query's segment start are left out: query i averages min(offset + 1, length).
-    points = np.minimum(query_since_start + 1, steps.size).astype(np.float32)[:, None]
-    for velocity in np.linspace(v_min, v_max, int(v_steps)):
-        shifts = np.floor(velocity * steps + 0.5).astype(np.int64)
-        total.fill(0.0)
-        for step, shift in zip(steps, shifts):
-            _add_trajectory_step(total, enhanced, step, shift, query_since_start, database_since_start, database_to_end)
-        total /= points
-        np.minimum(best, total, out=best)
+    query_since_start, _ = segment_offsets(query_places, len(distances), "query_places")
+    velocities = np.linspace(v_min, v_max, int(v_steps))
+    best = trajectory_scores(
+        enhanced, 0, query_since_start, database_places, min(int(length), len(distances)), velocities
+    )
+    _check_complete(best, length, v_min, v_max)
+    return best
+
+
+def _check_complete(best: np.ndarray, length: int, v_min: float, v_max: float) -> None:
     if not np.isfinite(best).any(axis=1).all():
         raise ValueError(
-            f"database of {n_database} columns is too short for sequences of length {length} "
+            f"database of {best.shape[1]} columns is too short for sequences of length {length} "
             f"at velocities {v_min}..{v_max}: some queries have no complete trajectory"
         )
-    return best
+
+
+def sequence_distance_blocks(
+    distance_rows: Callable[[slice], np.ndarray],
+    n_queries: int,
+    n_database: int,
+    rows_per_block: int,
+    sequence: SequenceConfig,
+    query_places: np.ndarray | None,
+    database_places: np.ndarray | None,
+) -> Iterator[tuple[slice, np.ndarray]]:
+    """sequence_distances' rows a block of `rows_per_block` query rows at a time: (rows, their
+    scores), the same numbers in bounded memory. distance_rows(rows) gives the distances of query
+    rows `rows`; a block also reads the length - 1 rows before it (its trajectories' history),
+    and every row twice: the enhanced matrix's minimum (OpenSeqSLAM shifts it to 0) is the whole
+    pair's."""
+    length, v_min, v_max = int(sequence.length), float(sequence.v_min), float(sequence.v_max)
+    _check_trajectories(length, v_min, v_max, int(sequence.v_steps))
+    blocks = [slice(start, min(start + rows_per_block, n_queries)) for start in range(0, n_queries, rows_per_block)]
+    window_start, window_stop = _windows(n_database, int(sequence.window), database_places, sequence.window_at_breaks)
+
+    def enhanced(rows: slice) -> np.ndarray:
+        return enhance_rows(_as_distance_matrix(distance_rows(rows)), window_start, window_stop)
+
+    lowest = min(float(enhanced(rows).min()) for rows in blocks)
+    query_since_start, _ = segment_offsets(query_places, n_queries, "query_places")
+    velocities = np.linspace(v_min, v_max, int(sequence.v_steps))
+    for rows in blocks:
+        first = max(0, rows.start - (length - 1))
+        history = enhanced(slice(first, rows.stop))
+        history -= np.float32(lowest)
+        best = trajectory_scores(
+            history, rows.start - first, query_since_start[rows], database_places, min(length, n_queries), velocities
+        )
+        _check_complete(best, length, v_min, v_max)
+        yield rows, best

@@ -4,7 +4,7 @@ and describe do not depend on evaluation code)."""
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator, Mapping
 from itertools import permutations
 from pathlib import Path
 
@@ -19,6 +19,25 @@ def pair_truths(pairs: Iterable[tuple[str, str]]) -> dict[tuple[str, str], PairT
     return {pair: PairTruth.load(truth_file(TRUTHS, *pair)) for pair in pairs}
 
 
-def all_pair_truths(seasons: list[str]) -> dict[tuple[str, str], PairTruth]:
-    """The ground truth of every ordered pair of `seasons`."""
-    return pair_truths(permutations(seasons, 2))
+class TruthFiles(Mapping[tuple[str, str], PairTruth]):
+    """(database, query) -> its ground truth, read from its file at each access: a 27,592 x 27,592
+    pair's is 0.76 GB of booleans, so a stage that looks at every pair holds one at a time."""
+
+    def __init__(self, pairs: Iterable[tuple[str, str]]) -> None:
+        self._pairs = list(pairs)
+
+    def __getitem__(self, pair: tuple[str, str]) -> PairTruth:
+        if pair not in self._pairs:
+            raise KeyError(pair)
+        return PairTruth.load(truth_file(TRUTHS, *pair))
+
+    def __iter__(self) -> Iterator[tuple[str, str]]:
+        return iter(self._pairs)
+
+    def __len__(self) -> int:
+        return len(self._pairs)
+
+
+def all_pair_truths(seasons: list[str]) -> Mapping[tuple[str, str], PairTruth]:
+    """The ground truth of every ordered pair of `seasons`, each read when asked for (TruthFiles)."""
+    return TruthFiles(permutations(seasons, 2))

@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 from PIL import Image
 
-from seasonloop.evaluation.pair_evaluation import similarity_thumbnail
+from seasonloop.evaluation.blocks import similarity_thumbnail
 from seasonloop.plots import (
     plot_fraction_correct,
     plot_image_grid,

@@ -26,8 +26,8 @@ from typing import Any
 
 import numpy as np
 
+from seasonloop.evaluation.blocks import best_columns
 from seasonloop.evaluation.ground_truth import PairTruth
-from seasonloop.evaluation.matching import best_matches, distance_matrix
 from seasonloop.io import staged_file, write_json
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 from seasonloop.plots import plot_series
@@ -70,9 +70,7 @@ def agreement(
 ) -> float:
     """Fraction of queries whose best database match is the same under both descriptors
     ((database, queries) each), with the same distance."""
-    ours = best_matches(distance_matrix(*descriptors, metric=metric))[0]
-    theirs = best_matches(distance_matrix(*reference, metric=metric))[0]
-    return float(np.mean(ours == theirs))
+    return float(np.mean(best_columns(*descriptors, metric) == best_columns(*reference, metric)))
 
 
 def mean_cosine(first: np.ndarray, second: np.ndarray) -> float:

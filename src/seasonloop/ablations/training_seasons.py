@@ -29,8 +29,9 @@ from typing import Any
 
 import numpy as np
 
+from seasonloop.evaluation.blocks import evaluate_descriptors
 from seasonloop.evaluation.ground_truth import PairTruth
-from seasonloop.evaluation.matchers import match_pair, result_suffix
+from seasonloop.evaluation.matchers import result_suffix
 from seasonloop.fit_ending import how_fit_ended
 from seasonloop.io import read_json, write_json
 from seasonloop.params.schema import SEASONS, check_seasons, pair_name, pair_present, parse_pair
@@ -139,7 +140,7 @@ def run_ablation(
                 learner.describe(test[season], batch_size=batch_size) for season in (database, query)
             )
             for metric in metrics_used:
-                metrics, _, _ = match_pair(
+                metrics, _, _ = evaluate_descriptors(
                     database_descriptors, query_descriptors, truth, "single", evaluate, sequence, metric=metric
                 )
                 fraction_correct[method + result_suffix(metric, "single", evaluate)][label] = metrics[

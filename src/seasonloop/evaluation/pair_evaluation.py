@@ -8,91 +8,18 @@ this module runs them over the pairs and writes what they give.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 import numpy as np
-import pandas as pd
 
+from seasonloop.evaluation.blocks import evaluate_in_blocks, pair_distances
 from seasonloop.evaluation.ground_truth import PairTruth
-from seasonloop.evaluation.matchers import evaluations, get_matcher
-from seasonloop.evaluation.matching import distance_matrix
-from seasonloop.evaluation.metrics import summarise_records
+from seasonloop.evaluation.matchers import evaluations
 from seasonloop.evaluation.pair_truths import truth_file
-from seasonloop.evaluation.records import QueryRecords, block_records
 from seasonloop.io import load_array, save_array, write_json
 from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
-
-# the thumbnails' largest side: a figure of every learner and pair shows each in ~200 px
-THUMBNAIL_SIDE = 160
-# query rows evaluated at once: (rows, M) float32 distances, 0.23 GB a copy at Nordland's 27,592
-# database places; every pair of the default and full runs fits in one block
-EVALUATION_ROWS_PER_BLOCK = 2048
-
-
-def similarity_thumbnail(distances: np.ndarray, max_side: int = THUMBNAIL_SIDE) -> np.ndarray:
-    """float16 similarity in [0, 1] (1: the pair's smallest distance, 0: its largest finite one; NaN
-    where the distance is infinite), downsampled to at most max_side a side by the minimum distance
-    over blocks, so the low-distance line of true matches stays visible. Scaled per matrix: learners
-    measure distance in their own units, and a picture compares where the matches lie, not units."""
-    groups = [thumbnail_group(size, max_side) for size in np.shape(distances)]
-    return scale_thumbnail(thumbnail_minima(distances, *groups))
-
-
-def thumbnail_group(size: int, max_side: int = THUMBNAIL_SIDE) -> int:
-    """Rows (columns) of a matrix side of `size` that one thumbnail pixel takes the minimum of."""
-    return int(np.ceil(size / max_side)) if size > max_side else 1
-
-
-def thumbnail_minima(distances: np.ndarray, row_group: int, column_group: int) -> np.ndarray:
-    """The minimum distance of each row_group x column_group block (float64); a block of rows that
-    starts at a multiple of row_group gives the thumbnail's rows of those rows."""
-    distances = np.asarray(distances, dtype=np.float64)
-    for axis, group in ((0, row_group), (1, column_group)):
-        if group > 1:
-            distances = np.minimum.reduceat(distances, np.arange(0, distances.shape[axis], group), axis=axis)
-    return distances
-
-
-def scale_thumbnail(minima: np.ndarray) -> np.ndarray:
-    """similarity_thumbnail's scaling of the whole pair's thumbnail_minima."""
-    finite = np.isfinite(minima)
-    if not finite.any():
-        return np.full(minima.shape, np.nan, dtype=np.float16)
-    low, high = minima[finite].min(), minima[finite].max()
-    scaled = (high - minima) / (high - low) if high > low else np.ones_like(minima)
-    return np.where(finite, scaled, np.nan).astype(np.float16)
-
-
-def evaluate_in_blocks(
-    distance_rows: Callable[[slice], np.ndarray],
-    n_database: int,
-    truth: PairTruth,
-    matcher: str,
-    evaluate: EvaluateConfig,
-    sequence: SequenceConfig,
-    rows_per_block: int = EVALUATION_ROWS_PER_BLOCK,
-) -> tuple[dict[str, Any], pd.DataFrame, np.ndarray]:
-    """(metrics, PR curve, similarity thumbnail) of one pair with one matcher, a block of query rows
-    at a time: only (rows_per_block, M) distances are held at once, and the numbers are those of
-    the whole matrix (matchers.match_distances). distance_rows(rows): the descriptor distances of
-    query rows `rows` to the whole database."""
-    n_queries = len(truth.query_places)
-    row_group = thumbnail_group(n_queries)
-    rows_per_block = max(row_group, rows_per_block // row_group * row_group)  # thumbnail rows whole
-    blocks = get_matcher(matcher).blocks(
-        distance_rows, n_queries, n_database, rows_per_block, truth.database_places, truth.query_places, sequence
-    )
-    records, minima = [], []
-    for rows, matched in blocks:
-        records.append(
-            block_records(matched, truth.query_rows(rows), evaluate.confidence, int(evaluate.ratio_exclusion))
-        )
-        minima.append(thumbnail_minima(matched, row_group, thumbnail_group(n_database)))
-    metrics, pr = summarise_records(QueryRecords.concatenate(records), truth, evaluate.confidence)
-    return metrics, pr, scale_thumbnail(np.concatenate(minima))
 
 
 def evaluate_learner(
@@ -125,17 +52,6 @@ def evaluate_learner(
                 write_json(metrics_dir / f"{name}.json", metrics)
                 pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
                 save_array(similarity_dir / f"{name}.npy", thumbnail)
-
-
-def pair_distances(
-    database: np.ndarray, queries: np.ndarray, metric: str, rows_per_block: int = EVALUATION_ROWS_PER_BLOCK
-) -> Callable[[slice], np.ndarray]:
-    """Query rows -> their distances to the database: a pair that fits in one block is computed
-    once for all its matchers; a larger one block by block, as asked (never whole)."""
-    if len(queries) <= rows_per_block:
-        distances = distance_matrix(database, queries, metric=metric)
-        return lambda rows: distances[rows]
-    return lambda rows: distance_matrix(database, queries[rows], metric=metric)
 
 
 def check_rows(descriptors: Sequence[np.ndarray], truth: PairTruth, features: Path, seasons: Sequence[str]) -> None:

@@ -5,15 +5,17 @@ matches of one pair, drawn as image grids (query, best match, true match).
 from __future__ import annotations
 
 import tempfile
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from seasonloop.evaluation.blocks import EVALUATION_ROWS_PER_BLOCK, pair_distances
 from seasonloop.evaluation.ground_truth import PairTruth
-from seasonloop.evaluation.matching import distance_matrix
+from seasonloop.evaluation.matchers import row_blocks
 from seasonloop.evaluation.metrics import truth_matches
+from seasonloop.evaluation.records import QueryRecords, block_records, final_confidence
 from seasonloop.io import load_array
 from seasonloop.params.settings import EvaluateConfig
 from seasonloop.plots import plot_image_grid
@@ -46,9 +48,34 @@ def select_examples(
             f"distances shape {np.shape(distances)} does not match "
             f"(queries, database) = ({len(query_places)}, {len(database_places)})"
         )
+    return choose_examples(*truth_matches(np.asarray(distances), truth, confidence, ratio_exclusion), truth, n)
+
+
+def blocked_examples(
+    distance_rows: Callable[[slice], np.ndarray],
+    n_database: int,
+    truth: PairTruth,
+    confidence: str,
+    n: int,
+    ratio_exclusion: int = 0,
+) -> list[Example]:
+    """select_examples a block of query rows at a time (a 27,592 x 27,592 pair's distances are 3 GB):
+    distance_rows(rows) gives the distances of query rows `rows`."""
+    records = QueryRecords.concatenate(
+        [
+            block_records(distance_rows(rows), truth.query_rows(rows), confidence, ratio_exclusion)
+            for rows in row_blocks(len(truth.query_places), EVALUATION_ROWS_PER_BLOCK)
+        ]
+    )
+    return choose_examples(records.best, final_confidence(records, confidence), records.correct, truth, n)
+
+
+def choose_examples(
+    matches: np.ndarray, scores: np.ndarray, correct: np.ndarray, truth: PairTruth, n: int
+) -> list[Example]:
+    """select_examples' choice from every query's best match, its confidence and correctness."""
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
-    matches, scores, correct = truth_matches(np.asarray(distances), truth, confidence, ratio_exclusion)
     order = np.argsort(-scores, kind="stable")
     chosen = [*order[correct[order]][:n], *order[~correct[order]][:n]]
     return [
@@ -104,10 +131,11 @@ def example_grids(
     grids = {}
     for method in methods:
         features = features_dir / method
-        distances = distance_matrix(
-            load_array(features / f"{database}.npy"), load_array(features / f"{query}.npy"), metric=evaluate.metric
+        database_descriptors = load_array(features / f"{database}.npy")
+        distance_rows = pair_distances(database_descriptors, load_array(features / f"{query}.npy"), evaluate.metric)
+        examples = blocked_examples(
+            distance_rows, len(database_descriptors), truth, evaluate.confidence, n, int(evaluate.ratio_exclusion)
         )
-        examples = select_examples(distances, truth, evaluate.confidence, n, int(evaluate.ratio_exclusion))
         grids[method] = example_grid_png(
             images[database],
             images[query],

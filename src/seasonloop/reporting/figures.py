@@ -14,8 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
+from seasonloop.evaluation.blocks import evaluate_descriptors
 from seasonloop.evaluation.ground_truth import PairTruth
-from seasonloop.evaluation.matchers import match_pair
 from seasonloop.models.registry import load_learner
 from seasonloop.params.learners import AE_DESCRIPTORS
 from seasonloop.params.schema import pair_name
@@ -123,7 +123,7 @@ def descriptor_fraction_correct(
     (described[descriptor][season], as autoencoder_descriptors gives them)."""
     return {
         descriptor: {
-            pair_name(a, b): match_pair(
+            pair_name(a, b): evaluate_descriptors(
                 described[descriptor][a], described[descriptor][b], truths[(a, b)], "single", evaluate, sequence
             )[0]["fraction_correct"]
             for a, b in pairs

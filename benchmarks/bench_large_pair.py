@@ -57,7 +57,13 @@ def child(n_queries: int, n_database: int, dim: int, matcher: str, path: str, me
         )
     else:
         metrics, _, _ = evaluate_in_blocks(
-            pair_distances(database, queries, metric), n_database, truth, matcher, evaluate, sequence
+            # never whole, as every pair over blocks.WHOLE_DISTANCES_MAX_BYTES is evaluated
+            pair_distances(database, queries, metric, whole_max_bytes=0),
+            n_database,
+            truth,
+            matcher,
+            evaluate,
+            sequence,
         )
     seconds = time.perf_counter() - start
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # Linux: kB

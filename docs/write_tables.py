@@ -422,6 +422,34 @@ def _compare_window_rules(path: Path) -> str:
     return "\n".join(lines) + f"\n\nComputed on {record['machine']['cpu']} (fractions correct; no timing).\n"
 
 
+def _bench_large_pair(path: Path) -> str:
+    """benchmarks/bench_large_pair.py's record: each run's seconds and peak memory, the blocked
+    path at the protocols' size and both paths side by side at a size the whole matrix fits."""
+    record = json.loads(path.read_text())
+    lines = [
+        "| path | matcher | queries x database | seconds | peak memory MB (before it: descriptors, imports) | R@1 |",
+        "|---|---|---|---|---|---|",
+    ]
+    side = record["side_by_side_places"]
+    runs = [(record["size"], "blocks", matcher, run) for matcher, run in record["large"].items()]
+    runs += [
+        ([side, side], path_name, matcher, run)
+        for matcher, paths in record["side_by_side"].items()
+        for path_name, run in paths.items()
+    ]
+    for (n_queries, n_database), path_name, matcher, run in runs:
+        lines.append(
+            f"| {path_name} | {matcher} | {n_queries:,} x {n_database:,} | {run['seconds']:.1f} "
+            f"| {run['peak_rss_mb']:,.0f} ({run['before_mb']:,.0f}) | {run['metrics']['recall_at_1']:.4f} |"
+        )
+    same = all(paths["whole"]["metrics"] == paths["blocks"]["metrics"] for paths in record["side_by_side"].values())
+    return (
+        "\n".join(lines)
+        + f"\n\nD = {record['dim']}, {record['metric']} distance, correct within {record['tolerance']} places; "
+        + f"metrics of the two paths identical at {side:,} x {side:,}: {same}. {_where(record)}\n"
+    )
+
+
 def _where(record: dict) -> str:
     machine = record["machine"]
     capped = any((machine.get("isa_cap") or {}).values())
@@ -492,6 +520,7 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
         _bench_training_schedule,
     ),
     "bench_matching": ("benchmarks/results/bench_matching.json", "bench_matching.json", _bench_headline),
+    "bench_large_pair": ("benchmarks/results/bench_large_pair.json", "bench_large_pair.json", _bench_large_pair),
     # two runs of benchmarks/compare_window_rules.py (its file is rewritten by each): the full preset
     # run's outputs, then the default run's and the tests' non-aligned workspaces
     "compare_window_rules_full": (

@@ -23,8 +23,11 @@ from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 # the thumbnails' largest side: a figure of every learner and pair shows each in ~200 px
 THUMBNAIL_SIDE = 160
 # query rows evaluated at once: (rows, M) float32 distances, 0.23 GB a copy at Nordland's 27,592
-# database places; every pair of the default and full runs fits in one block
+# database places (the default run's pairs are one block, the full run's 3,259 queries two)
 EVALUATION_ROWS_PER_BLOCK = 2048
+# a pair's float32 distances up to this size are computed once, whole, for all its matchers
+# (the full run's 3,259 x 3,259: 42 MB); larger ones block by block (27,592 x 27,592: 3 GB)
+WHOLE_DISTANCES_MAX_BYTES = 512 * 2**20
 
 
 def similarity_thumbnail(distances: np.ndarray, max_side: int = THUMBNAIL_SIDE) -> np.ndarray:
@@ -106,11 +109,13 @@ def evaluate_descriptors(
 
 
 def pair_distances(
-    database: np.ndarray, queries: np.ndarray, metric: str, rows_per_block: int = EVALUATION_ROWS_PER_BLOCK
+    database: np.ndarray, queries: np.ndarray, metric: str, whole_max_bytes: int = WHOLE_DISTANCES_MAX_BYTES
 ) -> Callable[[slice], np.ndarray]:
-    """Query rows -> their distances to the database: a pair that fits in one block is computed
-    once for all its matchers; a larger one block by block, as asked (never whole)."""
-    if len(queries) <= rows_per_block:
+    """Query rows -> their distances to the database: a pair whose float32 distances fit in
+    whole_max_bytes is computed once, whole, and shared by its matchers (every pair of the default
+    and full runs: the values a whole distance_matrix gives); a larger one is computed for the rows
+    asked, never whole."""
+    if len(queries) * len(database) * 4 <= whole_max_bytes:
         distances = distance_matrix(database, queries, metric=metric)
         return lambda rows: distances[rows]
     return lambda rows: distance_matrix(database, queries[rows], metric=metric)
@@ -120,5 +125,5 @@ def best_columns(
     database: np.ndarray, queries: np.ndarray, metric: str, rows_per_block: int = EVALUATION_ROWS_PER_BLOCK
 ) -> np.ndarray:
     """Each query's best database column (np.argmin: ties to the lowest), a block of rows at a time."""
-    distance_rows = pair_distances(database, queries, metric, rows_per_block)
+    distance_rows = pair_distances(database, queries, metric)
     return np.concatenate([np.argmin(distance_rows(rows), axis=1) for rows in row_blocks(len(queries), rows_per_block)])

@@ -450,6 +450,40 @@ def _bench_large_pair(path: Path) -> str:
     )
 
 
+def _bench_scaling(path: Path) -> str:
+    """benchmarks/bench_scaling.py's record: every stage's seconds and peak memory against places,
+    its growth exponents and share of the full run, the commit each size ran from, and where."""
+    record = json.loads(path.read_text())
+    places = record["places"]
+    lines = [
+        "| stage | "
+        + " | ".join(f"s at {size:,}" for size in places)
+        + " | time exponent | peak MB at "
+        + f"{places[0]:,} / {places[-1]:,} | memory exponent | share of the full run |",
+        "|---|" + "---|" * (len(places) + 4),
+    ]
+    for stage, row in sorted(record["stages"].items(), key=lambda item: -item[1]["seconds"][-1]):
+
+        def exponent(value: float | None) -> str:
+            return "-" if value is None else f"{value:.2f}"
+
+        lines.append(
+            f"| {stage} | "
+            + " | ".join(f"{value:.0f}" for value in row["seconds"])
+            + f" | {exponent(row['time_exponent'])} | {row['peak_rss_mb'][0]:,.0f} / {row['peak_rss_mb'][-1]:,.0f} "
+            + f"| {exponent(row['memory_exponent'])} | {100 * row['share_of_full_run']:.1f}% |"
+        )
+    runs = [(size, record["runs"][str(size)]) for size in places]
+    made_from = ", ".join(f"{size:,}: {run.get('made_from', {}).get('commit', '?')}" for size, run in runs)
+    notes = [f"{size:,}: {call['load_note']}" for size, run in runs for call in run["calls"] if call.get("load_note")]
+    where = _where({**record["runs"][str(places[-1])]["calls"][-1], "load_note": "; ".join(notes)})
+    return (
+        "\n".join(lines)
+        + f"\n\n{record['headline']}. Places a season per run and the commit its folder was made from: "
+        + f"{made_from}. {where}\n"
+    )
+
+
 def _where(record: dict) -> str:
     machine = record["machine"]
     capped = any((machine.get("isa_cap") or {}).values())
@@ -520,6 +554,7 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
         _bench_training_schedule,
     ),
     "bench_matching": ("benchmarks/results/bench_matching.json", "bench_matching.json", _bench_headline),
+    "bench_scaling": ("benchmarks/results/bench_scaling.json", "bench_scaling.json", _bench_scaling),
     "bench_large_pair": ("benchmarks/results/bench_large_pair.json", "bench_large_pair.json", _bench_large_pair),
     # two runs of benchmarks/compare_window_rules.py (its file is rewritten by each): the full preset
     # run's outputs, then the default run's and the tests' non-aligned workspaces

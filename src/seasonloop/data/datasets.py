@@ -35,6 +35,14 @@ def augmented_file(augmented_dir: Path, season: str) -> Path:
     return augmented_dir / f"{season}.npy"
 
 
+def every_kth(places: np.ndarray, k: int, season: str) -> np.ndarray:
+    """The places whose id is a multiple of k (VPR-Bench's Nordland queries: every 10th frame)."""
+    kept = np.asarray(places)[np.asarray(places) % int(k) == 0]
+    if not len(kept):
+        raise ValueError(f"split.test_every.{season}: no test place of {season} is a multiple of {k}")
+    return kept
+
+
 def season_split(split: Mapping[str, Any], season: str) -> Mapping[str, Any]:
     """One season's split (n_places and the place ids of every part): its own when the seasons are
     not aligned (split.json's "seasons"), else the shared one, its test places cut to every k-th for
@@ -42,8 +50,10 @@ def season_split(split: Mapping[str, Any], season: str) -> Mapping[str, Any]:
     if "seasons" not in split:
         every = split.get("test_every", {})
         if season in every:
-            test = np.asarray(split["test"], dtype=np.int64)
-            return {**split, "test": test[test % int(every[season]) == 0].tolist()}
+            return {
+                **split,
+                "test": every_kth(np.asarray(split["test"], dtype=np.int64), every[season], season).tolist(),
+            }
         return split
     if season not in split["seasons"]:
         raise ValueError(f"{season}: not in the split (rerun the split stage)")

@@ -18,7 +18,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from seasonloop.data.split import Split, detect_stops, detect_tunnels, every_kth, masks_to_split, split_masks
+from seasonloop.data.datasets import every_kth
+from seasonloop.data.split import Split, detect_stops, detect_tunnels, masks_to_split, split_masks
 from seasonloop.params.settings import SplitConfig
 
 # reference columns handled at once when mapping through a ground-truth matrix (bounds memory)

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.data.datasets import SPLIT_FILE, split_images_file
+from seasonloop.data.datasets import SPLIT_FILE, every_kth, split_images_file
 from seasonloop.io import load_array, save_array, write_json
 from seasonloop.params.settings import SplitConfig
 
@@ -50,14 +50,6 @@ class Split:
             },
             **({"test_every": dict(self.test_every)} if self.test_every else {}),
         }
-
-
-def every_kth(places: np.ndarray, k: int, season: str) -> np.ndarray:
-    """The places whose id is a multiple of k (VPR-Bench's Nordland queries: every 10th frame)."""
-    kept = np.asarray(places)[np.asarray(places) % int(k) == 0]
-    if not len(kept):
-        raise ValueError(f"split.test_every.{season}: no test place of {season} is a multiple of {k}")
-    return kept
 
 
 def section_blocks(n_places: int, section_length: int, test_fraction: float) -> list[tuple[int, int]]:

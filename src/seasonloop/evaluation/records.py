@@ -33,7 +33,7 @@ class QueryRecords:
     correct: np.ndarray  # (n,) bool
     hit_within: np.ndarray  # (n, depth) bool: a correct column among the k + 1 nearest
     all_soft: np.ndarray  # (n,) bool: every database place of the query is soft
-    largest_finite: float  # of the rows' distances (-inf when none is finite)
+    largest_finite: float  # of the rows' distances (-inf when none is finite or the truth has no soft cells)
 
     _ARRAYS: ClassVar[tuple[str, ...]] = ("best", "confidence", "correct", "hit_within", "all_soft")
 
@@ -78,7 +78,10 @@ def block_records(distances: np.ndarray, truth: PairTruth, confidence: str, rati
     columns, scores = best_matches(masked, confidence, truth.database_places, ratio_exclusion)
     correct = truth.correct[np.arange(len(columns)), columns] & ~all_soft
     depth = min(max(RECALL_NS), distances.shape[1])
-    largest = float(np.max(distances, where=np.isfinite(distances), initial=-np.inf))
+    # only a truth with soft cells can have all-soft queries, whose confidence needs it (final_confidence)
+    largest = (
+        -np.inf if truth.ignored is None else float(np.max(distances, where=np.isfinite(distances), initial=-np.inf))
+    )
     return QueryRecords(columns, scores, correct, nearest_hits(masked, truth.correct, depth), all_soft, largest)
 
 

@@ -307,20 +307,20 @@ def test_frames_beyond_the_reference_route_belong_to_no_place():
 
 
 def test_one_matrix_per_pair_of_seasons_serves_both_directions(tmp_path):
-    from seasonloop.evaluation.pair_truths import build_truths
+    from seasonloop.evaluation.pair_truths import each_truth
 
     hard = np.eye(4, 5, dtype=bool)  # (summer places, fall places)
     soft = hard | np.eye(4, 5, k=1, dtype=bool)
     np.savez(tmp_path / "summer-fall.npz", hard=hard, soft=soft)
     split = {"seasons": {"summer": {"n_places": 4, "test": [0, 1, 3]}, "fall": {"n_places": 5, "test": [0, 1, 2, 4]}}}
     evaluate = None  # a matrix truth reads no tolerance
-    truths = build_truths("matrix", split, ["summer", "fall"], evaluate, tmp_path, tmp_path)
+    truths = dict(each_truth("matrix", split, ["summer", "fall"], evaluate, tmp_path, tmp_path))
     forward, backward = truths["summer", "fall"], truths["fall", "summer"]
     np.testing.assert_array_equal(backward.correct, forward.correct.T)
     np.testing.assert_array_equal(backward.ignored, forward.ignored.T)
     three = {"seasons": {**split["seasons"], "spring": split["seasons"]["fall"]}}
     with pytest.raises(FileNotFoundError, match="nor spring-fall.npz.*spring queries against the fall database"):
-        build_truths("matrix", three, ["fall", "spring"], evaluate, tmp_path, tmp_path)
+        dict(each_truth("matrix", three, ["fall", "spring"], evaluate, tmp_path, tmp_path))
 
 
 def test_bad_positions_matrices_and_descriptors_are_one_line_errors(tmp_path):

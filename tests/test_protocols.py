@@ -21,7 +21,7 @@ from seasonloop.data.frames import read_image_list, sample_video
 from seasonloop.data.season_split import split_seasons
 from seasonloop.data.split import make_split, split_masks
 from seasonloop.data.synthetic import render_route
-from seasonloop.evaluation.pair_truths import build_truths
+from seasonloop.evaluation.pair_truths import each_truth
 from seasonloop.params.schema import SEASONS, check_whole
 from seasonloop.params.settings import EvaluateConfig, ExtractConfig, SplitConfig
 
@@ -99,7 +99,7 @@ def test_vpr_bench_queries_are_correct_at_the_reference_and_one_frame_either_sid
     # VPR-Bench's Nordland: query i (the summer frame 10i) is correct at references 10i-1 .. 10i+1
     split = make_split(60, 60, 1, 0, np.zeros(60, bool), np.zeros(60, bool), {"summer": 10})
     evaluate = EvaluateConfig(("winter-summer",), "cosine", (), "distance", 10, 1, 10.0, ("single",))
-    truth = build_truths("aligned", split.to_json(), ["winter", "summer"], evaluate, Path(), Path())
+    truth = dict(each_truth("aligned", split.to_json(), ["winter", "summer"], evaluate, Path(), Path()))
     pair = truth[("winter", "summer")]
     assert pair.query_places.tolist() == [0, 10, 20, 30, 40, 50] and len(pair.database_places) == 60
     assert [np.flatnonzero(row).tolist() for row in pair.correct[:2]] == [[0, 1], [9, 10, 11]]

@@ -24,19 +24,6 @@ def truth_file(folder: Path, database: str, query: str) -> Path:
     return Path(folder) / f"{pair_name(database, query)}.npz"
 
 
-def build_truths(
-    kind: str,
-    split: Mapping[str, Any],
-    seasons: Sequence[str],
-    evaluate: EvaluateConfig,
-    frames_dir: Path,
-    matrix_dir: Path,
-) -> dict[tuple[str, str], PairTruth]:
-    """(database, query) -> its ground truth on the test places, for every ordered pair of seasons
-    (each_truth's, all held at once: for small runs and tests)."""
-    return dict(each_truth(kind, split, seasons, evaluate, frames_dir, matrix_dir))
-
-
 def each_truth(
     kind: str,
     split: Mapping[str, Any],

@@ -49,6 +49,15 @@ def layout_params(traverses: list[str]) -> dict:
     }
 
 
+def run_layout(tmp_path: Path, traverses: list[str], data: Path, *settings: str) -> tuple[Path, dict]:
+    """`dvc exp run` of the frames in data/<traverse>/ with `settings` in a new workspace; (its
+    root, metrics/ground_truth.json)."""
+    root = make_workspace(tmp_path / "repo", layout_params(traverses))
+    result = dvc(root, "exp", "run", "-S", "data.source=frames", "-S", f"data.frames_dir={data}", *settings)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    return root, json.loads((root / "metrics/ground_truth.json").read_text())
+
+
 def summary_fraction(root: Path, pair: str) -> float:
     return json.loads((root / "metrics/summary.json").read_text())["fraction_correct"]["raw_patchnorm"][pair]
 
@@ -68,17 +77,13 @@ def test_a_vpr_bench_dataset_runs_from_its_own_layout(tmp_path):
     for i in range(n_query):
         rows[i] = i, np.arange(max(0, 2 * i - 1), min(n_ref, 2 * i + 2))
     np.save(data / "ground_truth_new.npy", rows, allow_pickle=True)
-    root = make_workspace(tmp_path / "repo", layout_params(["ref", "query"]))
-    result = dvc(
-        root,
-        "exp",
-        "run",
-        *("-S", "data.source=frames", "-S", f"data.frames_dir={data}"),
+    root, truth = run_layout(
+        tmp_path,
+        ["ref", "query"],
+        data,
         *("-S", "data.ground_truth=vpr_bench", "-S", f"data.ground_truth_dir={data}"),
         *("-S", "sequence.v_min=1.5", "-S", "sequence.v_max=2.5", "-S", "sequence.v_steps=3"),
     )
-    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
-    truth = json.loads((root / "metrics/ground_truth.json").read_text())
     assert truth["kind"] == "vpr_bench" and "VPR-Bench" in truth["correct"]
     pair = truth["pairs"]["ref-query"]
     assert pair["n_without_match"] == 0 and 2.0 <= pair["mean_correct_per_query"] <= 3.0
@@ -98,18 +103,14 @@ def test_a_gmberton_dataset_runs_with_utm_positions_in_its_image_names(tmp_path)
         frames, metres = seasons[season]
         for frame, east in zip(frames, metres):
             cv2.imwrite(str(data / name / f"@{500000 + east:.2f}@7000000.00@33@W@{name}.jpg"), frame)
-    root = make_workspace(tmp_path / "repo", layout_params(["database", "queries"]))
-    result = dvc(
-        root,
-        "exp",
-        "run",
-        *("-S", "data.source=frames", "-S", f"data.frames_dir={data}"),
+    root, truth = run_layout(
+        tmp_path,
+        ["database", "queries"],
+        data,
         *("-S", "data.ground_truth=positions", "-S", "data.position_source=image_names"),
         *("-S", "evaluate.tolerance_m=25"),
         *("-S", "sequence.v_min=1.0", "-S", "sequence.v_max=1.6", "-S", "sequence.v_steps=7"),
     )
-    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
-    truth = json.loads((root / "metrics/ground_truth.json").read_text())
     assert truth["kind"] == "positions" and "25 m" in truth["correct"]
     pair = truth["pairs"]["database-queries"]
     chance = pair["mean_correct_per_query"] / pair["n_database"]

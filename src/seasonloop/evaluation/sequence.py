@@ -261,8 +261,8 @@ def sequence_distance_blocks(
     """sequence_distances' rows a block of `rows_per_block` query rows at a time: (rows, their
     scores), the same numbers in bounded memory. distance_rows(rows) gives the distances of query
     rows `rows`; a block also reads the length - 1 rows before it (its trajectories' history),
-    and every row twice: the enhanced matrix's minimum (OpenSeqSLAM shifts it to 0) is the whole
-    pair's."""
+    and every row but the first block's twice: the enhanced matrix's minimum (OpenSeqSLAM shifts it
+    to 0) is the whole pair's."""
     length, v_min, v_max = int(sequence.length), float(sequence.v_min), float(sequence.v_max)
     _check_trajectories(length, v_min, v_max, int(sequence.v_steps))
     blocks = [slice(start, min(start + rows_per_block, n_queries)) for start in range(0, n_queries, rows_per_block)]
@@ -271,12 +271,14 @@ def sequence_distance_blocks(
     def enhanced(rows: slice) -> np.ndarray:
         return enhance_rows(_as_distance_matrix(distance_rows(rows)), window_start, window_stop)
 
-    lowest = min(float(enhanced(rows).min()) for rows in blocks)
+    # the first block has no history before it: the second pass reuses the first's enhanced rows
+    first_block = {0: enhanced(blocks[0])}
+    lowest = min([float(first_block[0].min()), *(float(enhanced(rows).min()) for rows in blocks[1:])])
     query_since_start, _ = segment_offsets(query_places, n_queries, "query_places")
     velocities = np.linspace(v_min, v_max, int(sequence.v_steps))
     for rows in blocks:
         first = max(0, rows.start - (length - 1))
-        history = enhanced(slice(first, rows.stop))
+        history = first_block.pop(rows.start) if rows.start in first_block else enhanced(slice(first, rows.stop))
         history -= np.float32(lowest)
         best = trajectory_scores(
             history, rows.start - first, query_since_start[rows], database_places, min(length, n_queries), velocities

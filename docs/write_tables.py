@@ -22,11 +22,14 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
+import yaml
+
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
 from seasonloop.ablations.cae_widths import width_table  # noqa: E402
 from seasonloop.machine import cpu_model  # noqa: E402
+from seasonloop.reporting.comparisons import claims_markdown  # noqa: E402
 
 RESULTS = ROOT / "docs" / "results"
 README = ROOT / "README.md"
@@ -492,11 +495,27 @@ def _where(record: dict) -> str:
     return f"Measured on {machine['cpu']}, {machine['torch_threads']} threads, instruction set {cap}; {load}."
 
 
+def _whole(path: Path) -> str:
+    """The pipeline's own markdown as it is."""
+    return path.read_text().strip() + "\n"
+
+
+CLAIMS = ROOT / "docs" / "claims.yaml"
+
+
+def _claims(path: Path) -> str:
+    """docs/claims.yaml's comparisons, each on every pair, from a comparisons record."""
+    return claims_markdown(json.loads(path.read_text()), yaml.safe_load(CLAIMS.read_text()))
+
+
 # table name -> (the output file it is written from, its snapshot in docs/results/, how)
 TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "headline": ("plots/summary/fraction_correct.md", "fraction_correct.md", _headline),
     "fraction_correct": ("plots/summary/fraction_correct.md", "fraction_correct.md", _fraction_correct),
     "pr_landmarks": ("plots/summary/pr_landmarks.md", "pr_landmarks.md", _fraction_correct),
+    # paired comparisons (docs/results.md: how sure): every table, and the claims the prose cites
+    "comparisons": ("plots/comparisons.md", "comparisons.md", _whole),
+    "claims": ("metrics/comparisons.json", "comparisons.json", _claims),
     "runtime": ("plots/summary/runtime.md", "runtime.md", _fraction_correct),
     "autoencoder_training": ("metrics/autoencoder_training.json", "autoencoder_training.json", _autoencoder_training),
     "cae_widths": ("metrics/cae_widths.json", "cae_widths_sweep.json", _cae_widths),

@@ -5,6 +5,7 @@ import re
 import numpy as np
 import pandas as pd
 import pytest
+from test_results import fake_intervals
 
 from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.plots import plot_image_grid
@@ -51,6 +52,7 @@ def metrics(fraction_correct):
         "recall_at_10": 0.975,
         "recall_at_100_precision": 0.25,
         "auc_pr": 0.5,
+        "intervals": fake_intervals(fraction_correct),
     }
 
 
@@ -84,8 +86,8 @@ def test_report_is_self_contained_and_escaped(tmp_path, pngs):
     assert str(tmp_path) not in page and ".png" not in page
     for heading in ["1. Dataset", "2. Fraction correct", "3. Similarity matrices", "5. Parameters"]:
         assert f"<h2>{heading}</h2>" in page
-    # values: dataset counts, ours in %, the study's number for pca summer-fall (88), the +seq gain, recall in %
-    for value in ["1510", "3020", "110", "80.0", "88", "+10.0", "+30.0", "97.5", "25.0", "50.0"]:
+    # values: dataset counts, ours in % with its interval, the study's number for pca summer-fall (88), recall in %
+    for value in ["1510", "3020", "110", "80.0 [75, 85]", "88", "90.0 [85, 95]", "97.5", "25.0", "50.0"]:
         assert f">{value}</td>" in page, value
     # the study gives no winter numbers: that pair has an "ours" column only
     assert page.count("<th>study (S)</th>") == 1  # summer-fall, single-image matching

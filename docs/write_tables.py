@@ -503,6 +503,23 @@ def _whole(path: Path) -> str:
 CLAIMS = ROOT / "docs" / "claims.yaml"
 
 
+def _check_block_length(path: Path) -> str:
+    """Autocorrelation of the per-query outcomes by lag, interval width by block length."""
+    record = json.loads(path.read_text())
+    rows = record["by_matcher"]
+    # JSON keys come back sorted as text
+    lags = sorted(next(iter(rows.values()))["autocorrelation"], key=int)
+    lengths = sorted(next(iter(rows.values()))["interval_width_points"], key=int)
+    header = ["matcher", "evaluations", *(f"autocorr. lag {lag}" for lag in lags)]
+    header += [*(f"width, blocks of {length}" for length in lengths), "width, Wilson"]
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for matcher, row in sorted(rows.items(), key=lambda item: item[0] == "+seq"):
+        cells = [matcher, str(row["evaluations"]), *(f"{row['autocorrelation'][lag]:.2f}" for lag in lags)]
+        cells += [f"{row['interval_width_points'][length]:.1f}" for length in lengths]
+        lines.append("| " + " | ".join([*cells, f"{row['wilson_width_points']:.1f}"]) + " |")
+    return "\n".join(lines) + "\n"
+
+
 def _claims(path: Path) -> str:
     """docs/claims.yaml's comparisons, each on every pair, from a comparisons record."""
     return claims_markdown(json.loads(path.read_text()), yaml.safe_load(CLAIMS.read_text()))
@@ -516,6 +533,11 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     # paired comparisons (docs/results.md: how sure): every table, and the claims the prose cites
     "comparisons": ("plots/comparisons.md", "comparisons.md", _whole),
     "claims": ("metrics/comparisons.json", "comparisons.json", _claims),
+    "check_block_length": (
+        "benchmarks/results/check_block_length.json",
+        "check_block_length.json",
+        _check_block_length,
+    ),
     "runtime": ("plots/summary/runtime.md", "runtime.md", _fraction_correct),
     "autoencoder_training": ("metrics/autoencoder_training.json", "autoencoder_training.json", _autoencoder_training),
     "cae_widths": ("metrics/cae_widths.json", "cae_widths_sweep.json", _cae_widths),

@@ -14,12 +14,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main
-from seasonloop.evaluation.comparisons import run_comparisons
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.io import staged_file, write_json
 from seasonloop.params.schema import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
-from seasonloop.reporting.comparisons import comparisons_markdown
+from seasonloop.reporting.comparisons import comparisons_markdown, run_comparisons
 
 
 @stage_main

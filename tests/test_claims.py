@@ -56,11 +56,26 @@ def test_every_ranking_sentence_cites_a_claim(document):
     )
 
 
+NUMBERS = {"no": 0, "none": 0, "one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "all": 6}
+# "significant on two of the six pairs [claim: x]": a count the prose states, checked against the claim
+COUNTED = re.compile(r"significant\w* (?:\w+ )?on (\w+) of the six pairs[^\[]*\[claim: ([a-z0-9_]+)\]")
+
+
+@pytest.mark.parametrize("document", DOCUMENTS, ids=lambda path: path.name)
+def test_counts_of_significant_pairs_are_the_claims(document):
+    record = json.loads(SNAPSHOT.read_text())
+    for sentence in sentences(document.read_text()):
+        for number, name in COUNTED.findall(sentence):
+            cells = claim_cells(record, CLAIMS[name])
+            significant = sum(cell.endswith(("▲", "▼")) for cell in cells.values())
+            assert NUMBERS.get(number, number) == significant, f"{document.name}: {sentence}"
+
+
 def test_every_claim_is_in_the_run_and_in_the_docs():
     record = json.loads(SNAPSHOT.read_text())
     results = (ROOT / "docs" / "results.md").read_text()
     for name, claim in CLAIMS.items():
         assert set(claim) <= {"says", "table", "first", "second"}, name
         cells = claim_cells(record, claim)  # a claim on a comparison the run lacks raises
-        assert list(cells) == list(record["pairs"])
+        assert list(cells) == record["order"]["pairs"]
         assert f"| {name} | {claim['says']} |" in results, f"{name}: not in docs/results.md's claims table"

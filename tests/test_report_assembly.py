@@ -132,7 +132,7 @@ def fake_comparisons() -> dict:
     correct = {method + suffix: rng.random(5) < 0.5 for method in METHODS for _, _, suffix in VARIANTS}
     tables = comparison_tables(METHODS, VARIANTS)
     pairs = {pair: pair_comparisons(lambda label: (np.arange(5), correct[label]), tables, settings) for pair in PAIRS}
-    return {"statistics": asdict(settings), "pairs": pairs}
+    return {"statistics": asdict(settings), "order": {"pairs": PAIRS, "tables": list(tables)}, "pairs": pairs}
 
 
 def test_study_report_from_files(tmp_path):

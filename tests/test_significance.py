@@ -22,6 +22,7 @@ from seasonloop.significance.intervals import (
     wilson_interval,
 )
 from seasonloop.significance.paired import holm, mcnemar_exact, paired_difference, with_verdicts
+from seasonloop.significance.tables import comparison_tables, pair_comparisons
 
 SETTINGS = StatisticsConfig(level=0.95, block_length=20, resamples=2000, seed=0, alpha=0.05)
 
@@ -167,3 +168,46 @@ def test_a_block_shorter_than_the_sequence_is_refused():
 def test_no_counted_query_has_no_interval():
     interval = fraction_interval(np.zeros(6, bool), np.zeros(6, bool), block_starts(6, SETTINGS), SETTINGS)
     assert interval == {"block_bootstrap": None, "wilson": None}
+
+
+def test_comparison_tables_of_a_run():
+    variants = [
+        ("cosine", "single", ""),
+        ("cosine", "sequence", "+seq"),
+        ("cityblock", "single", "@cityblock"),
+        ("cityblock", "sequence", "@cityblock+seq"),
+    ]
+    tables = comparison_tables(["pca", "ica", "cae"], variants)
+    assert list(tables) == [
+        "learners",
+        "learners+seq",
+        "learners@cityblock",
+        "learners@cityblock+seq",
+        "matchers+seq",
+        "matchers@cityblock+seq",
+        "distances@cityblock",
+        "distances@cityblock+seq",
+    ]
+    assert tables["learners@cityblock"] == [
+        ("pca@cityblock", "ica@cityblock"),
+        ("pca@cityblock", "cae@cityblock"),
+        ("ica@cityblock", "cae@cityblock"),
+    ]
+    assert tables["matchers@cityblock+seq"][1] == ("ica@cityblock+seq", "ica@cityblock")
+    assert tables["distances@cityblock+seq"][2] == ("cae@cityblock+seq", "cae+seq")
+    # a run without sequences or extra distances has only its learners' table
+    assert list(comparison_tables(["pca", "ica"], variants[:1])) == ["learners"]
+
+
+def test_pair_comparisons_use_one_set_of_blocks_and_refuse_other_queries():
+    rng = np.random.default_rng(6)
+    correct = {label: rng.random(60) < 0.6 for label in ("a", "b", "c")}
+    tables = {"learners": [("a", "b"), ("a", "c"), ("b", "c")]}
+    found = pair_comparisons(lambda label: (np.arange(60), correct[label]), tables, SETTINGS)
+    [first, *_] = found["learners"]
+    expected = paired_difference(correct["a"], correct["b"], block_starts(60, SETTINGS), SETTINGS)
+    assert {key: first[key] for key in expected} == expected
+    assert [row["p_holm"] >= row["p_value"] for row in found["learners"]] == [True] * 3
+    shifted = {"a": np.arange(60), "b": np.arange(1, 61), "c": np.arange(60)}
+    with pytest.raises(ValueError, match="b: its queries are not those of a"):
+        pair_comparisons(lambda label: (shifted[label], correct[label]), tables, SETTINGS)

@@ -1,5 +1,6 @@
-"""The paired comparisons (metrics/comparisons.json, seasonloop.significance.tables) as tables a
-reader takes in at a glance: per season pair a learner x learner matrix, and per learner what
+"""The paired comparisons of a run (metrics/comparisons.json): computed from the evaluate stages'
+per-query outcomes (run_comparisons; the statistics in seasonloop.significance.tables), and shown
+as tables a reader takes in at a glance: per season pair a learner x learner matrix, and per learner what
 sequence matching and the extra distance change; the same tables for the report and docs.
 
 A cell reads "+5.1 ▲": the row's fraction correct minus the column's (or the variant's minus the
@@ -9,12 +10,18 @@ shown (Holm-corrected McNemar below alpha and the paired block-bootstrap interva
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import asdict
+from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pandas as pd
 
+from seasonloop.evaluation.outcomes import QueryOutcomes
+from seasonloop.params.settings import StatisticsConfig
 from seasonloop.reporting.html import Section, Table, Text
+from seasonloop.significance.tables import Variant, comparison_tables, pair_comparisons
 
 SYMBOLS = {"better": "▲", "worse": "▼", "no difference": "·"}
 FLIPPED = {"better": "worse", "worse": "better", "no difference": "no difference"}
@@ -25,8 +32,45 @@ LEGEND = (
 )
 
 
+def run_comparisons(
+    outcomes_dir: Path,
+    methods: Sequence[str],
+    variants: Sequence[Variant],
+    pairs: Sequence[str],
+    settings: StatisticsConfig,
+) -> dict[str, Any]:
+    """Every table of every season pair from outcomes_dir/<method>/<pair><suffix>.csv, with the
+    settings they were computed under and the order of pairs and tables."""
+    tables = comparison_tables(methods, variants)
+    source = {method + suffix: (method, suffix) for method in methods for _, _, suffix in variants}
+
+    def reader(pair: str) -> Callable[[str], tuple[np.ndarray, np.ndarray]]:
+        def outcome_of(label: str) -> tuple[np.ndarray, np.ndarray]:
+            method, suffix = source[label]
+            outcomes = QueryOutcomes.read_csv(outcomes_dir / method / f"{pair}{suffix}.csv")
+            return outcomes.query_place, outcomes.correct
+
+        return outcome_of
+
+    return {
+        "statistics": asdict(settings),
+        # JSON objects come back with sorted keys: the run's order of pairs and tables
+        "order": {"pairs": list(pairs), "tables": list(tables)},
+        "pairs": {pair: pair_comparisons(reader(pair), tables, settings) for pair in pairs},
+    }
+
+
+def in_order(record: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
+    """record["pairs"] in the run's order of pairs and of tables (record["order"])."""
+    return {
+        pair: {name: record["pairs"][pair][name] for name in record["order"]["tables"]}
+        for pair in record["order"]["pairs"]
+    }
+
+
 def _cell(difference: float, verdict: str) -> str:
-    return f"{100 * difference:+.1f} {SYMBOLS[verdict]}"
+    # + 0.0 turns -0.0 (a tie seen from the other side) into +0.0
+    return f"{100 * difference + 0.0:+.1f} {SYMBOLS[verdict]}"
 
 
 def learner_matrix(rows: Sequence[Mapping[str, Any]], labels: Sequence[str]) -> pd.DataFrame:
@@ -70,7 +114,7 @@ def comparison_frames(record: Mapping[str, Any], methods: Sequence[str]) -> list
     learner matrix of each pair under the main evaluation (table "learners"), what each other
     table ("matchers", "distances", ...) finds per learner across pairs, and how many comparisons
     of every table are significant."""
-    pairs = record["pairs"]
+    pairs = in_order(record)
     frames = [
         (
             f"{pair}: learner against learner, evaluate.metric, single images",
@@ -134,7 +178,7 @@ def find_comparison(rows: Sequence[Mapping[str, Any]], first: str, second: str) 
 def claim_cells(record: Mapping[str, Any], claim: Mapping[str, str]) -> dict[str, str]:
     """pair -> the claim's cell: "+5.1 ▲" for one comparison, "3 ▲ 0 ▼ of 7" for a whole table."""
     cells = {}
-    for pair, tables in record["pairs"].items():
+    for pair, tables in in_order(record).items():
         if claim["table"] not in tables:
             raise ValueError(f"claim on table {claim['table']!r}: the run has no such table (it has {sorted(tables)})")
         rows = tables[claim["table"]]
@@ -149,7 +193,7 @@ def claim_cells(record: Mapping[str, Any], claim: Mapping[str, str]) -> dict[str
 
 def claims_markdown(record: Mapping[str, Any], claims: Mapping[str, Mapping[str, str]]) -> str:
     """The claims (docs/claims.yaml) as a markdown table: id, what it compares, a cell per pair."""
-    pairs = list(record["pairs"])
+    pairs = list(record["order"]["pairs"])
     lines = ["| claim | compares | " + " | ".join(pairs) + " |", "|" + "---|" * (len(pairs) + 2)]
     for name, claim in claims.items():
         cells = claim_cells(record, claim)

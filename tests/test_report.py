@@ -134,7 +134,11 @@ def test_runtime_training_and_figures_sections(pngs):
     runtime = {
         "pca": {"n_train_images": 120, "fit_seconds": 1.5, "descriptor_dimension": 100, "feature_ms_per_image": 0.25}
     }
-    training = {"pair": "summer-fall", "fraction_correct": {"pca": {"summer": 0.5, "summer+winter": 0.625}}}
+    training = {
+        "pair": "summer-fall",
+        "fraction_correct": {"pca": {"summer": 0.5, "summer+winter": 0.625}},
+        "intervals": {"pca": {"summer": {"low": 0.25, "high": 0.75}}},  # one only: the other is shown bare
+    }
     autoencoders = {"fae": {"code": {"summer-fall": 0.375}, "output_patchnorm": {"summer-fall": 0.875}}}
     page = build_report(
         "r",
@@ -147,7 +151,7 @@ def test_runtime_training_and_figures_sections(pngs):
     # runtime columns in the study's order (fit, then feature time), not the JSON's sorted order
     headers = re.findall(r"<th>([^<]+)</th>", page)
     assert [h for h in headers if h in ("fit (s)", "features (ms / image)")] == ["fit (s)", "features (ms / image)"]
-    for value in ["1.5", "0.25", "120", "50.0", "62.5", "37.5", "87.5", "summer+winter", "output_patchnorm"]:
+    for value in ["1.5", "0.25", "120", "50.0 [25, 75]", "62.5", "37.5", "87.5", "summer+winter", "output_patchnorm"]:
         assert f">{value}</" in page, value
     assert page.count("data:image/png;base64,") == 2
 

@@ -56,7 +56,7 @@ def child(n_queries: int, n_database: int, dim: int, matcher: str, path: str, me
             distance_matrix(database, queries, metric=metric), truth, matcher, evaluate, sequence
         )
     else:
-        metrics, _, _ = evaluate_in_blocks(
+        metrics = evaluate_in_blocks(
             # never whole, as every pair over blocks.WHOLE_DISTANCES_MAX_BYTES is evaluated
             pair_distances(database, queries, metric, whole_max_bytes=0),
             n_database,
@@ -64,7 +64,7 @@ def child(n_queries: int, n_database: int, dim: int, matcher: str, path: str, me
             matcher,
             evaluate,
             sequence,
-        )
+        ).metrics
     seconds = time.perf_counter() - start
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # Linux: kB
     return {"seconds": seconds, "peak_rss_mb": peak_mb, "before_mb": baseline / 1024, "metrics": metrics}

@@ -22,11 +22,14 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
+import yaml
+
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
 from seasonloop.ablations.cae_widths import width_table  # noqa: E402
 from seasonloop.machine import cpu_model  # noqa: E402
+from seasonloop.reporting.comparisons import claims_markdown  # noqa: E402
 
 RESULTS = ROOT / "docs" / "results"
 README = ROOT / "README.md"
@@ -492,11 +495,49 @@ def _where(record: dict) -> str:
     return f"Measured on {machine['cpu']}, {machine['torch_threads']} threads, instruction set {cap}; {load}."
 
 
+def _whole(path: Path) -> str:
+    """The pipeline's own markdown as it is."""
+    return path.read_text().strip() + "\n"
+
+
+CLAIMS = ROOT / "docs" / "claims.yaml"
+
+
+def _check_block_length(path: Path) -> str:
+    """Autocorrelation of the per-query outcomes by lag, interval width by block length."""
+    record = json.loads(path.read_text())
+    rows = record["by_matcher"]
+    # JSON keys come back sorted as text
+    lags = sorted(next(iter(rows.values()))["autocorrelation"], key=int)
+    lengths = sorted(next(iter(rows.values()))["interval_width_points"], key=int)
+    header = ["matcher", "evaluations", *(f"autocorr. lag {lag}" for lag in lags)]
+    header += [*(f"width, blocks of {length}" for length in lengths), "width, Wilson"]
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for matcher, row in sorted(rows.items(), key=lambda item: item[0] == "+seq"):
+        cells = [matcher, str(row["evaluations"]), *(f"{row['autocorrelation'][lag]:.2f}" for lag in lags)]
+        cells += [f"{row['interval_width_points'][length]:.1f}" for length in lengths]
+        lines.append("| " + " | ".join([*cells, f"{row['wilson_width_points']:.1f}"]) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _claims(path: Path) -> str:
+    """docs/claims.yaml's comparisons, each on every pair, from a comparisons record."""
+    return claims_markdown(json.loads(path.read_text()), yaml.safe_load(CLAIMS.read_text()))
+
+
 # table name -> (the output file it is written from, its snapshot in docs/results/, how)
 TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "headline": ("plots/summary/fraction_correct.md", "fraction_correct.md", _headline),
     "fraction_correct": ("plots/summary/fraction_correct.md", "fraction_correct.md", _fraction_correct),
     "pr_landmarks": ("plots/summary/pr_landmarks.md", "pr_landmarks.md", _fraction_correct),
+    # paired comparisons (docs/results.md: how sure): every table, and the claims the prose cites
+    "comparisons": ("plots/comparisons.md", "comparisons.md", _whole),
+    "claims": ("metrics/comparisons.json", "comparisons.json", _claims),
+    "check_block_length": (
+        "benchmarks/results/check_block_length.json",
+        "check_block_length.json",
+        _check_block_length,
+    ),
     "runtime": ("plots/summary/runtime.md", "runtime.md", _fraction_correct),
     "autoencoder_training": ("metrics/autoencoder_training.json", "autoencoder_training.json", _autoencoder_training),
     "cae_widths": ("metrics/cae_widths.json", "cae_widths_sweep.json", _cae_widths),

@@ -22,24 +22,15 @@ from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.raw_patchnorm import RawPatchNorm
 from seasonloop.models.registry import load_learner
 from seasonloop.params.schema import available_pairs
-from seasonloop.params.settings import CaeWidthsConfig, EvaluateConfig, FeaturesConfig, SequenceConfig
+from seasonloop.params.settings import CaeWidthsConfig, EvaluateConfig, FeaturesConfig, SequenceConfig, StatisticsConfig
 
 
 @stage_main
 def main() -> None:
     params = load_params(
-        "seed",
-        "learners",
-        "data.seasons",
-        "train",
-        "augment.copies",
-        "evaluate",
-        "sequence",
-        "features",
-        "cae_widths",
-        "cae",
-        "raw_patchnorm",
-    )
+        "seed", "learners", "data.seasons", "train", "augment.copies", "evaluate", "sequence", "features",
+        "cae_widths", "cae", "raw_patchnorm", "statistics",
+    )  # fmt: skip
     sweep = CaeWidthsConfig.from_params(params)
     evaluate = EvaluateConfig.from_params(params)
     seed = int(param(params, "seed"))
@@ -79,6 +70,7 @@ def main() -> None:
         evaluate,
         SequenceConfig.from_params(params),
         FeaturesConfig.from_params(params).batch_size,
+        StatisticsConfig.from_params(params),
         fitted,
     )
     write_width_sweep(

@@ -5,7 +5,8 @@ then evaluate.extra_metrics) and each matcher of evaluate.matchers (single-image
 SeqSLAM-style sequence matching), writes metrics/eval/<method>/<pair><suffix>.json,
 plots/pr/<method>/<pair><suffix>.csv (the study's PR convention) and
 plots/similarity/<method>/<pair><suffix>.npy (a thumbnail of the similarity matched on, for the
-summary's figure of every learner and pair), where suffix is "@<metric>" for an extra metric
+summary's figure of every learner and pair) and data/outcomes/<method>/<pair><suffix>.csv (each
+query's outcome, for the compare stage's paired tests), where suffix is "@<metric>" for an extra metric
 (nothing for evaluate.metric) followed by "" for single-image matching and "+seq" for sequence
 matching (seasonloop.evaluation.matchers.result_suffix).
 """
@@ -19,7 +20,7 @@ from _common import data_seasons, load_params, stage_main
 from seasonloop.evaluation.pair_evaluation import evaluate_learner
 from seasonloop.io import staged_dir
 from seasonloop.params.schema import available_pairs
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 
 
 @stage_main
@@ -27,13 +28,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("method")
     method = parser.parse_args().method
-    params = load_params("data.seasons", "evaluate", "sequence")
+    params = load_params("data.seasons", "evaluate", "sequence", "statistics")
     evaluate, sequence = EvaluateConfig.from_params(params), SequenceConfig.from_params(params)
     pairs = available_pairs(data_seasons(params), evaluate.pairs)
     with (
         staged_dir(Path("metrics/eval") / method) as metrics_dir,
         staged_dir(Path("plots/pr") / method) as pr_dir,
         staged_dir(Path("plots/similarity") / method) as similarity_dir,
+        staged_dir(Path("data/outcomes") / method) as outcomes_dir,
     ):
         evaluate_learner(
             Path("data/features") / method,
@@ -41,9 +43,8 @@ def main() -> None:
             Path("data/ground_truth"),
             evaluate,
             sequence,
-            metrics_dir,
-            pr_dir,
-            similarity_dir,
+            StatisticsConfig.from_params(params),
+            (metrics_dir, pr_dir, similarity_dir, outcomes_dir),
         )
 
 

@@ -36,6 +36,7 @@ FILES = ReportFiles(
     figures=Path("plots/figures"),
     fits=Path("metrics/fit"),
     ground_truth=Path("metrics/ground_truth.json"),
+    comparisons=Path("metrics/comparisons.json"),
 )
 
 

@@ -11,7 +11,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from _common import data_seasons, load_params, stage_main
-from seasonloop.ablations.training_seasons import plan_ablation, read_learner_records, write_ablation
+from seasonloop.ablations.training_seasons import (
+    plan_ablation,
+    read_learner_intervals,
+    read_learner_records,
+    write_ablation,
+)
 from seasonloop.params.settings import AblationConfig, EvaluateConfig
 
 RECORDS = Path("metrics/training_seasons")
@@ -30,7 +35,9 @@ def main() -> None:
         print(f"training_seasons: {plan.skipped}")
         write_ablation(plan, None, RECORD, FIGURE)
         return
-    write_ablation(plan, read_learner_records(plan, ablation.methods, RECORDS, EVALUATIONS), RECORD, FIGURE)
+    fraction_correct = read_learner_records(plan, ablation.methods, RECORDS, EVALUATIONS)
+    intervals = read_learner_intervals(plan, ablation.methods, RECORDS, EVALUATIONS)
+    write_ablation(plan, fraction_correct, RECORD, FIGURE, intervals)
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ from _datasets import test_images, training_images, training_places
 from seasonloop.ablations.training_seasons import plan_ablation, reusable_label, run_ablation, write_learner_record
 from seasonloop.models.registry import get_learner
 from seasonloop.params.schema import available_pairs
-from seasonloop.params.settings import AblationConfig, EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import AblationConfig, EvaluateConfig, SequenceConfig, StatisticsConfig
 
 RECORDS = Path("metrics/training_seasons")
 
@@ -43,6 +43,7 @@ def main() -> None:
         "ablation",
         "evaluate",
         "sequence",
+        "statistics",
     )
     ablation = AblationConfig.from_params(params)
     if method not in ablation.methods:
@@ -71,6 +72,7 @@ def main() -> None:
             f"training_seasons_fit@{method}: {reused} is fit@{method}'s training set: evaluate@{method}'s result is used"
         )
     fits: dict[str, dict[str, dict]] = {}
+    intervals: dict[str, dict[str, dict]] = {}
     fraction_correct = run_ablation(
         plan,
         {method: new_learner},
@@ -82,8 +84,9 @@ def main() -> None:
         batch_size=int(param(params, "features.batch_size")),
         skip={method: reused},
         fits=fits,
+        intervals=(StatisticsConfig.from_params(params), intervals),
     )
-    write_learner_record(plan, fraction_correct, record, reused, fits.get(method))
+    write_learner_record(plan, fraction_correct, record, reused, fits.get(method), intervals)
 
 
 if __name__ == "__main__":

@@ -12,7 +12,7 @@ from seasonloop.ablations.training_seasons import (
     write_learner_record,
 )
 from seasonloop.evaluation.ground_truth import aligned_truth
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 
 STUDY_SETS = [["summer"], ["summer", "winter"], ["summer", "winter", "spring"], ["summer", "winter", "spring", "fall"]]
 PAIRS = ["summer-fall", "summer-spring", "spring-fall", "winter-summer", "winter-fall", "winter-spring"]
@@ -105,6 +105,8 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
 
     MeanLearner.fitted_on, MeanLearner.places = [], []
     fits: dict = {}
+    intervals: dict = {}
+    statistics = StatisticsConfig(level=0.95, block_length=3, resamples=200, seed=0, alpha=0.05)
     fraction_correct = run_ablation(
         plan,
         {"mean": new_learner},
@@ -114,6 +116,7 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
         evaluate,
         sequence,
         fits=fits,
+        intervals=(statistics, intervals),
     )
     assert len(made) == 2 and MeanLearner.fitted_on == [10, 20]
     # how each fit ended is kept per training-season list
@@ -129,10 +132,14 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
     assert list(fraction_correct) == ["mean", "mean@cityblock"]
     assert list(fraction_correct["mean"]) == list(fraction_correct["mean@cityblock"]) == ["summer", "summer+winter"]
     assert fraction_correct["mean"]["summer"] == 1.0
-    write_ablation(plan, fraction_correct, tmp_path / "record.json", tmp_path / "figure.png")
+    # each fraction correct with its interval: every query right, so [1, 1]
+    assert list(intervals) == ["mean", "mean@cityblock"]
+    assert intervals["mean"]["summer"] == {"low": 1.0, "high": 1.0}
+    write_ablation(plan, fraction_correct, tmp_path / "record.json", tmp_path / "figure.png", intervals)
     record = json.loads((tmp_path / "record.json").read_text())
     assert record == {
         "fraction_correct": fraction_correct,
+        "intervals": intervals,
         "notes": [],
         "pair": "summer-fall",
         "season_sets": ["summer", "summer+winter"],

@@ -12,7 +12,7 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "seasonloop"
 
 # Lowest first: a module may import its own package and those before it. The foundation modules
 # (seasonloop/io.py, plots.py, machine.py) import nothing of seasonloop.
-LAYERS = ("foundation", "params", "data", "models", "evaluation", "reporting", "ablations")
+LAYERS = ("foundation", "params", "data", "models", "significance", "evaluation", "reporting", "ablations")
 
 
 def layer_of(dotted: str) -> str:

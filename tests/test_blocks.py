@@ -53,7 +53,7 @@ def test_blocks_give_the_whole_matrix_numbers(matcher, confidence, soft):
     distances = distance_matrix(database, queries, metric="cityblock")
     whole_metrics, whole_pr, matched = match_distances(distances, truth, matcher, evaluate_config(confidence), SEQUENCE)
     for rows_per_block in (1, 5, 36, 37, 100):
-        metrics, pr, thumbnail = evaluate_in_blocks(
+        evaluation = evaluate_in_blocks(
             lambda rows: distances[rows],
             len(database),
             truth,
@@ -62,9 +62,14 @@ def test_blocks_give_the_whole_matrix_numbers(matcher, confidence, soft):
             SEQUENCE,
             rows_per_block,
         )
-        assert metrics == whole_metrics
-        assert pr.equals(whole_pr)
-        np.testing.assert_array_equal(thumbnail, similarity_thumbnail(matched))
+        assert evaluation.metrics == whole_metrics
+        assert evaluation.pr.equals(whole_pr)
+        np.testing.assert_array_equal(evaluation.thumbnail, similarity_thumbnail(matched))
+        # the outcomes are the metrics' own: their means are the fraction correct and recall@1
+        outcomes = evaluation.outcomes
+        assert outcomes.correct.mean() == whole_metrics["fraction_correct"]
+        assert outcomes.hit_at_1[outcomes.has_match].mean() == pytest.approx(whole_metrics["recall_at_1"])
+        np.testing.assert_array_equal(outcomes.query_place, truth.query_places)
 
 
 def test_sequence_blocks_read_the_history_before_them_and_the_whole_minimum():
@@ -87,9 +92,9 @@ def test_thumbnail_rows_stay_whole_when_the_pair_is_larger_than_the_thumbnail():
     truth = aligned_truth(places, places, 0)
     distances = rng.uniform(size=(400, 400)).astype(np.float32)
     # 400 rows make thumbnail rows of 3: blocks of 100 rows are cut to 99
-    _, _, thumbnail = evaluate_in_blocks(
+    thumbnail = evaluate_in_blocks(
         lambda rows: distances[rows], 400, truth, "single", evaluate_config("distance"), SEQUENCE, 100
-    )
+    ).thumbnail
     np.testing.assert_array_equal(thumbnail, similarity_thumbnail(distances))
 
 

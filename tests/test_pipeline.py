@@ -65,7 +65,10 @@ def test_learners_metrics_and_plots_exist(workspace):
                 metrics = json.loads((workspace / f"metrics/eval/{learner}/{pair}{suffix}.json").read_text())
                 assert 0 <= metrics["fraction_correct"] <= 1
                 assert metrics["precision_at_full_recall"] == pytest.approx(metrics["fraction_correct"])
+                interval = metrics["intervals"]["fraction_correct"]["block_bootstrap"]
+                assert interval["low"] <= metrics["fraction_correct"] <= interval["high"]
                 assert (workspace / f"plots/pr/{learner}/{pair}{suffix}.csv").is_file()
+                assert (workspace / f"data/outcomes/{learner}/{pair}{suffix}.csv").is_file()
         assert not list((workspace / f"metrics/eval/{learner}").glob("*spring*"))
     runtime = json.loads((workspace / "metrics/runtime.json").read_text())
     assert set(runtime) == set(learners) and all(r["fit_seconds"] >= 0 for r in runtime.values())
@@ -74,6 +77,18 @@ def test_learners_metrics_and_plots_exist(workspace):
     assert summary["pr_landmarks"]["summer-fall"]["ica"]["recall_at_100_precision"]["study"] == 0.67
     ablation = json.loads((workspace / "metrics/training_seasons.json").read_text())
     assert set(ablation["fraction_correct"]["pca"]) == {"summer", "summer+winter"}
+    assert set(ablation["intervals"]["pca"]) == {"summer", "summer+winter"}
+    # every learner against every other on every pair, and each learner's +seq and L1 against its reference
+    comparisons = json.loads((workspace / "metrics/comparisons.json").read_text())
+    assert comparisons["order"]["pairs"] == pairs
+    tables = comparisons["pairs"]["summer-fall"]
+    assert set(tables) == {f"learners{suffix}" for suffix in suffixes} | {
+        "matchers+seq",
+        "matchers@cityblock+seq",
+        "distances@cityblock",
+        "distances@cityblock+seq",
+    }
+    assert len(tables["learners"]) == 21 and len(tables["matchers+seq"]) == 7
     for figure in (
         "fig02_pca_projection",
         "fig12_patch_ica_filters",
@@ -124,6 +139,7 @@ def test_learners_metrics_and_plots_exist(workspace):
     assert "data:image/png;base64," in report and "summer-fall" in report
     assert "pca_whiten@cityblock" in report and "precision-recall landmarks" in report
     assert "CAE width sweep" in report
+    assert "Paired comparisons" in report and "summer-fall: learner against learner" in report
 
 
 @pytest.mark.e2e

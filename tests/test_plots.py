@@ -1,4 +1,4 @@
-"""Tests for seasonloop.plots: every function writes a non-empty PNG."""
+"""Tests for seasonloop.plots and the summary's fraction-correct figure: every function writes a non-empty PNG."""
 
 import numpy as np
 import pandas as pd
@@ -6,14 +6,8 @@ import pytest
 from PIL import Image
 
 from seasonloop.evaluation.blocks import similarity_thumbnail
-from seasonloop.plots import (
-    plot_fraction_correct,
-    plot_image_grid,
-    plot_loss_curves,
-    plot_pr_curves,
-    plot_series,
-    plot_similarity_grid,
-)
+from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_pr_curves, plot_series, plot_similarity_grid
+from seasonloop.reporting.fraction_plots import plot_fraction_correct
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
@@ -46,6 +40,12 @@ def test_plot_fraction_correct(tmp_path):
         plot_fraction_correct(table, tmp_path / "bad.png", reference=reference * 100)
     with pytest.raises(ValueError, match="same methods"):
         plot_fraction_correct(table, tmp_path / "bad.png", reference=reference.iloc[:1])
+    # error bars: drawn where an interval is given, refused in percent
+    low, high = table - 0.05, (table + 0.05).clip(upper=1.0)
+    plot_fraction_correct(table, tmp_path / "bars.png", title="no reference", intervals=(low, high))
+    assert Image.open(tmp_path / "bars.png").tobytes() != Image.open(tmp_path / "plain.png").tobytes()
+    with pytest.raises(ValueError, match="intervals must hold fractions"):
+        plot_fraction_correct(table, tmp_path / "bad.png", intervals=(low * 100, high * 100))
 
 
 def test_the_fraction_correct_figure_fits_a_page_with_every_learner_and_pair(tmp_path):

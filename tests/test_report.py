@@ -5,6 +5,7 @@ import re
 import numpy as np
 import pandas as pd
 import pytest
+from test_results import fake_intervals
 
 from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.plots import plot_image_grid
@@ -51,6 +52,7 @@ def metrics(fraction_correct):
         "recall_at_10": 0.975,
         "recall_at_100_precision": 0.25,
         "auc_pr": 0.5,
+        "intervals": fake_intervals(fraction_correct),
     }
 
 
@@ -84,8 +86,8 @@ def test_report_is_self_contained_and_escaped(tmp_path, pngs):
     assert str(tmp_path) not in page and ".png" not in page
     for heading in ["1. Dataset", "2. Fraction correct", "3. Similarity matrices", "5. Parameters"]:
         assert f"<h2>{heading}</h2>" in page
-    # values: dataset counts, ours in %, the study's number for pca summer-fall (88), the +seq gain, recall in %
-    for value in ["1510", "3020", "110", "80.0", "88", "+10.0", "+30.0", "97.5", "25.0", "50.0"]:
+    # values: dataset counts, ours in % with its interval, the study's number for pca summer-fall (88), recall in %
+    for value in ["1510", "3020", "110", "80.0 [75, 85]", "88", "90.0 [85, 95]", "97.5", "25.0", "50.0"]:
         assert f">{value}</td>" in page, value
     # the study gives no winter numbers: that pair has an "ours" column only
     assert page.count("<th>study (S)</th>") == 1  # summer-fall, single-image matching
@@ -132,7 +134,11 @@ def test_runtime_training_and_figures_sections(pngs):
     runtime = {
         "pca": {"n_train_images": 120, "fit_seconds": 1.5, "descriptor_dimension": 100, "feature_ms_per_image": 0.25}
     }
-    training = {"pair": "summer-fall", "fraction_correct": {"pca": {"summer": 0.5, "summer+winter": 0.625}}}
+    training = {
+        "pair": "summer-fall",
+        "fraction_correct": {"pca": {"summer": 0.5, "summer+winter": 0.625}},
+        "intervals": {"pca": {"summer": {"low": 0.25, "high": 0.75}}},  # one only: the other is shown bare
+    }
     autoencoders = {"fae": {"code": {"summer-fall": 0.375}, "output_patchnorm": {"summer-fall": 0.875}}}
     page = build_report(
         "r",
@@ -145,7 +151,7 @@ def test_runtime_training_and_figures_sections(pngs):
     # runtime columns in the study's order (fit, then feature time), not the JSON's sorted order
     headers = re.findall(r"<th>([^<]+)</th>", page)
     assert [h for h in headers if h in ("fit (s)", "features (ms / image)")] == ["fit (s)", "features (ms / image)"]
-    for value in ["1.5", "0.25", "120", "50.0", "62.5", "37.5", "87.5", "summer+winter", "output_patchnorm"]:
+    for value in ["1.5", "0.25", "120", "50.0 [25, 75]", "62.5", "37.5", "87.5", "summer+winter", "output_patchnorm"]:
         assert f">{value}</" in page, value
     assert page.count("data:image/png;base64,") == 2
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import shutil
+from dataclasses import asdict
 
 import numpy as np
 import pytest
@@ -12,10 +13,11 @@ from test_results import METHODS, PAIRS, VARIANTS, write_evaluations
 
 from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.io import save_array, write_json
-from seasonloop.params.settings import EvaluateConfig
+from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.plots import plot_image_grid
 from seasonloop.reporting.report import ReportFiles, study_report
 from seasonloop.reporting.results import load_evaluations
+from seasonloop.significance.tables import comparison_tables, pair_comparisons
 
 # the main metric, both matchers: the first two of VARIANTS
 TRUTH = aligned_truth(np.arange(5), np.arange(5), 0)
@@ -52,7 +54,9 @@ def report_files(root) -> ReportFiles:
         figures=root / "figures",
         fits=root / "fit",
         ground_truth=root / "ground_truth.json",
+        comparisons=root / "comparisons.json",
     )
+    write_json(files.comparisons, fake_comparisons())
     write_json(
         files.ground_truth,
         {
@@ -121,6 +125,16 @@ def report_files(root) -> ReportFiles:
     return files
 
 
+def fake_comparisons() -> dict:
+    """A comparisons record of the fake run's labels, computed by the library from random outcomes."""
+    settings = StatisticsConfig(level=0.95, block_length=2, resamples=100, seed=0, alpha=0.05)
+    rng = np.random.default_rng(5)
+    correct = {method + suffix: rng.random(5) < 0.5 for method in METHODS for _, _, suffix in VARIANTS}
+    tables = comparison_tables(METHODS, VARIANTS)
+    pairs = {pair: pair_comparisons(lambda label: (np.arange(5), correct[label]), tables, settings) for pair in PAIRS}
+    return {"statistics": asdict(settings), "order": {"pairs": PAIRS, "tables": list(tables)}, "pairs": pairs}
+
+
 def test_study_report_from_files(tmp_path):
     write_evaluations(tmp_path / "eval", tmp_path / "pr")
     results = load_evaluations(tmp_path / "eval", METHODS, PAIRS, VARIANTS[:2], "cosine")
@@ -133,6 +147,7 @@ def test_study_report_from_files(tmp_path):
         "Dataset",
         "Fraction correct",
         "Precision-recall curves",
+        "Paired comparisons",
         "Similarity matrices",
         "Example matches and failures, summer-fall",
         "Runtimes",
@@ -150,6 +165,9 @@ def test_study_report_from_files(tmp_path):
     assert "The training-season ablation was skipped: a test." in page and "fig02 pca projection" in page
     assert "seed: 0" in page and str(tmp_path) not in page
     assert "<td>6/16/24</td>" in page and "<th>1/16</th>" in page
+    # every fraction correct with its interval (pca on summer-fall: 0 [0, 5]); the paired tables
+    assert "<td>0.0 [0, 5]</td>" in page
+    assert "summer-fall: learner against learner" in page and "pca+seq vs pca" in page
 
 
 def test_study_report_needs_the_figures_folder(tmp_path):

@@ -23,6 +23,13 @@ PAIRS = ["summer-fall", "winter-fall"]
 VARIANTS = [("cosine", "single", ""), ("cosine", "sequence", "+seq"), ("cityblock", "single", "@cityblock")]
 
 
+def fake_intervals(fraction: float) -> dict:
+    """An evaluate stage's intervals around `fraction` (fake numbers, each bound in [0, 1])."""
+    bounds = {"low": max(0.0, fraction - 0.05), "high": min(1.0, fraction + 0.05)}
+    interval = {"block_bootstrap": bounds, "wilson": bounds}
+    return {"fraction_correct": interval, "recall_at_1": interval}
+
+
 def write_evaluations(eval_dir, pr_dir) -> None:
     """metrics/eval- and plots/pr-like folders: fraction correct encodes (method, pair, variant)."""
     for v, (_, _, suffix) in enumerate(VARIANTS):
@@ -34,6 +41,7 @@ def write_evaluations(eval_dir, pr_dir) -> None:
                         "fraction_correct": (100 * m + 10 * p + v) / 1000,
                         "recall_at_100_precision": 0.5,
                         "precision_at_full_recall": 0.25,
+                        "intervals": fake_intervals((100 * m + 10 * p + v) / 1000),
                     },
                 )
                 (pr_dir / method).mkdir(parents=True, exist_ok=True)
@@ -70,6 +78,14 @@ def test_load_evaluations_in_table_order(result_dirs):
     recall, precision = results.curves["winter-fall"]["ica+seq"]
     np.testing.assert_allclose(recall, [0.0, 0.6])
     np.testing.assert_allclose(precision, [1.0, 0.5])
+
+
+def test_load_evaluations_refuses_metrics_without_intervals(result_dirs):
+    eval_dir, _ = result_dirs
+    stale = eval_dir / "ica" / "winter-fall+seq.json"
+    stale.write_text('{"fraction_correct": 0.5}')
+    with pytest.raises(ValueError, match=r"ica/winter-fall\+seq.json: no intervals \(rerun the evaluate stage\)"):
+        load_evaluations(eval_dir, METHODS, PAIRS, VARIANTS, "cosine")
 
 
 def test_load_evaluations_without_curves_reads_no_pr_file(result_dirs):

@@ -7,12 +7,13 @@ from pathlib import Path
 
 import cv2
 import numpy as np
+import pandas as pd
 import pytest
 
 from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
 from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.evaluation.pair_evaluation import evaluate_learner
-from seasonloop.params.settings import EvaluateConfig, ExtractConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, ExtractConfig, SequenceConfig, StatisticsConfig
 
 EXTRACT = ExtractConfig(fps=1.0, height=6, width=8, trim_to_shortest=False, max_offset=0)
 
@@ -96,24 +97,32 @@ def test_evaluate_learner_writes_every_pair_metric_and_matcher(tmp_path):
         matchers=("single", "sequence"),
     )
     sequence = SequenceConfig(length=3, v_min=1.0, v_max=1.0, v_steps=1, window=4, window_at_breaks="clip")
-    dirs = [tmp_path / name for name in ("metrics", "pr", "similarity")]
+    statistics = StatisticsConfig(level=0.95, block_length=5, resamples=200, seed=0, alpha=0.05)
+    dirs = [tmp_path / name for name in ("metrics", "pr", "similarity", "outcomes")]
     for folder in dirs:
         folder.mkdir()
     truths = tmp_path / "truths"
     truths.mkdir()
     aligned_truth(np.arange(15), np.arange(15), 0).save(truths / "summer-fall.npz")
-    evaluate_learner(features, [("summer", "fall")], truths, evaluate, sequence, *dirs)
+    evaluate_learner(features, [("summer", "fall")], truths, evaluate, sequence, statistics, dirs)
     names = ["summer-fall", "summer-fall+seq", "summer-fall@cityblock", "summer-fall@cityblock+seq"]
     assert sorted(p.stem for p in dirs[0].iterdir()) == sorted(names)
     assert sorted(p.stem for p in dirs[1].iterdir()) == sorted(names)
     assert sorted(p.stem for p in dirs[2].iterdir()) == sorted(names)
-    assert json.loads((dirs[0] / "summer-fall.json").read_text())["fraction_correct"] == 1.0
+    assert sorted(p.stem for p in dirs[3].iterdir()) == sorted(names)
+    metrics = json.loads((dirs[0] / "summer-fall.json").read_text())
+    assert metrics["fraction_correct"] == 1.0
+    assert metrics["intervals"]["fraction_correct"]["block_bootstrap"] == {"low": 1.0, "high": 1.0}
+    assert metrics["intervals"]["recall_at_1"]["wilson"]["high"] == 1.0
+    outcomes = pd.read_csv(dirs[3] / "summer-fall+seq.csv")
+    assert list(outcomes["query_place"]) == list(range(15))
+    assert outcomes["correct"].mean() == json.loads((dirs[0] / "summer-fall+seq.json").read_text())["fraction_correct"]
     thumbnail = np.load(dirs[2] / "summer-fall.npy")
     assert thumbnail.shape == (15, 15) and thumbnail.dtype == np.float16
     assert (np.diagonal(thumbnail) == np.nanmax(thumbnail, axis=1)).all()  # the matches are the most similar
     with pytest.raises(ValueError, match="evaluate.pairs: no pair"):
-        evaluate_learner(features, [], truths, evaluate, sequence, *dirs)
+        evaluate_learner(features, [], truths, evaluate, sequence, statistics, dirs)
     # descriptors that do not match the test places: one line naming the file
     np.save(features / "fall.npy", base[:14])
     with pytest.raises(ValueError, match=r"fall.npy: 14 descriptors for the 15 test places of fall"):
-        evaluate_learner(features, [("summer", "fall")], truths, evaluate, sequence, *dirs)
+        evaluate_learner(features, [("summer", "fall")], truths, evaluate, sequence, statistics, dirs)

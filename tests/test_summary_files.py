@@ -44,9 +44,10 @@ def training_curves() -> pd.DataFrame:
 
 def test_summary_record(results):
     record = summary_record(results)
-    assert list(record) == ["fraction_correct", "mean_fraction_correct", "pr_landmarks"]
+    assert list(record) == ["fraction_correct", "fraction_correct_interval", "mean_fraction_correct", "pr_landmarks"]
     assert list(record["fraction_correct"]) == results.labels
     assert record["fraction_correct"]["ica"] == {"summer-fall": 0.1, "winter-fall": 0.11}
+    assert record["fraction_correct_interval"]["ica"]["summer-fall"] == pytest.approx({"low": 0.05, "high": 0.15})
     assert record["mean_fraction_correct"]["ica"] == pytest.approx(0.105)
     assert isinstance(record["mean_fraction_correct"]["ica"], float)
     # the study's landmarks for summer-fall pca and ica, ours beside them
@@ -84,11 +85,13 @@ def test_tables_text(tmp_path, results):
     write_tables(tmp_path, results, RUNTIME)
     markdown = (tmp_path / "fraction_correct.md").read_text()
     assert markdown.startswith(
-        "Fraction of correct matches (%), ours (the study's in brackets where it gives one)\n\n"
+        "Fraction of correct matches (%), ours with its 95% block-bootstrap interval in square brackets "
+        "(the study's in round brackets where it gives one)\n\n"
         "| method | summer-fall | winter-fall |\n|---|---|---|\n"
     )
-    # ours, then the study's number in brackets where it gives one
-    assert "| pca | 0.0 (88) | 1.0 |\n" in markdown and "| ica@cityblock | 10.2 | 11.2 |\n" in markdown
+    # ours with its interval, then the study's number in brackets where it gives one
+    assert "| pca | 0.0 [0, 5] (88) | 1.0 [0, 6] |\n" in markdown
+    assert "| ica@cityblock | 10.2 [5, 15] | 11.2 [6, 16] |\n" in markdown
     csv = (tmp_path / "fraction_correct.csv").read_text().splitlines()
     assert csv[0] == "method,pair,fraction_correct,label" and csv[1] == "pca,summer-fall,0.000,summer-fall pca"
     landmarks = (tmp_path / "pr_landmarks.md").read_text()

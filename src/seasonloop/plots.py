@@ -13,23 +13,19 @@ from pathlib import Path
 
 import matplotlib
 import numpy as np
-import pandas as pd
-from matplotlib.artist import Artist
 from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
-from matplotlib.lines import Line2D
-from matplotlib.patches import Patch
 
 
-def _save(figure: Figure, path) -> None:
+def save_figure(figure: Figure, path) -> None:
     """Write the figure as a PNG at path, creating parent directories."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     figure.savefig(path, format="png", dpi=120, bbox_inches="tight")
 
 
-def _series_styles(labels: Sequence[str]) -> dict[str, dict]:
+def series_styles(labels: Sequence[str]) -> dict[str, dict]:
     """One colour per learner, shared by its variants ("pca" and "pca+seq"); variants are dashed
     lines / hatched bars, so a dozen series stay tellable apart."""
     bases = list(dict.fromkeys(str(label).split("+")[0] for label in labels))
@@ -46,7 +42,7 @@ def plot_pr_curves(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], title: s
         raise ValueError("curves is empty: nothing to plot")
     figure = Figure(figsize=(7.5, 4.5))
     axes = figure.add_subplot()
-    styles = _series_styles(list(curves))
+    styles = series_styles(list(curves))
     for label, (recall, precision) in curves.items():
         recall, precision = np.asarray(recall), np.asarray(precision)
         if recall.ndim != 1 or recall.shape != precision.shape:
@@ -70,84 +66,7 @@ def plot_pr_curves(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], title: s
     axes.grid(True, alpha=0.3)
     # beside the axes: a dozen curves would hide the high-precision corner
     axes.legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize="small")
-    _save(figure, path)
-
-
-def _check_fractions(table: pd.DataFrame, name: str) -> None:
-    values = table.to_numpy(dtype=np.float64)
-    finite = values[~np.isnan(values)]
-    if ((finite < 0) | (finite > 1)).any():
-        raise ValueError(f"{name} must hold fractions in [0, 1] (NaN where absent), not percentages")
-
-
-def plot_fraction_correct(
-    table: pd.DataFrame, path, title: str = "Fraction of correct matches", reference: pd.DataFrame | None = None
-) -> None:
-    """Bars of the fraction of correct matches, in %: a panel per pair, a row per learner, a bar per
-    variant ("+seq" hatched). table: rows = methods, columns = pairs, fractions in [0, 1];
-    reference: the study's, same labels (NaN where it gives none), drawn as hollow diamonds."""
-    if table.empty:
-        raise ValueError("table is empty: nothing to plot")
-    _check_fractions(table, "table")
-    if reference is not None:
-        if set(reference.index) != set(table.index) or set(reference.columns) != set(table.columns):
-            raise ValueError("reference must have the same methods (rows) and pairs (columns) as table")
-        _check_fractions(reference, "reference")
-        reference = reference.loc[table.index, table.columns]
-
-    methods, pairs = list(table.index), list(table.columns)
-    bases = list(dict.fromkeys(str(method).split("+")[0] for method in methods))
-    variants = list(dict.fromkeys(str(method)[len(str(method).split("+")[0]) :] for method in methods))
-    # one panel per pair, three to a row, learners down the side: ~1,500 px wide at 120 dpi
-    n_columns = min(3, len(pairs))
-    n_rows = int(np.ceil(len(pairs) / n_columns))
-    height = (0.5 + 0.22 * len(bases) * len(variants)) * n_rows + 1.0
-    figure = Figure(figsize=(4.2 * n_columns, height))
-    grid = figure.subplots(n_rows, n_columns, squeeze=False, sharex=True, sharey=True)
-    for axes, pair in zip(grid.flat, pairs):
-        _fraction_panel(
-            axes, 100.0 * table[pair], None if reference is None else 100.0 * reference[pair], bases, variants
-        )
-        axes.set_title(str(pair), fontsize="medium")
-    for axes in grid.flat[len(pairs) :]:
-        axes.set_visible(False)
-    grid[0, 0].set_yticks(np.arange(len(bases)), bases)
-    grid[0, 0].invert_yaxis()
-    for axes in grid[-1]:
-        axes.set_xlabel("Correct matches (%)")
-    names = {"": "single image", "+seq": "+seq (SeqSLAM sequences)"}
-    handles: list[Artist] = [
-        Patch(facecolor="grey", hatch="//" if v else None, edgecolor="white" if v else None, label=names.get(v, v))
-        for v in variants
-    ]
-    if reference is not None:
-        handles.append(Line2D([], [], marker="D", linestyle="", markerfacecolor="none", color="black", label="study"))
-    figure.suptitle(title)
-    # below the panels, so it covers no bar
-    figure.legend(handles=handles, loc="lower center", ncol=len(handles), frameon=False, bbox_to_anchor=(0.5, 0.0))
-    figure.tight_layout(rect=(0.0, 0.4 / height, 1.0, 1.0))
-    _save(figure, path)
-
-
-def _fraction_panel(axes, percent: pd.Series, study: pd.Series | None, bases: list[str], variants: list[str]) -> None:
-    """One pair's panel: a row per learner (base), a bar per variant, the study's numbers as diamonds."""
-    styles = _series_styles(list(percent.index))
-    bar_height = 0.8 / len(variants)
-    for index, variant in enumerate(variants):
-        offset = (index - (len(variants) - 1) / 2) * bar_height
-        for row, base in enumerate(bases):
-            method = base + variant
-            if method not in percent.index:
-                continue
-            color, hatched = styles[method]["color"], styles[method]["variant"]
-            kind = {"hatch": "//", "edgecolor": "white"} if hatched else {}
-            axes.barh(row + offset, float(percent[method]), bar_height, color=color, **kind)
-            if study is not None and np.isfinite(study[method]):
-                axes.scatter(
-                    float(study[method]), row + offset, marker="D", facecolors="none", edgecolors="black", zorder=3
-                )
-    axes.set_xlim(0.0, 100.0)
-    axes.grid(True, axis="x", alpha=0.3)
+    save_figure(figure, path)
 
 
 def plot_similarity_grid(thumbnails: Mapping[str, Mapping[str, np.ndarray]], path, title: str) -> None:
@@ -184,7 +103,7 @@ def plot_similarity_grid(thumbnails: Mapping[str, Mapping[str, np.ndarray]], pat
     scale = ScalarMappable(Normalize(0.0, 1.0), cmap="viridis")
     figure.colorbar(scale, ax=grid, shrink=0.6, label="similarity, scaled per matrix (1: nearest)")
     figure.suptitle(textwrap.fill(title, _chars_across(figure.get_figwidth(), fontsize=12)))
-    _save(figure, path)
+    save_figure(figure, path)
 
 
 def _chars_across(inches: float, fontsize: float = 10) -> int:
@@ -242,13 +161,19 @@ def plot_image_grid(
                 axes.set_title(str(col_labels[col_index]), fontsize="small")
     if title is not None:
         figure.suptitle(title)
-    _save(figure, path)
+    save_figure(figure, path)
 
 
 def plot_series(
-    series: Mapping[str, tuple[Sequence[str], Sequence[float]]], path, title: str, xlabel: str, ylabel: str
+    series: Mapping[str, tuple[Sequence[str], Sequence[float]]],
+    path,
+    title: str,
+    xlabel: str,
+    ylabel: str,
+    bands: Mapping[str, tuple[Sequence[float], Sequence[float]]] | None = None,
 ) -> None:
-    """Lines with markers over categorical x ticks, label -> (x tick labels, values)."""
+    """Lines with markers over categorical x ticks, label -> (x tick labels, values); bands[label]
+    = (lows, highs) at the same ticks, drawn as error bars (an interval per point)."""
     if not series:
         raise ValueError("series is empty: nothing to plot")
     figure = Figure(figsize=(6.0, 4.0))
@@ -257,14 +182,19 @@ def plot_series(
         ticks, values = [str(tick) for tick in tick_values], np.asarray(series_values, dtype=np.float64)
         if values.ndim != 1 or len(ticks) != values.size:
             raise ValueError(f"series {label!r}: {len(ticks)} x tick labels but values of shape {values.shape}")
-        axes.plot(ticks, values, marker="o", label=label)
+        line = axes.plot(ticks, values, marker="o", label=label)[0]
+        if bands is not None and label in bands:
+            low, high = (np.asarray(bound, dtype=np.float64) for bound in bands[label])
+            axes.errorbar(
+                ticks, values, yerr=[values - low, high - values], fmt="none", color=line.get_color(), capsize=3
+            )
     axes.set_xlabel(xlabel)
     axes.set_ylabel(ylabel)
     axes.set_title(title)
     axes.grid(True, alpha=0.3)
     axes.legend(fontsize="small")
     axes.tick_params(axis="x", labelrotation=15)
-    _save(figure, path)
+    save_figure(figure, path)
 
 
 def plot_loss_curves(curves: Mapping[str, Mapping[str, Sequence[float]]], path, title: str) -> None:
@@ -289,11 +219,11 @@ def plot_loss_curves(curves: Mapping[str, Mapping[str, Sequence[float]]], path, 
         axes.grid(True, alpha=0.3)
         axes.legend(fontsize="small")
     figure.suptitle(title)
-    _save(figure, path)
+    save_figure(figure, path)
 
 
 def plot_message(path, text: str) -> None:
     """A figure that only says why there is nothing to plot (a declared output must still exist)."""
     figure = Figure(figsize=(6.0, 1.5))
     figure.text(0.5, 0.5, text, ha="center", va="center", wrap=True)
-    _save(figure, path)
+    save_figure(figure, path)

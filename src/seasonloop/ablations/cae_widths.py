@@ -29,9 +29,10 @@ import numpy as np
 from seasonloop.evaluation.blocks import best_columns
 from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.io import staged_file, write_json
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.plots import plot_series
-from seasonloop.reporting.figures import autoencoder_descriptors, descriptor_fraction_correct
+from seasonloop.reporting.figures import autoencoder_descriptors, descriptor_evaluations
+from seasonloop.significance.intervals import block_interval
 
 TABLE5_CHANNELS = (96, 256, 384)
 DESCRIPTORS = ("output_patchnorm", "code")
@@ -81,6 +82,17 @@ def mean_cosine(first: np.ndarray, second: np.ndarray) -> float:
     return float(np.mean(cosines))
 
 
+def fraction_correct_record(evaluations: Mapping[str, Any], statistics: StatisticsConfig) -> dict[str, Any]:
+    """{fraction_correct: {pair: value}, interval: {pair: {low, high}}} of one descriptor's
+    evaluations (pair -> seasonloop.evaluation.blocks.PairEvaluation)."""
+    return {
+        "fraction_correct": {pair: evaluation.metrics["fraction_correct"] for pair, evaluation in evaluations.items()},
+        "interval": {
+            pair: block_interval(evaluation.outcomes.correct, statistics) for pair, evaluation in evaluations.items()
+        },
+    }
+
+
 def describe_width(
     learner,
     raw_described: Mapping[str, np.ndarray],
@@ -90,18 +102,19 @@ def describe_width(
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
     batch_size: int,
+    statistics: StatisticsConfig,
 ) -> dict[str, Any]:
-    """Fraction correct, agreement with raw_patchnorm (raw_described[season]: its descriptors of
-    test[season]) per descriptor and pair, and the cosine of the patch-normalised output with the
-    patch-normalised input, of a fitted CAE."""
+    """Fraction correct with its interval, agreement with raw_patchnorm (raw_described[season]: its
+    descriptors of test[season]) per descriptor and pair, and the cosine of the patch-normalised
+    output with the patch-normalised input, of a fitted CAE."""
     described = autoencoder_descriptors(learner, test, batch_size)
     cosines = [mean_cosine(described["output_patchnorm"][season], raw_described[season]) for season in test]
     record: dict[str, Any] = {"cosine_with_input": float(np.mean(cosines))}
-    fraction_correct = descriptor_fraction_correct(described, truths, pairs, evaluate, sequence, DESCRIPTORS)
+    evaluations = descriptor_evaluations(described, truths, pairs, evaluate, sequence, DESCRIPTORS)
     for descriptor in DESCRIPTORS:
         ours = described[descriptor]
         record[descriptor] = {
-            "fraction_correct": fraction_correct[descriptor],
+            **fraction_correct_record(evaluations[descriptor], statistics),
             "agreement_with_raw": {
                 f"{a}-{b}": agreement((ours[a], ours[b]), (raw_described[a], raw_described[b]), evaluate.metric)
                 for a, b in pairs
@@ -121,6 +134,7 @@ def run_width_sweep(
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
     batch_size: int,
+    statistics: StatisticsConfig,
     fitted: Mapping[float, Any] | None = None,
 ) -> dict[str, Any]:
     """The sweep's record: new_cae(channels) gives an unfitted CAE, trained on training_set
@@ -133,11 +147,9 @@ def run_width_sweep(
     record: dict[str, Any] = {
         "pairs": [f"{a}-{b}" for a, b in pairs],
         "metric": evaluate.metric,
-        "raw_patchnorm": {
-            "fraction_correct": descriptor_fraction_correct(
-                {"raw": raw_test}, truths, pairs, evaluate, sequence, ("raw",)
-            )["raw"]
-        },
+        "raw_patchnorm": fraction_correct_record(
+            descriptor_evaluations({"raw": raw_test}, truths, pairs, evaluate, sequence, ("raw",))["raw"], statistics
+        ),
         "widths": {},
     }
     for width in widths:
@@ -153,7 +165,7 @@ def run_width_sweep(
             "reused": width in fitted,
             **{key: learner.fit_info[key] for key in FIT_RECORD},
             "training_seconds": seconds,
-            **describe_width(learner, raw_test, test, truths, pairs, evaluate, sequence, batch_size),
+            **describe_width(learner, raw_test, test, truths, pairs, evaluate, sequence, batch_size, statistics),
         }
     return record
 
@@ -161,6 +173,13 @@ def run_width_sweep(
 def by_width(record: Mapping[str, Any]) -> list[tuple[str, Mapping[str, Any]]]:
     """(label, row) of every width, narrowest first (a JSON record's keys come back sorted as text)."""
     return sorted(record["widths"].items(), key=lambda item: item[1]["width"])
+
+
+def with_interval(descriptor: Mapping[str, Any], pair: str) -> str:
+    """'81.0 [75, 87]': a descriptor's fraction correct on a pair, %, with its interval where recorded."""
+    text = f"{100 * descriptor['fraction_correct'][pair]:.1f}"
+    interval = descriptor.get("interval", {}).get(pair)
+    return text + (f" [{100 * interval['low']:.0f}, {100 * interval['high']:.0f}]" if interval else "")
 
 
 def width_table(record: Mapping[str, Any]) -> str:
@@ -184,14 +203,13 @@ def width_table(record: Mapping[str, Any]) -> str:
                 f"{row['best_validation_loss']:.5f}",
                 f"{row['cosine_with_input']:.3f}",
             ]
-            + [f"{100 * row['output_patchnorm']['fraction_correct'][p]:.1f}" for p in pairs]
-            + [f"{100 * row['code']['fraction_correct'][p]:.1f}" for p in pairs]
+            + [with_interval(row["output_patchnorm"], p) for p in pairs]
+            + [with_interval(row["code"], p) for p in pairs]
             + [f"{100 * row['output_patchnorm']['agreement_with_raw'][p]:.1f}" for p in pairs]
         )
-    raw = record["raw_patchnorm"]["fraction_correct"]
     rows.append(
         ["raw_patchnorm", "", "", "", "1.000"]
-        + [f"{100 * raw[p]:.1f}" for p in pairs]
+        + [with_interval(record["raw_patchnorm"], p) for p in pairs]
         + [""] * len(pairs)
         + ["100.0"] * len(pairs)
     )
@@ -218,12 +236,21 @@ def write_width_sweep(record: Mapping[str, Any], json_path: Path, figure_path: P
             for pair in record["pairs"]
         }
     )
+    bands = {
+        f"{'output' if descriptor == 'output_patchnorm' else descriptor} {pair}": (
+            [100 * record["widths"][label][descriptor]["interval"][pair]["low"] for label in labels],
+            [100 * record["widths"][label][descriptor]["interval"][pair]["high"] for label in labels],
+        )
+        for descriptor in DESCRIPTORS
+        for pair in record["pairs"]
+    }
     plot_series(
         series,
         figure_path,
-        title=f"CAE width (fraction of Table 5's channels), single image, {record['metric']}",
+        title=f"CAE width (fraction of Table 5's channels), single image, {record['metric']}; bars: 95% intervals",
         xlabel="width",
         ylabel="fraction correct (%)",
+        bands=bands,
     )
     with staged_file(Path(table_path)) as tmp:
         tmp.write_text(width_table(record))

@@ -35,8 +35,9 @@ from seasonloop.evaluation.matchers import result_suffix
 from seasonloop.fit_ending import how_fit_ended
 from seasonloop.io import read_json, write_json
 from seasonloop.params.schema import SEASONS, check_seasons, pair_name, pair_present, parse_pair
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.plots import plot_message, plot_series
+from seasonloop.significance.intervals import block_interval
 
 
 @dataclass(frozen=True)
@@ -111,6 +112,7 @@ def run_ablation(
     batch_size: int = 1024,
     skip: Mapping[str, str | None] | None = None,
     fits: dict[str, dict[str, dict]] | None = None,
+    intervals: tuple[StatisticsConfig, dict[str, dict[str, dict]]] | None = None,
 ) -> dict[str, dict[str, float]]:
     """fraction_correct[series][training seasons joined by "+"] on the plan's pair, single-image
     matching, a series being a method under one distance ("<method>" under evaluate.metric,
@@ -120,7 +122,9 @@ def run_ablation(
     copy of them) for validation. test[season] are the test images of the pair's seasons, both at
     the test places of `truth`, the pair's ground truth, described `batch_size` at a time (the
     features stage's batches). skip[method] names a label that is not fitted (a reused one).
-    fits, when given, is filled with fits[method][label] = how that fit ended (how_fit_ended)."""
+    fits, when given, is filled with fits[method][label] = how that fit ended (how_fit_ended);
+    intervals = (settings, found), when given, fills found[series][label] with the fraction
+    correct's block-bootstrap interval {low, high} (seasonloop.significance.intervals)."""
     assert plan.pair is not None and plan.labels is not None and plan.season_sets is not None, "a skipped plan"
     database, query = plan.pair
     fraction_correct: dict[str, dict[str, float]] = {}
@@ -140,19 +144,27 @@ def run_ablation(
                 learner.describe(test[season], batch_size=batch_size) for season in (database, query)
             )
             for metric in metrics_used:
-                metrics, _, _ = evaluate_descriptors(
+                series = method + result_suffix(metric, "single", evaluate)
+                evaluation = evaluate_descriptors(
                     database_descriptors, query_descriptors, truth, "single", evaluate, sequence, metric=metric
                 )
-                fraction_correct[method + result_suffix(metric, "single", evaluate)][label] = metrics[
-                    "fraction_correct"
-                ]
+                fraction_correct[series][label] = evaluation.metrics["fraction_correct"]
+                if intervals is not None:
+                    intervals[1].setdefault(series, {})[label] = block_interval(
+                        evaluation.outcomes.correct, intervals[0]
+                    )
     return fraction_correct
 
 
 def write_ablation(
-    plan: AblationPlan, fraction_correct: dict[str, dict[str, float]] | None, record: Path, figure: Path
+    plan: AblationPlan,
+    fraction_correct: dict[str, dict[str, float]] | None,
+    record: Path,
+    figure: Path,
+    intervals: Mapping[str, Mapping[str, Mapping[str, float]]] | None = None,
 ) -> None:
-    """The ablation's JSON record and its figure (study Fig. 18); for a skipped plan, both say why."""
+    """The ablation's JSON record and its figure (study Fig. 18), each fraction correct with its
+    interval (intervals[series][label] = {low, high}) where given; for a skipped plan, both say why."""
     if plan.skipped:
         write_json(record, {"skipped": plan.skipped})
         plot_message(figure, f"Training-season effect {plan.skipped}")
@@ -160,8 +172,16 @@ def write_ablation(
     assert plan.pair is not None and plan.labels is not None and fraction_correct is not None
     pair = pair_name(*plan.pair)
     # season_sets keeps the order (the JSON's keys are sorted)
+    intervals = intervals or {}
     write_json(
-        record, {"pair": pair, "season_sets": plan.labels, "notes": plan.notes, "fraction_correct": fraction_correct}
+        record,
+        {
+            "pair": pair,
+            "season_sets": plan.labels,
+            "notes": plan.notes,
+            "fraction_correct": fraction_correct,
+            "intervals": intervals,
+        },
     )
     plot_series(
         {
@@ -169,9 +189,18 @@ def write_ablation(
             for series, values in fraction_correct.items()
         },
         figure,
-        title=f"Training-season effect on {pair}",
+        title=f"Training-season effect on {pair} (bars: 95% intervals)"
+        if intervals
+        else f"Training-season effect on {pair}",
         xlabel="training seasons",
         ylabel="fraction correct (%)",
+        bands={
+            series: (
+                [100 * bounds[label]["low"] for label in plan.labels],
+                [100 * bounds[label]["high"] for label in plan.labels],
+            )
+            for series, bounds in intervals.items()
+        },
     )
 
 
@@ -181,10 +210,12 @@ def write_learner_record(
     record: Path,
     reused: str | None = None,
     fits: Mapping[str, Mapping[str, Any]] | None = None,
+    intervals: Mapping[str, Mapping[str, Mapping[str, float]]] | None = None,
 ) -> None:
     """One learner's part of the ablation: fraction_correct[series][training seasons] on the plan's
     pair (run_ablation's series of this learner; None for a skipped plan, whose record says why);
-    `reused` is the label left to fill_reused; fits[label], how each fit ended (run_ablation's)."""
+    `reused` is the label left to fill_reused; fits[label], how each fit ended, and
+    intervals[series][label], each fraction correct's interval (run_ablation's)."""
     if plan.skipped:
         write_json(record, {"skipped": plan.skipped})
         return
@@ -196,6 +227,7 @@ def write_learner_record(
             "fraction_correct": {series: dict(values) for series, values in fraction_correct.items()},
             "reused_from_pipeline": [reused] if reused else [],
             "fits": {label: dict(ended) for label, ended in (fits or {}).items()},
+            "intervals": {series: dict(bounds) for series, bounds in (intervals or {}).items()},
         },
     )
 
@@ -226,12 +258,37 @@ def read_learner_records(
     return fraction_correct
 
 
+def read_learner_intervals(
+    plan: AblationPlan, methods: Sequence[str], folder: Path, eval_dir: Path
+) -> dict[str, dict[str, dict[str, float]]]:
+    """intervals[series][label] = {low, high} from the records read_learner_records has checked; a
+    reused label's from the interval evaluate@<method> wrote beside its fraction correct."""
+    assert plan.pair is not None
+    intervals: dict[str, dict[str, dict[str, float]]] = {}
+    for method in methods:
+        record = read_json(folder / f"{method}.json")
+        for name in record["fraction_correct"]:
+            intervals[name] = dict(record.get("intervals", {}).get(name, {}))
+            for label in record.get("reused_from_pipeline", []):
+                intervals[name][label] = reused_metrics(name, pair_name(*plan.pair), eval_dir)["intervals"][
+                    "fraction_correct"
+                ]["block_bootstrap"]
+            if set(intervals[name]) != set(plan.labels):
+                raise ValueError(f"{folder / method}.json: no interval for every season list (rerun its stage)")
+    return intervals
+
+
 def fill_reused(series: str, pair: str, eval_dir: Path) -> float:
     """The single-image fraction correct that evaluate@<method> wrote for `pair` under the series'
     distance ("<method>": evaluate.metric, "<method>@<metric>": that one): the ablation's value for
     the pipeline's own training set (module doc)."""
+    return float(reused_metrics(series, pair, eval_dir)["fraction_correct"])
+
+
+def reused_metrics(series: str, pair: str, eval_dir: Path) -> dict[str, Any]:
+    """The metrics evaluate@<method> wrote for `pair` under the series' distance (single images)."""
     method, _, metric = series.partition("@")
     path = eval_dir / method / f"{pair}{'@' + metric if metric else ''}.json"
     if not path.is_file():
         raise FileNotFoundError(f"{path}: not found (run the stage evaluate@{method} first)")
-    return float(read_json(path)["fraction_correct"])
+    return read_json(path)

@@ -8,6 +8,7 @@ built from whole groups of rows.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -17,6 +18,7 @@ from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matchers import get_matcher, row_blocks
 from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.metrics import summarise_records
+from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.evaluation.records import QueryRecords, block_records
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
@@ -28,6 +30,17 @@ EVALUATION_ROWS_PER_BLOCK = 2048
 # a pair's float32 distances up to this size are computed once, whole, for all its matchers
 # (the full run's 3,259 x 3,259: 42 MB); larger ones block by block (27,592 x 27,592: 3 GB)
 WHOLE_DISTANCES_MAX_BYTES = 512 * 2**20
+
+
+@dataclass(frozen=True)
+class PairEvaluation:
+    """One pair evaluated with one matcher: its metrics (seasonloop.evaluation.metrics.METRIC_KEYS),
+    PR curve, similarity thumbnail and each query's outcome (what intervals and paired tests use)."""
+
+    metrics: dict[str, Any]
+    pr: pd.DataFrame
+    thumbnail: np.ndarray
+    outcomes: QueryOutcomes
 
 
 def similarity_thumbnail(distances: np.ndarray, max_side: int = THUMBNAIL_SIDE) -> np.ndarray:
@@ -72,8 +85,8 @@ def evaluate_in_blocks(
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
     rows_per_block: int = EVALUATION_ROWS_PER_BLOCK,
-) -> tuple[dict[str, Any], pd.DataFrame, np.ndarray]:
-    """(metrics, PR curve, similarity thumbnail) of one pair with one matcher, a block of query rows
+) -> PairEvaluation:
+    """One pair with one matcher (metrics, PR curve, similarity thumbnail, outcomes), a block of query rows
     at a time: only (rows_per_block, M) distances are held at once, and the numbers are those of
     the whole matrix (matchers.match_distances). distance_rows(rows): the descriptor distances of
     query rows `rows` to the whole database."""
@@ -89,8 +102,10 @@ def evaluate_in_blocks(
             block_records(matched, truth.query_rows(rows), evaluate.confidence, int(evaluate.ratio_exclusion))
         )
         minima.append(thumbnail_minima(matched, row_group, thumbnail_group(n_database)))
-    metrics, pr = summarise_records(QueryRecords.concatenate(records), truth, evaluate.confidence)
-    return metrics, pr, scale_thumbnail(np.concatenate(minima))
+    pair_records = QueryRecords.concatenate(records)
+    metrics, pr = summarise_records(pair_records, truth, evaluate.confidence)
+    outcomes = QueryOutcomes.from_records(pair_records, truth, evaluate.confidence)
+    return PairEvaluation(metrics, pr, scale_thumbnail(np.concatenate(minima)), outcomes)
 
 
 def evaluate_descriptors(
@@ -101,9 +116,8 @@ def evaluate_descriptors(
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
     metric: str | None = None,
-) -> tuple[dict[str, Any], pd.DataFrame, np.ndarray]:
-    """(metrics, PR curve, similarity thumbnail) of one pair's descriptors under `metric` (default
-    evaluate.metric) with one matcher, in blocks of query rows (evaluate_in_blocks)."""
+) -> PairEvaluation:
+    """One pair's descriptors evaluated under `metric` (default evaluate.metric) with one matcher, in blocks of query rows (evaluate_in_blocks)."""
     distance_rows = pair_distances(database, queries, evaluate.metric if metric is None else metric)
     return evaluate_in_blocks(distance_rows, len(database), truth, matcher, evaluate, sequence)
 

@@ -1,6 +1,8 @@
 """Every evaluation of one learner: each season pair of the test set under each metric and matcher,
-written as metrics JSON, a PR-curve CSV and a thumbnail of the distances matched on (the summary
-stage draws the thumbnails of every learner and pair as one figure).
+written as metrics JSON (with the intervals of fraction correct and recall@1:
+seasonloop.significance.intervals), a PR-curve CSV, a thumbnail of the distances matched on (the
+summary stage draws the thumbnails of every learner and pair as one figure) and each query's
+outcome (seasonloop.evaluation.outcomes: what the paired comparisons between learners read).
 
 seasonloop.evaluation.matchers defines the evaluations (metric x matcher) and computes one;
 this module runs them over the pairs and writes what they give.
@@ -10,16 +12,19 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from seasonloop.evaluation.blocks import evaluate_in_blocks, pair_distances
 from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matchers import evaluations
+from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.evaluation.pair_truths import truth_file
 from seasonloop.io import load_array, save_array, write_json
 from seasonloop.params.schema import pair_name
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
+from seasonloop.significance.intervals import block_starts, fraction_interval
 
 
 def evaluate_learner(
@@ -28,13 +33,14 @@ def evaluate_learner(
     truths: Path,
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
-    metrics_dir: Path,
-    pr_dir: Path,
-    similarity_dir: Path,
+    statistics: StatisticsConfig,
+    out_dirs: Sequence[Path],
 ) -> None:
     """Evaluate the descriptors features/<season>.npy of one learner on `pairs` (database, query)
-    against their ground truth truths/<database>-<query>.npz; writes <pair><suffix>.json to
-    metrics_dir, .csv to pr_dir and .npy (similarity_thumbnail) to similarity_dir."""
+    against their ground truth truths/<database>-<query>.npz; writes <pair><suffix>.json,
+    .csv (PR curve), .npy (similarity_thumbnail) and .csv (outcomes) to out_dirs' four folders
+    (metrics, PR curves, thumbnails, outcomes)."""
+    metrics_dir, pr_dir, similarity_dir, outcomes_dir = out_dirs
     if not pairs:
         raise ValueError("evaluate.pairs: no pair has both of its seasons in data.seasons")
     variants = evaluations(evaluate)
@@ -42,16 +48,18 @@ def evaluate_learner(
         descriptors = [load_array(features / f"{season}.npy") for season in (database, query)]
         truth = PairTruth.load(truth_file(truths, database, query))
         check_rows(descriptors, truth, features, (database, query))
+        # the same resampled blocks for every learner and evaluation of the pair: paired differences
+        starts = block_starts(len(truth.query_places), statistics)
         for metric in dict.fromkeys(metric for metric, _, _ in variants):
             distance_rows = pair_distances(descriptors[0], descriptors[1], metric)
             for _, matcher, suffix in (variant for variant in variants if variant[0] == metric):
                 name = pair_name(database, query) + suffix
-                metrics, pr, thumbnail = evaluate_in_blocks(
-                    distance_rows, len(descriptors[0]), truth, matcher, evaluate, sequence
-                )
-                write_json(metrics_dir / f"{name}.json", metrics)
-                pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
-                save_array(similarity_dir / f"{name}.npy", thumbnail)
+                evaluation = evaluate_in_blocks(distance_rows, len(descriptors[0]), truth, matcher, evaluate, sequence)
+                intervals = metric_intervals(evaluation.outcomes, starts, statistics)
+                write_json(metrics_dir / f"{name}.json", {**evaluation.metrics, "intervals": intervals})
+                evaluation.pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
+                save_array(similarity_dir / f"{name}.npy", evaluation.thumbnail)
+                evaluation.outcomes.to_csv(outcomes_dir / f"{name}.csv")
 
 
 def check_rows(descriptors: Sequence[np.ndarray], truth: PairTruth, features: Path, seasons: Sequence[str]) -> None:
@@ -62,3 +70,13 @@ def check_rows(descriptors: Sequence[np.ndarray], truth: PairTruth, features: Pa
                 f"{features / season}.npy: {len(rows)} descriptors for the {len(places)} test places of {season} "
                 "(rerun the features stage)"
             )
+
+
+def metric_intervals(outcomes: QueryOutcomes, starts: np.ndarray, statistics: StatisticsConfig) -> dict[str, Any]:
+    """The intervals of a pair's fraction_correct (every query counted) and recall_at_1 (the queries
+    that have a correct place), under the keys of the metrics they belong to."""
+    every = np.ones_like(outcomes.correct)
+    return {
+        "fraction_correct": fraction_interval(outcomes.correct, every, starts, statistics),
+        "recall_at_1": fraction_interval(outcomes.hit_at_1, outcomes.has_match, starts, statistics),
+    }

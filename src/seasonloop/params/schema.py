@@ -6,7 +6,7 @@ The checks of one value live in seasonloop.params.checks, seasons and pairs in s
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from seasonloop.params.across import check_across
@@ -40,6 +40,7 @@ from seasonloop.params.seasons import (  # noqa: F401
     pair_present,
     parse_pair,
 )
+from seasonloop.params.section_checks import SECTION_CHECKS
 
 # ---- The schema of params.yaml ---------------------------------------------------------------
 # Every key of every section, with its check; adding a param is one line here. The learner
@@ -75,10 +76,9 @@ WINDOW_RULES = ("ignore", "shift", "clip")
 RIDE_SCHEMA: dict[str, Check] = {
     "speed": number(0.2, 5, low_open=True),
     "stop_scale": number(0, 10, low_open=True),
-    "start_s": number(0),  # and at most synthetic.seconds - RIDE_ROUTE_LEFT_S (_check_synthetic)
+    "start_s": number(0),  # and at most synthetic.seconds - RIDE_ROUTE_LEFT_S (seasonloop.params.section_checks)
     "swing": number(0, 0.9, high_open=True),
 }
-RIDE_ROUTE_LEFT_S = 10  # seconds of route a season's ride must have left after its start
 
 SCHEMA: dict[str, dict[str, Check]] = {
     "data": {
@@ -174,6 +174,13 @@ SCHEMA: dict[str, dict[str, Check]] = {
         "window": integer(MIN_SEQUENCE_WINDOW),
         "window_at_breaks": one_of(*WINDOW_RULES),
     },
+    "statistics": {
+        "level": number(0, 1, low_open=True, high_open=True),
+        "block_length": integer(1),  # and at least sequence.length (seasonloop.params.across)
+        "resamples": integer(100),
+        "seed": integer(0),
+        "alpha": number(0, 1, low_open=True, high_open=True),
+    },
     "ablation": {"methods": list_of(one_of(*LEARNER_SECTIONS)), "pair": pair, "training_seasons": list_of(seasons)},
     "report": {"example_pair": pair},
     "cae_widths": {
@@ -185,64 +192,6 @@ SCHEMA: dict[str, dict[str, Check]] = {
 
 # Top-level keys that are values, not sections.
 TOP_LEVEL: dict[str, Check] = {"seed": integer(0), "learners": list_of(one_of(*LEARNER_SECTIONS))}
-
-
-def _check_split(section: Mapping[str, Any]) -> None:
-    length, fraction, gap = section["section_length"], section["test_fraction"], section["gap"]
-    if fraction == 1:
-        return
-    test = max(1, round(length * fraction))
-    if length - test - 2 * gap < 1:
-        raise ValueError(
-            f"split: a section of {length} places with a test block of {test} and gaps of {gap} "
-            "on either side leaves no training place (split.section_length, test_fraction, gap)"
-        )
-
-
-def _check_synthetic(section: Mapping[str, Any]) -> None:
-    for kind in ("tunnel", "stop"):
-        low, high = section[f"{kind}_min_s"], section[f"{kind}_max_s"]
-        if high < low:
-            raise ValueError(f"synthetic.{kind}_max_s: {high} is below synthetic.{kind}_min_s {low}")
-    for season, ride in section["rides"].items():
-        start = ride.get("start_s", 0)
-        if start > section["seconds"] - RIDE_ROUTE_LEFT_S:
-            raise ValueError(
-                f"synthetic.rides.{season}.start_s: {start} leaves less than {RIDE_ROUTE_LEFT_S} s "
-                f"of the {section['seconds']} s route (synthetic.seconds)"
-            )
-
-
-def _check_sequence(section: Mapping[str, Any]) -> None:
-    if section["v_max"] < section["v_min"]:
-        raise ValueError(f"sequence.v_max: {section['v_max']} is below sequence.v_min {section['v_min']}")
-
-
-def _check_data(section: Mapping[str, Any]) -> None:
-    degrees = section["ground_truth"] == "positions" and section["position_units"] == "degrees"
-    if degrees and section["position_source"] == "image_names":
-        raise ValueError("data.position_units: image names hold UTM metres (position_source image_names); set metres")
-    if degrees:
-        check_degree_columns(section["position_columns"])
-    if section["ground_truth"] == "vpr_bench" and len(section["seasons"]) != 2:
-        raise ValueError(
-            f"data.seasons: VPR-Bench's ground truth holds two traverses, [reference, query]; got {list(section['seasons'])}"
-        )
-
-
-def _check_evaluate(section: Mapping[str, Any]) -> None:
-    if section["metric"] in section["extra_metrics"]:
-        raise ValueError(f"evaluate.extra_metrics: {section['metric']!r} is already evaluate.metric")
-
-
-# Checks across the keys of one section, run when the whole section is checked.
-SECTION_CHECKS: dict[str, Callable[[Mapping[str, Any]], None]] = {
-    "data": _check_data,
-    "synthetic": _check_synthetic,
-    "split": _check_split,
-    "evaluate": _check_evaluate,
-    "sequence": _check_sequence,
-}
 
 
 def check_params(params: Mapping[str, Any], keys: Sequence[str]) -> None:

@@ -162,6 +162,16 @@ class EvaluateConfig(Section):
 
 
 @dataclass(frozen=True)
+class StatisticsConfig(Section):
+    NAME = "statistics"
+    level: float  # of every interval
+    block_length: int  # consecutive queries per bootstrap block
+    resamples: int
+    seed: int
+    alpha: float  # of the paired tests, after Holm's correction
+
+
+@dataclass(frozen=True)
 class SequenceConfig(Section):
     NAME = "sequence"
     length: int
@@ -204,6 +214,7 @@ SECTIONS: tuple[type[Section], ...] = (
     FeaturesConfig,
     EvaluateConfig,
     SequenceConfig,
+    StatisticsConfig,
     AblationConfig,
     CaeWidthsConfig,
     ReportConfig,

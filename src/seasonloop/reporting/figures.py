@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from seasonloop.evaluation.blocks import evaluate_descriptors
+from seasonloop.evaluation.blocks import PairEvaluation, evaluate_descriptors
 from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.models.registry import load_learner
 from seasonloop.params.learners import AE_DESCRIPTORS
@@ -111,6 +111,27 @@ def ica_figures(bovw, images: np.ndarray, season: str, out: Path) -> None:
     )
 
 
+def descriptor_evaluations(
+    described: Mapping[str, Mapping[str, np.ndarray]],
+    truths: Mapping[tuple[str, str], PairTruth],
+    pairs: Sequence[tuple[str, str]],
+    evaluate: EvaluateConfig,
+    sequence: SequenceConfig,
+    descriptors: Sequence[str] = AE_DESCRIPTORS,
+) -> dict[str, dict[str, PairEvaluation]]:
+    """Single-image evaluation [descriptor][pair] of one auto-encoder's described test images
+    (described[descriptor][season], as autoencoder_descriptors gives them)."""
+    return {
+        descriptor: {
+            pair_name(a, b): evaluate_descriptors(
+                described[descriptor][a], described[descriptor][b], truths[(a, b)], "single", evaluate, sequence
+            )
+            for a, b in pairs
+        }
+        for descriptor in descriptors
+    }
+
+
 def descriptor_fraction_correct(
     described: Mapping[str, Mapping[str, np.ndarray]],
     truths: Mapping[tuple[str, str], PairTruth],
@@ -119,16 +140,11 @@ def descriptor_fraction_correct(
     sequence: SequenceConfig,
     descriptors: Sequence[str] = AE_DESCRIPTORS,
 ) -> dict[str, dict[str, float]]:
-    """Single-image fraction correct [descriptor][pair] of one auto-encoder's described test images
-    (described[descriptor][season], as autoencoder_descriptors gives them)."""
+    """The fraction correct [descriptor][pair] of descriptor_evaluations."""
+    evaluations = descriptor_evaluations(described, truths, pairs, evaluate, sequence, descriptors)
     return {
-        descriptor: {
-            pair_name(a, b): evaluate_descriptors(
-                described[descriptor][a], described[descriptor][b], truths[(a, b)], "single", evaluate, sequence
-            )[0]["fraction_correct"]
-            for a, b in pairs
-        }
-        for descriptor in descriptors
+        descriptor: {pair: evaluation.metrics["fraction_correct"] for pair, evaluation in by_pair.items()}
+        for descriptor, by_pair in evaluations.items()
     }
 
 

@@ -12,6 +12,13 @@ import pandas as pd
 from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text
 
 
+def with_interval(value: float, interval: Mapping[str, float] | None) -> str:
+    """'81.0 [69, 94]': a fraction correct in % with its 95% interval (whole percent) where there is one."""
+    if not interval:
+        return f"{100 * value:.1f}"
+    return f"{100 * value:.1f} [{100 * interval['low']:.0f}, {100 * interval['high']:.0f}]"
+
+
 def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -> Section:
     """The training-season effect (study Figure 18): {"pair", "fraction_correct": {series: {seasons: value}},
     "notes": [...]}, a series being a learner under one distance ("<learner>@<metric>": an extra one), or {"skipped": why} when the run's seasons do not allow it."""
@@ -20,19 +27,33 @@ def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -
             "Training-season effect", [Text(f"The training-season ablation was {training_seasons['skipped']}.")]
         )
     pair = training_seasons["pair"]
-    table = 100 * pd.DataFrame.from_dict(training_seasons["fraction_correct"], orient="index")
+    intervals = training_seasons.get("intervals", {})
+    table = pd.DataFrame.from_dict(
+        {
+            series: {
+                seasons: with_interval(value, intervals.get(series, {}).get(seasons))
+                for seasons, value in values.items()
+            }
+            for series, values in training_seasons["fraction_correct"].items()
+        },
+        orient="index",
+    )
     return Section(
         "Training-season effect",
         [
             *(Text(note) for note in training_seasons.get("notes", [])),
             Table(
-                f"Fraction correct (%) on {pair}, single-image matching, by the seasons trained on "
-                "(<learner>@<metric>: under that distance)",
+                f"Fraction correct (%) on {pair} with its 95% interval, single-image matching, by the "
+                "seasons trained on (<learner>@<metric>: under that distance)",
                 table,
             ),
             Image(f"Training-season effect on {pair} (study Fig. 18)", figure),
         ],
     )
+
+
+def _width_cell(descriptor: Mapping[str, Any], pair: str) -> str:
+    return with_interval(descriptor["fraction_correct"][pair], descriptor.get("interval", {}).get(pair))
 
 
 def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:
@@ -47,13 +68,11 @@ def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:
             "epochs": row["epochs_run"],
             "best val. loss": row["best_validation_loss"],
             "cos(output, input)": row["cosine_with_input"],
-            **{f"output {pair}": 100 * row["output_patchnorm"]["fraction_correct"][pair] for pair in pairs},
-            **{f"code {pair}": 100 * row["code"]["fraction_correct"][pair] for pair in pairs},
+            **{f"output {pair}": _width_cell(row["output_patchnorm"], pair) for pair in pairs},
+            **{f"code {pair}": _width_cell(row["code"], pair) for pair in pairs},
             **{f"output = raw {pair}": 100 * row["output_patchnorm"]["agreement_with_raw"][pair] for pair in pairs},
         }
-    rows["raw_patchnorm"] = {
-        f"output {pair}": 100 * record["raw_patchnorm"]["fraction_correct"][pair] for pair in pairs
-    }
+    rows["raw_patchnorm"] = {f"output {pair}": _width_cell(record["raw_patchnorm"], pair) for pair in pairs}
     table = pd.DataFrame.from_dict(rows, orient="index")
     return Section(
         "CAE width",
@@ -68,7 +87,8 @@ def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:
                 "mostly measure the raw image."
             ),
             Table(
-                "CAE width sweep (metrics/cae_widths.json): fraction correct and agreement in %",
+                "CAE width sweep (metrics/cae_widths.json): fraction correct (with its 95% interval) and "
+                "agreement in %",
                 table,
                 float_format="{:.4g}",
             ),

@@ -19,6 +19,7 @@ from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.io import read_json
 from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig
+from seasonloop.reporting.comparisons import comparisons_section
 from seasonloop.reporting.examples import Example, example_grid_png, example_grids, examples_section, select_examples
 from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text, build_report
 from seasonloop.reporting.model_sections import (
@@ -96,6 +97,7 @@ class ReportFiles:
     figures: Path  # a folder of the study's other figures, *.png
     fits: Path  # <method>.json fit records, each with the environment it was fitted in
     ground_truth: Path  # seasonloop.evaluation.pair_truths.truth_record
+    comparisons: Path  # the paired comparisons (seasonloop.significance.tables.run_comparisons)
 
 
 def _figures(folder: Path) -> dict[str, Path]:
@@ -137,6 +139,7 @@ def study_report(
             {pair: files.summary / f"pr_{pair}.png" for pair in pairs},
             pr_landmarks_table(pr_landmarks(results.metrics)),
         ),
+        comparisons_section(read_json(files.comparisons), methods),
         similarity_section(files.summary / "similarity.png"),
         examples_section(pair_name(database, query), grids),
         runtime_section(load_runtime_record(files.runtime, methods)),

@@ -62,6 +62,8 @@ def load_evaluations(
             for pair in pairs:
                 name = pair + suffix
                 metrics[label][pair] = read_json(eval_dir / method / f"{name}.json")
+                if "intervals" not in metrics[label][pair]:
+                    raise ValueError(f"{eval_dir / method / name}.json: no intervals (rerun the evaluate stage)")
                 if pr_dir is not None and metric == main_metric:
                     pr = pd.read_csv(pr_dir / method / f"{name}.csv")
                     curves[pair][label] = (pr["recall"].to_numpy(), pr["precision"].to_numpy())

@@ -15,7 +15,7 @@ import pandas as pd
 
 from seasonloop.evaluation.matchers import MATCHERS
 from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text
-from seasonloop.reporting.summary import fraction_correct_table, study_table
+from seasonloop.reporting.summary import fraction_correct_table, interval_tables, study_table
 
 MATCHER_NAMES = {"single": "single-image matching", "sequence": "sequence matching (SeqSLAM)"}
 RECALL_COLUMNS = {
@@ -79,24 +79,34 @@ def dataset_section(dataset: Mapping[str, Any], preview: Png, truth: Mapping[str
     return Section("Dataset", blocks)
 
 
-def _beside_study(ours: pd.DataFrame, study: pd.DataFrame) -> pd.DataFrame:
+def _beside_study(
+    ours: pd.DataFrame, study: pd.DataFrame, intervals: tuple[pd.DataFrame, pd.DataFrame]
+) -> pd.DataFrame:
     """Columns (pair, ours) and (pair, study) side by side; a pair the study gives no number for has ours only.
+    Ours carries its 95% block-bootstrap interval, intervals = (low, high) in %, to whole percent.
 
     The study's numbers are whole percentages, so they are shown without decimals.
     """
     columns = {}
+    low, high = intervals
     for pair in ours.columns:
-        columns[(pair, "ours")] = ours[pair]
+        columns[(pair, "ours")] = [
+            f"{value:.1f} [{low.loc[label, pair]:.0f}, {high.loc[label, pair]:.0f}]"
+            for label, value in ours[pair].items()
+        ]
         if study[pair].notna().any():
             columns[(pair, "study (S)")] = study[pair].map(lambda value: "–" if np.isnan(value) else f"{value:.0f}")
     return pd.DataFrame(columns)
 
 
 _FRACTION_CORRECT_INTRO = (
-    "Fraction of correct matches: correct best matches / queries, in %. Pairs are database-queries; "
+    "Fraction of correct matches: correct best matches / queries, in %, with its 95% interval in "
+    "square brackets (a moving-block bootstrap over consecutive queries: section Paired comparisons). "
+    "Pairs are database-queries; "
     "(S) marks the study's numbers, given for single-image matching on three pairs only. "
     "Rows named learner@metric use that distance (evaluate.extra_metrics) instead of the main one "
-    "(evaluate.metric). FastICA's unmixing is orthogonal in the whitened space, so under cosine and "
+    "(evaluate.metric). What sequence matching and L1 change, with whether it is significant: "
+    "section Paired comparisons. FastICA's unmixing is orthogonal in the whitened space, so under cosine and "
     "Euclidean distances ICA matches exactly like whitened PCA with as many components (pca_whiten): "
     "a gain of ICA over PCA there comes from whitening and keeping the first components, not from "
     "independence. Under L1 (cityblock) the rotation matters, so ica@cityblock against "
@@ -129,8 +139,8 @@ def fraction_correct_section(
     extra_metrics: Sequence[str] = (),
     extra_figures: Mapping[str, Png] | None = None,
 ) -> Section:
-    """Fraction correct beside the study's numbers per metric and matcher, the gain of sequence
-    matching, recall metrics.
+    """Fraction correct with its interval beside the study's numbers per metric and matcher, recall
+    metrics (what sequence matching adds, paired and tested: seasonloop.reporting.comparisons).
 
     results[label][pair] is the pair's metrics dict (metrics/eval JSON), label = method + "@<metric>"
     for an extra metric (none for the main one) + MATCHERS[matcher]; extra_figures[metric] is the
@@ -142,28 +152,18 @@ def fraction_correct_section(
     blocks: list[Block] = [Text(_FRACTION_CORRECT_INTRO)]
     suffixes = {"": "", **{metric: f"@{metric}" for metric in extra_metrics}}
     for metric, metric_suffix in suffixes.items():
-        ours = {}
         for matcher in matchers:
             labels = [method + metric_suffix + MATCHERS[matcher] for method in methods]
-            ours[matcher] = fraction_correct_table({label: results[label] for label in labels}, pairs)
+            subset = {label: results[label] for label in labels}
             distance = f", {metric} distance" if metric else ""
             blocks.append(
                 Table(
                     f"Fraction correct (%), {MATCHER_NAMES[matcher]}{distance}",
-                    _beside_study(ours[matcher], study_table(labels, pairs)),
-                )
-            )
-        if "single" in ours and "sequence" in ours:
-            gain = pd.DataFrame(
-                ours["sequence"].to_numpy() - ours["single"].to_numpy(),
-                index=[method + metric_suffix for method in methods],
-                columns=list(pairs),
-            )
-            blocks.append(
-                Table(
-                    "What sequence matching adds: fraction correct of method+seq minus method (percentage points)",
-                    gain,
-                    float_format="{:+.1f}",
+                    _beside_study(
+                        fraction_correct_table(subset, pairs),
+                        study_table(labels, pairs),
+                        interval_tables(subset, pairs),
+                    ),
                 )
             )
     blocks.append(
@@ -174,7 +174,12 @@ def fraction_correct_section(
             _recall_table(results, pairs),
         )
     )
-    blocks.append(Image("Fraction of correct matches per pair; diamonds: the study's numbers", figure))
+    blocks.append(
+        Image(
+            "Fraction of correct matches per pair; bars: 95% block-bootstrap intervals; diamonds: the study's numbers",
+            figure,
+        )
+    )
     for metric, png in (extra_figures or {}).items():
         blocks.append(Image(f"Fraction of correct matches per pair, {metric} distance", png))
     return Section("Fraction correct", blocks)

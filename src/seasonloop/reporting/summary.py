@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -26,6 +27,24 @@ def fraction_correct_table(
     )
 
 
+def interval_tables(
+    results: Mapping[str, Mapping[str, Mapping[str, Any]]], pairs: Sequence[str]
+) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """(low, high) DataFrames like fraction_correct_table's, in %: each fraction correct's 95%
+    block-bootstrap interval (seasonloop.significance.intervals; NaN where a pair has no metrics)."""
+
+    def bound(label: str, pair: str, side: str) -> float:
+        if pair not in results[label]:
+            return np.nan
+        return 100 * results[label][pair]["intervals"]["fraction_correct"]["block_bootstrap"][side]
+
+    low, high = (
+        pd.DataFrame({pair: [bound(label, pair, side) for label in results] for pair in pairs}, index=list(results))
+        for side in ("low", "high")
+    )
+    return low, high
+
+
 def study_table(labels: Sequence[str], pairs: Sequence[str]) -> pd.DataFrame:
     """The study's fraction correct (%) in the same shape, NaN where it gives no number."""
     return pd.DataFrame(
@@ -41,9 +60,18 @@ def markdown_table(table: pd.DataFrame, index_name: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-def side_by_side_markdown(ours: pd.DataFrame, study: pd.DataFrame) -> str:
-    """Each cell 'ours (study)', the study's number only where it gives one."""
+def side_by_side_markdown(
+    ours: pd.DataFrame, study: pd.DataFrame, intervals: tuple[pd.DataFrame, pd.DataFrame] | None = None
+) -> str:
+    """Each cell 'ours [low, high] (study)': the interval where `intervals` has one (whole percent:
+    its ends are not known to a tenth), the study's number only where it gives one."""
     cells = ours.map(lambda value: "n/a" if np.isnan(value) else f"{value:.1f}")
+    if intervals is not None:
+        low, high = (bound.loc[ours.index, ours.columns] for bound in intervals)
+        for label in ours.index:
+            for pair in ours.columns:
+                if np.isfinite(low.loc[label, pair]):
+                    cells.loc[label, pair] += f" [{low.loc[label, pair]:.0f}, {high.loc[label, pair]:.0f}]"
     for label in ours.index.intersection(study.index):
         for pair in ours.columns:
             if not np.isnan(study.loc[label, pair]):

@@ -15,11 +15,13 @@ import numpy as np
 import pandas as pd
 
 from seasonloop.io import load_array
-from seasonloop.plots import plot_fraction_correct, plot_pr_curves, plot_similarity_grid
+from seasonloop.plots import plot_pr_curves, plot_similarity_grid
 from seasonloop.reporting.dvcplots import pr_long
+from seasonloop.reporting.fraction_plots import plot_fraction_correct
 from seasonloop.reporting.results import EvaluationResults
 from seasonloop.reporting.summary import (
     fraction_correct_table,
+    interval_tables,
     markdown_table,
     pr_landmarks,
     pr_landmarks_table,
@@ -29,11 +31,16 @@ from seasonloop.reporting.summary import (
 
 
 def summary_record(results: EvaluationResults) -> dict[str, Any]:
-    """Fraction correct per label and pair, its mean per label, and the study's PR landmarks beside ours."""
+    """Fraction correct per label and pair with its 95% block-bootstrap interval, its mean per label,
+    and the study's PR landmarks beside ours."""
     labels, pairs, metrics = results.labels, results.pairs, results.metrics
     return {
         "fraction_correct": {
             label: {pair: metrics[label][pair]["fraction_correct"] for pair in pairs} for label in labels
+        },
+        "fraction_correct_interval": {
+            label: {pair: metrics[label][pair]["intervals"]["fraction_correct"]["block_bootstrap"] for pair in pairs}
+            for label in labels
         },
         "mean_fraction_correct": {
             label: float(np.mean([metrics[label][pair]["fraction_correct"] for pair in pairs])) for label in labels
@@ -58,8 +65,9 @@ def write_tables(out: Path, results: EvaluationResults, runtime: Mapping[str, Ma
     ours = fraction_correct_table(results.metrics, results.pairs)
     study = study_table(results.labels, results.pairs)
     (out / "fraction_correct.md").write_text(
-        "Fraction of correct matches (%), ours (the study's in brackets where it gives one)\n\n"
-        + side_by_side_markdown(ours, study)
+        "Fraction of correct matches (%), ours with its 95% block-bootstrap interval in square brackets "
+        "(the study's in round brackets where it gives one)\n\n"
+        + side_by_side_markdown(ours, study, interval_tables(results.metrics, results.pairs))
     )
     long = ours.reset_index(names="method").melt(id_vars="method", var_name="pair", value_name="fraction_correct")
     long["label"] = long["pair"] + " " + long["method"]
@@ -84,6 +92,7 @@ def write_figures(out: Path, results: EvaluationResults) -> None:
     (study Figures 10, 11, 16, 17), and pr_<pair>.png: the main metric's PR curves overlaid."""
     ours = fraction_correct_table(results.metrics, results.pairs)
     study = study_table(results.labels, results.pairs)
+    low, high = (bound / 100 for bound in interval_tables(results.metrics, results.pairs))
     for metric in dict.fromkeys(results.metric_of.values()):
         rows = [label for label in results.labels if results.metric_of[label] == metric]
         suffix = "" if metric == results.main_metric else f"@{metric}"
@@ -92,6 +101,7 @@ def write_figures(out: Path, results: EvaluationResults) -> None:
             out / f"fraction_correct{suffix}.png",
             title=f"Fraction of correct matches per pair, {metric} distance",
             reference=study.loc[rows] / 100,
+            intervals=(low.loc[rows], high.loc[rows]),
         )
     for pair in results.pairs:
         plot_pr_curves(results.curves[pair], f"Precision-recall, {pair} (database-queries)", out / f"pr_{pair}.png")

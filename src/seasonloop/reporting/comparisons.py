@@ -1,0 +1,201 @@
+"""The paired comparisons of a run (metrics/comparisons.json): computed from the evaluate stages'
+per-query outcomes (run_comparisons; the statistics in seasonloop.significance.tables), and shown
+as tables a reader takes in at a glance: per season pair a learner x learner matrix, and per learner what
+sequence matching and the extra distance change; the same tables for the report and docs.
+
+A cell reads "+5.1 ▲": the row's fraction correct minus the column's (or the variant's minus the
+reference's) in percentage points, ▲ significantly better, ▼ significantly worse, · no difference
+shown (Holm-corrected McNemar below alpha and the paired block-bootstrap interval away from 0).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from seasonloop.evaluation.outcomes import QueryOutcomes
+from seasonloop.params.settings import StatisticsConfig
+from seasonloop.reporting.html import Section, Table, Text
+from seasonloop.significance.tables import Variant, comparison_tables, pair_comparisons
+
+SYMBOLS = {"better": "▲", "worse": "▼", "no difference": "·"}
+FLIPPED = {"better": "worse", "worse": "better", "no difference": "no difference"}
+LEGEND = (
+    "Cells: the row's fraction correct minus the column's, percentage points, on the same queries; "
+    "▲ significantly better, ▼ significantly worse, · no difference shown at 5% (McNemar's exact test "
+    "Holm-corrected across the table, and the paired 95% block-bootstrap interval excluding 0: both)."
+)
+
+
+def run_comparisons(
+    outcomes_dir: Path,
+    methods: Sequence[str],
+    variants: Sequence[Variant],
+    pairs: Sequence[str],
+    settings: StatisticsConfig,
+) -> dict[str, Any]:
+    """Every table of every season pair from outcomes_dir/<method>/<pair><suffix>.csv, with the
+    settings they were computed under and the order of pairs and tables."""
+    tables = comparison_tables(methods, variants)
+    source = {method + suffix: (method, suffix) for method in methods for _, _, suffix in variants}
+
+    def reader(pair: str) -> Callable[[str], tuple[np.ndarray, np.ndarray]]:
+        def outcome_of(label: str) -> tuple[np.ndarray, np.ndarray]:
+            method, suffix = source[label]
+            outcomes = QueryOutcomes.read_csv(outcomes_dir / method / f"{pair}{suffix}.csv")
+            return outcomes.query_place, outcomes.correct
+
+        return outcome_of
+
+    return {
+        "statistics": asdict(settings),
+        # JSON objects come back with sorted keys: the run's order of pairs and tables
+        "order": {"pairs": list(pairs), "tables": list(tables)},
+        "pairs": {pair: pair_comparisons(reader(pair), tables, settings) for pair in pairs},
+    }
+
+
+def in_order(record: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
+    """record["pairs"] in the run's order of pairs and of tables (record["order"])."""
+    return {
+        pair: {name: record["pairs"][pair][name] for name in record["order"]["tables"]}
+        for pair in record["order"]["pairs"]
+    }
+
+
+def _cell(difference: float, verdict: str) -> str:
+    # + 0.0 turns -0.0 (a tie seen from the other side) into +0.0
+    return f"{100 * difference + 0.0:+.1f} {SYMBOLS[verdict]}"
+
+
+def learner_matrix(rows: Sequence[Mapping[str, Any]], labels: Sequence[str]) -> pd.DataFrame:
+    """labels x labels cells (row against column) from one learners table's comparisons."""
+    cells = {(row, column): "" for row in labels for column in labels}
+    for comparison in rows:
+        first, second = comparison["first"], comparison["second"]
+        cells[(first, second)] = _cell(comparison["difference"], comparison["verdict"])
+        cells[(second, first)] = _cell(-comparison["difference"], FLIPPED[comparison["verdict"]])
+    return pd.DataFrame([[cells[(row, column)] for column in labels] for row in labels], index=labels, columns=labels)
+
+
+def versus_table(pairs: Mapping[str, Mapping[str, Sequence[Mapping[str, Any]]]], table: str) -> pd.DataFrame:
+    """One row per comparison of `table` ("matchers", "distances", ...), one column per season
+    pair: "ica+seq vs ica" rows, say, across every pair."""
+    columns = {}
+    for pair, tables in pairs.items():
+        columns[pair] = {
+            f"{entry['first']} vs {entry['second']}": _cell(entry["difference"], entry["verdict"])
+            for entry in tables[table]
+        }
+    return pd.DataFrame(columns)
+
+
+def verdict_counts(pairs: Mapping[str, Mapping[str, Sequence[Mapping[str, Any]]]]) -> pd.DataFrame:
+    """Per table (rows) and season pair (columns): "significant / compared"."""
+    names = list(dict.fromkeys(name for tables in pairs.values() for name in tables))
+    return pd.DataFrame(
+        {
+            pair: {
+                name: f"{sum(entry['verdict'] != 'no difference' for entry in tables[name])} / {len(tables[name])}"
+                for name in names
+            }
+            for pair, tables in pairs.items()
+        }
+    )
+
+
+def comparison_frames(record: Mapping[str, Any], methods: Sequence[str]) -> list[tuple[str, pd.DataFrame]]:
+    """(caption, table) of every table the report and docs show from a comparisons record: the
+    learner matrix of each pair under the main evaluation (table "learners"), what each other
+    table ("matchers", "distances", ...) finds per learner across pairs, and how many comparisons
+    of every table are significant."""
+    pairs = in_order(record)
+    frames = [
+        (
+            f"{pair}: learner against learner, evaluate.metric, single images",
+            learner_matrix(tables["learners"], methods),
+        )
+        for pair, tables in pairs.items()
+    ]
+    names: list[str] = list(next(iter(pairs.values()), {}))
+    for name in names:
+        if not name.startswith("learners"):
+            frames.append(
+                (f"{name}: each learner's variant against its reference, per pair", versus_table(pairs, name))
+            )
+    frames.append(("Significant differences / comparisons, per table and pair", verdict_counts(pairs)))
+    return frames
+
+
+def comparisons_markdown(record: Mapping[str, Any], methods: Sequence[str]) -> str:
+    """Every table of comparison_frames as markdown, with the settings and the legend."""
+    settings = record["statistics"]
+    lines = [
+        f"Paired comparisons, {100 * settings['level']:.0f}% intervals, blocks of {settings['block_length']} "
+        f"queries, {settings['resamples']} resamples, alpha {settings['alpha']}. " + LEGEND,
+        "",
+    ]
+    for caption, frame in comparison_frames(record, methods):
+        header = "| | " + " | ".join(map(str, frame.columns)) + " |"
+        lines += [f"**{caption}**", "", header, "|" + "---|" * (len(frame.columns) + 1)]
+        lines += [
+            f"| {label} | " + " | ".join(map(str, row)) + " |" for label, row in zip(frame.index, frame.to_numpy())
+        ]
+        lines.append("")
+    return "\n".join(lines)
+
+
+def comparisons_section(record: Mapping[str, Any], methods: Sequence[str]) -> Section:
+    """The report's section of paired comparisons: comparison_frames' tables with the legend."""
+    settings = record["statistics"]
+    intro = (
+        f"Is a difference real? Each pair's queries are compared paired, learner against learner on the same "
+        f"queries; intervals are {100 * settings['level']:.0f}% moving-block bootstraps over blocks of "
+        f"{settings['block_length']} consecutive queries (successes come in runs along a route). " + LEGEND
+    )
+    return Section(
+        "Paired comparisons",
+        [Text(intro), *(Table(caption, frame) for caption, frame in comparison_frames(record, methods))],
+    )
+
+
+def find_comparison(rows: Sequence[Mapping[str, Any]], first: str, second: str) -> tuple[float, str]:
+    """(first's fraction correct minus second's, first's verdict) from a table's rows, stored in
+    either order; a ValueError when the table does not compare the two."""
+    for row in rows:
+        if (row["first"], row["second"]) == (first, second):
+            return row["difference"], row["verdict"]
+        if (row["first"], row["second"]) == (second, first):
+            return -row["difference"], FLIPPED[row["verdict"]]
+    raise ValueError(f"no comparison of {first} with {second} in this table")
+
+
+def claim_cells(record: Mapping[str, Any], claim: Mapping[str, str]) -> dict[str, str]:
+    """pair -> the claim's cell: "+5.1 ▲" for one comparison, "3 ▲ 0 ▼ of 7" for a whole table."""
+    cells = {}
+    for pair, tables in in_order(record).items():
+        if claim["table"] not in tables:
+            raise ValueError(f"claim on table {claim['table']!r}: the run has no such table (it has {sorted(tables)})")
+        rows = tables[claim["table"]]
+        if "first" in claim:
+            cells[pair] = _cell(*find_comparison(rows, claim["first"], claim["second"]))
+        else:
+            better = sum(row["verdict"] == "better" for row in rows)
+            worse = sum(row["verdict"] == "worse" for row in rows)
+            cells[pair] = f"{better} ▲ {worse} ▼ of {len(rows)}"
+    return cells
+
+
+def claims_markdown(record: Mapping[str, Any], claims: Mapping[str, Mapping[str, str]]) -> str:
+    """The claims (docs/claims.yaml) as a markdown table: id, what it compares, a cell per pair."""
+    pairs = list(record["order"]["pairs"])
+    lines = ["| claim | compares | " + " | ".join(pairs) + " |", "|" + "---|" * (len(pairs) + 2)]
+    for name, claim in claims.items():
+        cells = claim_cells(record, claim)
+        lines.append(f"| {name} | {claim['says']} | " + " | ".join(cells[pair] for pair in pairs) + " |")
+    return "\n".join(lines) + "\n\n" + LEGEND + " Whole tables: significant differences each way.\n"

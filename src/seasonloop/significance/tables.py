@@ -1,0 +1,81 @@
+"""The paired comparisons of a run, table by table: which evaluations are compared on each season
+pair, and the comparisons themselves from the evaluations' per-query outcomes.
+
+A table is a family of comparisons whose p-values are Holm-corrected together
+(seasonloop.significance.paired.with_verdicts), on one season pair:
+- "learners<suffix>": every two learners under one evaluation (suffix "" = evaluate.metric, single
+  images; "+seq"; "@cityblock"; ...), the first in `learners` order first;
+- "matchers<suffix>": each learner's sequence matching against its single-image matching under
+  one metric ("matchers+seq", "matchers@cityblock+seq");
+- "distances<suffix>": each learner under an extra metric against evaluate.metric, one matcher
+  ("distances@cityblock", "distances@cityblock+seq").
+Labels are <learner><suffix>, as everywhere (seasonloop.evaluation.matchers.result_suffix).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from itertools import combinations
+from typing import Any
+
+import numpy as np
+
+from seasonloop.params.settings import StatisticsConfig
+from seasonloop.significance.intervals import block_starts
+from seasonloop.significance.paired import paired_difference, with_verdicts
+
+Variant = tuple[str, str, str]  # (metric, matcher, suffix): seasonloop.evaluation.matchers.evaluations
+
+
+def comparison_tables(methods: Sequence[str], variants: Sequence[Variant]) -> dict[str, list[tuple[str, str]]]:
+    """table name -> the (first, second) labels it compares; variants in evaluations' order (the
+    main metric's first, single images before sequences). A variant is compared with its reference
+    (the same metric's first matcher; the same matcher under the main metric) in table
+    "matchers<its suffix>" ("matchers+seq", "matchers@cityblock+seq") or "distances<its suffix>"."""
+    suffix = {(metric, matcher): suffix for metric, matcher, suffix in variants}
+    main_metric, first_matcher = variants[0][0], variants[0][1]
+    tables: dict[str, list[tuple[str, str]]] = {}
+    for _, _, variant_suffix in variants:
+        tables[f"learners{variant_suffix}"] = list(combinations([method + variant_suffix for method in methods], 2))
+    for (metric, matcher), variant_suffix in suffix.items():
+        if matcher != first_matcher and (metric, first_matcher) in suffix:
+            reference = suffix[(metric, first_matcher)]
+            tables[f"matchers{variant_suffix}"] = [(method + variant_suffix, method + reference) for method in methods]
+    for (metric, matcher), variant_suffix in suffix.items():
+        if metric != main_metric and (main_metric, matcher) in suffix:
+            reference = suffix[(main_metric, matcher)]
+            tables[f"distances{variant_suffix}"] = [(method + variant_suffix, method + reference) for method in methods]
+    return tables
+
+
+def pair_comparisons(
+    outcome_of: Callable[[str], tuple[np.ndarray, np.ndarray]],
+    tables: Mapping[str, Sequence[tuple[str, str]]],
+    settings: StatisticsConfig,
+) -> dict[str, list[dict[str, Any]]]:
+    """Every table of one season pair: each comparison's difference in fraction correct (first -
+    second), paired interval, discordant counts, McNemar and Holm p-values and verdict.
+    outcome_of(label): that evaluation's (query places, correct) on the pair, in query order (read
+    once per label)."""
+    loaded: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+
+    def correct(label: str) -> np.ndarray:
+        if label not in loaded:
+            loaded[label] = outcome_of(label)
+            first_label, (first_places, _) = next(iter(loaded.items()))
+            if not np.array_equal(loaded[label][0], first_places):
+                raise ValueError(f"{label}: its queries are not those of {first_label} (rerun the evaluate stages)")
+        return loaded[label][1]
+
+    starts = None
+    judged = {}
+    for name, comparisons in tables.items():
+        rows = []
+        for first, second in comparisons:
+            first_correct, second_correct = correct(first), correct(second)
+            starts = block_starts(len(first_correct), settings) if starts is None else starts
+            rows.append(
+                {"first": first, "second": second, **paired_difference(first_correct, second_correct, starts, settings)}
+            )
+        judged[name] = with_verdicts(rows, settings.alpha)
+    return judged

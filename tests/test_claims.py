@@ -1,0 +1,81 @@
+"""The prose holds to the paired tests: every sentence of README.md and docs/results.md that ranks
+one learner against another cites a claim of docs/claims.yaml ("[claim: <id>]"), whose difference
+and verdict on every pair docs/write_tables.py writes from the run's comparisons (table `claims`),
+so that no verdict is typed in and none can drift from the numbers."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+import yaml
+
+from seasonloop.reporting.comparisons import claim_cells
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCUMENTS = [ROOT / "README.md", ROOT / "docs" / "results.md"]
+CLAIMS = yaml.safe_load((ROOT / "docs" / "claims.yaml").read_text())
+SNAPSHOT = ROOT / "docs" / "results" / "comparisons.json"
+
+RANKING = re.compile(r"\b(beats?|beating|better|worse|ahead|behind|outperform\w*|wins?|loses?)\b", re.IGNORECASE)
+LEARNER = re.compile(
+    r"\b(raw_patchnorm|pca_whiten|pca|ica_bovw|ica|fae|cae|auto-?encoders?|whitened PCA|raw image|learners?)\b",
+    re.IGNORECASE,
+)
+CITATION = re.compile(r"\[claim: ([a-z0-9_]+)\]")
+GENERATED = re.compile(r"<!-- table: [a-z0-9_]+ -->.*?<!-- /table -->", re.DOTALL)
+CODE = re.compile(r"```.*?```", re.DOTALL)
+
+
+def sentences(text: str) -> list[str]:
+    """The prose of a markdown text, generated tables and code left out, one sentence each."""
+    prose = CODE.sub(" ", GENERATED.sub(" ", text))
+    # paragraphs and list items
+    paragraphs = [" ".join(block.split()) for block in re.split(r"\n\s*\n|\n\s*[-*] ", prose)]
+    return [sentence for block in paragraphs for sentence in re.split(r"(?<=[.!?])\s+(?=[A-Z(`*])", block) if sentence]
+
+
+def test_sentences_split_markdown_prose():
+    text = "One: pca beats ica. Two\nlines [claim: x].\n\n<!-- table: t -->\n| pca better |\n<!-- /table -->\nThree.\n- Four"
+    assert sentences(text) == ["One: pca beats ica.", "Two lines [claim: x].", "Three.", "Four"]
+
+
+@pytest.mark.parametrize("document", DOCUMENTS, ids=lambda path: path.name)
+def test_every_ranking_sentence_cites_a_claim(document):
+    uncited, unknown = [], []
+    for sentence in sentences(document.read_text()):
+        cited = CITATION.findall(sentence)
+        unknown += [name for name in cited if name not in CLAIMS]
+        if RANKING.search(sentence) and LEARNER.search(sentence) and not cited:
+            uncited.append(sentence)
+    assert not unknown, f"{document.name}: cites claims not in docs/claims.yaml: {unknown}"
+    assert not uncited, f"{document.name}: rank learners without citing a claim (docs/claims.yaml):\n" + "\n".join(
+        uncited
+    )
+
+
+NUMBERS = {"no": 0, "none": 0, "one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "all": 6}
+# "significant on two of the six pairs [claim: x]": a count the prose states, checked against the claim
+COUNTED = re.compile(r"significant\w* (?:\w+ )?on (\w+) of the six pairs[^\[]*\[claim: ([a-z0-9_]+)\]")
+
+
+@pytest.mark.parametrize("document", DOCUMENTS, ids=lambda path: path.name)
+def test_counts_of_significant_pairs_are_the_claims(document):
+    record = json.loads(SNAPSHOT.read_text())
+    for sentence in sentences(document.read_text()):
+        for number, name in COUNTED.findall(sentence):
+            cells = claim_cells(record, CLAIMS[name])
+            significant = sum(cell.endswith(("▲", "▼")) for cell in cells.values())
+            assert NUMBERS.get(number, number) == significant, f"{document.name}: {sentence}"
+
+
+def test_every_claim_is_in_the_run_and_in_the_docs():
+    record = json.loads(SNAPSHOT.read_text())
+    results = (ROOT / "docs" / "results.md").read_text()
+    for name, claim in CLAIMS.items():
+        assert set(claim) <= {"says", "table", "first", "second"}, name
+        cells = claim_cells(record, claim)  # a claim on a comparison the run lacks raises
+        assert list(cells) == record["order"]["pairs"]
+        assert f"| {name} | {claim['says']} |" in results, f"{name}: not in docs/results.md's claims table"

@@ -21,6 +21,7 @@ import pandas as pd
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.settings import StatisticsConfig
 from seasonloop.reporting.html import Section, Table, Text
+from seasonloop.reporting.summary import markdown_table
 from seasonloop.significance.tables import Variant, comparison_tables, pair_comparisons
 
 SYMBOLS = {"better": "▲", "worse": "▼", "no difference": "·"}
@@ -141,12 +142,7 @@ def comparisons_markdown(record: Mapping[str, Any], methods: Sequence[str]) -> s
         "",
     ]
     for caption, frame in comparison_frames(record, methods):
-        header = "| | " + " | ".join(map(str, frame.columns)) + " |"
-        lines += [f"**{caption}**", "", header, "|" + "---|" * (len(frame.columns) + 1)]
-        lines += [
-            f"| {label} | " + " | ".join(map(str, row)) + " |" for label, row in zip(frame.index, frame.to_numpy())
-        ]
-        lines.append("")
+        lines += [f"**{caption}**", "", markdown_table(frame, "")]
     return "\n".join(lines)
 
 

@@ -10,13 +10,14 @@ from typing import Any
 import pandas as pd
 
 from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text
+from seasonloop.reporting.summary import with_interval
 
 
-def with_interval(value: float, interval: Mapping[str, float] | None) -> str:
-    """'81.0 [69, 94]': a fraction correct in % with its 95% interval (whole percent) where there is one."""
+def _percent_cell(value: float, interval: Mapping[str, float] | None) -> str:
+    """A fraction correct with its interval {low, high} (fractions) where it has one, in %."""
     if not interval:
-        return f"{100 * value:.1f}"
-    return f"{100 * value:.1f} [{100 * interval['low']:.0f}, {100 * interval['high']:.0f}]"
+        return with_interval(100 * value)
+    return with_interval(100 * value, 100 * interval["low"], 100 * interval["high"])
 
 
 def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -> Section:
@@ -31,7 +32,7 @@ def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -
     table = pd.DataFrame.from_dict(
         {
             series: {
-                seasons: with_interval(value, intervals.get(series, {}).get(seasons))
+                seasons: _percent_cell(value, intervals.get(series, {}).get(seasons))
                 for seasons, value in values.items()
             }
             for series, values in training_seasons["fraction_correct"].items()
@@ -53,7 +54,7 @@ def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -
 
 
 def _width_cell(descriptor: Mapping[str, Any], pair: str) -> str:
-    return with_interval(descriptor["fraction_correct"][pair], descriptor.get("interval", {}).get(pair))
+    return _percent_cell(descriptor["fraction_correct"][pair], descriptor.get("interval", {}).get(pair))
 
 
 def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:

@@ -15,7 +15,7 @@ import pandas as pd
 
 from seasonloop.evaluation.matchers import MATCHERS
 from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text
-from seasonloop.reporting.summary import fraction_correct_table, interval_tables, study_table
+from seasonloop.reporting.summary import fraction_correct_table, interval_tables, study_table, with_interval
 
 MATCHER_NAMES = {"single": "single-image matching", "sequence": "sequence matching (SeqSLAM)"}
 RECALL_COLUMNS = {
@@ -91,8 +91,7 @@ def _beside_study(
     low, high = intervals
     for pair in ours.columns:
         columns[(pair, "ours")] = [
-            f"{value:.1f} [{low.loc[label, pair]:.0f}, {high.loc[label, pair]:.0f}]"
-            for label, value in ours[pair].items()
+            with_interval(value, low.loc[label, pair], high.loc[label, pair]) for label, value in ours[pair].items()
         ]
         if study[pair].notna().any():
             columns[(pair, "study (S)")] = study[pair].map(lambda value: "–" if np.isnan(value) else f"{value:.0f}")

@@ -60,6 +60,14 @@ def markdown_table(table: pd.DataFrame, index_name: str) -> str:
     return "\n".join(lines) + "\n"
 
 
+def with_interval(percent: float, low: float | None = None, high: float | None = None) -> str:
+    """'81.0 [69, 94]': a fraction correct in % with its interval's ends (in %, whole percent: they
+    are not known to a tenth) where it has one (low None or NaN: the value alone)."""
+    if low is None or high is None or not np.isfinite(low):
+        return f"{percent:.1f}"
+    return f"{percent:.1f} [{low:.0f}, {high:.0f}]"
+
+
 def side_by_side_markdown(
     ours: pd.DataFrame, study: pd.DataFrame, intervals: tuple[pd.DataFrame, pd.DataFrame] | None = None
 ) -> str:
@@ -70,8 +78,10 @@ def side_by_side_markdown(
         low, high = (bound.loc[ours.index, ours.columns] for bound in intervals)
         for label in ours.index:
             for pair in ours.columns:
-                if np.isfinite(low.loc[label, pair]):
-                    cells.loc[label, pair] += f" [{low.loc[label, pair]:.0f}, {high.loc[label, pair]:.0f}]"
+                if not np.isnan(ours.loc[label, pair]):
+                    cells.loc[label, pair] = with_interval(
+                        ours.loc[label, pair], low.loc[label, pair], high.loc[label, pair]
+                    )
     for label in ours.index.intersection(study.index):
         for pair in ours.columns:
             if not np.isnan(study.loc[label, pair]):

@@ -6,7 +6,8 @@ fig12_patch_ica_filters.png, fig12b_global_ica_basis.png (the global ICA's basis
 shows only patch filters), fig13_visual_words.png, fig19_autoencoder_descriptors.png (code vs
 output vs patch-normalised output, single-image fraction correct), fig19b_autoencoder_reconstructions.png
 (test inputs of every season beside the FAE's and CAE's reconstructions) and
-fig19c_autoencoder_loss.png (training and validation loss per epoch) and metrics/autoencoder_descriptors.json.
+fig19c_autoencoder_loss.png (training and validation loss per epoch) and metrics/autoencoder_descriptors.json
+(per auto-encoder and descriptor: fraction correct per pair with its 95% block-bootstrap interval).
 A figure whose learner is not in `learners` is left out, with a line saying so (seasonloop.reporting.figures).
 """
 
@@ -20,13 +21,13 @@ from _common import data_seasons, load_params, param, stage_main
 from _datasets import test_images
 from seasonloop.io import staged_dir, write_json
 from seasonloop.params.schema import available_pairs
-from seasonloop.params.settings import EvaluateConfig, FeaturesConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, FeaturesConfig, SequenceConfig, StatisticsConfig
 from seasonloop.reporting.figures import draw_figures
 
 
 @stage_main
 def main() -> None:
-    params = load_params("learners", "data.seasons", "evaluate", "sequence", "features")
+    params = load_params("learners", "data.seasons", "evaluate", "sequence", "features", "statistics")
     seasons = data_seasons(params)
     evaluate = EvaluateConfig.from_params(params)
     with staged_dir(Path("plots/figures")) as out:
@@ -40,6 +41,7 @@ def main() -> None:
             FeaturesConfig.from_params(params).batch_size,
             evaluate,
             SequenceConfig.from_params(params),
+            StatisticsConfig.from_params(params),
         )
     for note in records.notes:
         print(f"figures: {note}")

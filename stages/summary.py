@@ -6,6 +6,11 @@ that `dvc exp show` and `dvc metrics diff` compare a compact, stable set in shor
 "pca+seq"); metrics/summary.json holds the same per pair and metrics/eval/ every metric of every
 pair (`dvc metrics show metrics/summary.json`, `dvc metrics show metrics/eval/pca`).
 
+Each fraction correct in metrics/summary.json carries its 95% block-bootstrap interval: a pair's
+from its evaluate stage, the mean over the pairs' from the per-query outcomes (data/outcomes/,
+seasonloop.significance.means; statistics section). metrics/mean_fraction_correct.json keeps the
+point values alone: DVC shows each key as a column, and three per label would bury the comparison.
+
 Rows are labelled <learner><suffix> (seasonloop.evaluation.matchers.result_suffix: "pca", "pca+seq",
 "pca@cityblock", ...). Writes metrics/summary.json (fraction correct per label and pair, its mean,
 and the study's PR landmarks beside ours), metrics/runtime.json (fit seconds, the study's Table 6;
@@ -30,11 +35,12 @@ from _common import data_seasons, load_params, param, stage_main
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.io import staged_dir, write_json
 from seasonloop.params.schema import available_pairs, pair_name
-from seasonloop.params.settings import EvaluateConfig
+from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.reporting.dvcplots import training_curves
 from seasonloop.reporting.results import autoencoder_training, load_evaluations, load_runtime
 from seasonloop.reporting.summary_files import (
     compare_record,
+    mean_intervals,
     summary_record,
     write_similarity_figure,
     write_summary_files,
@@ -46,7 +52,7 @@ COMPARE = Path("metrics/mean_fraction_correct.json")
 
 @stage_main
 def main() -> None:
-    params = load_params("learners", "data.seasons", "evaluate")
+    params = load_params("learners", "data.seasons", "evaluate", "statistics")
     methods = list(param(params, "learners"))
     seasons = data_seasons(params)
     evaluate = EvaluateConfig.from_params(params)
@@ -55,7 +61,10 @@ def main() -> None:
         Path("metrics/eval"), methods, pairs, evaluations(evaluate), evaluate.metric, pr_dir=Path("plots/pr")
     )
     runtime = load_runtime(Path("metrics/fit"), Path("metrics/features"), methods, seasons)
-    write_json(Path("metrics/summary.json"), summary_record(results))
+    intervals = mean_intervals(
+        Path("data/outcomes"), methods, evaluations(evaluate), pairs, StatisticsConfig.from_params(params)
+    )
+    write_json(Path("metrics/summary.json"), summary_record(results, intervals))
     write_json(COMPARE, compare_record(results))
     write_json(Path("metrics/runtime.json"), runtime)
     write_json(Path("metrics/autoencoder_training.json"), autoencoder_training(Path("metrics/fit"), methods))

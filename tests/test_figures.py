@@ -7,7 +7,7 @@ import numpy as np
 from seasonloop.data.patchnorm import patch_normalise
 from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.models.registry import get_learner
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.reporting.figures import AE_DESCRIPTORS, autoencoder_descriptors, draw_figures
 
 EVALUATE = EvaluateConfig(
@@ -66,6 +66,7 @@ def test_draw_figures_without_their_learners_draws_nothing(tmp_path):
         8,
         EVALUATE,
         SEQUENCE,
+        StatisticsConfig(level=0.95, block_length=4, resamples=100, seed=0, alpha=0.05),
     )
     assert records.notes == [
         "pca is not in learners: no Figure 2",

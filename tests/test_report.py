@@ -139,7 +139,18 @@ def test_runtime_training_and_figures_sections(pngs):
         "fraction_correct": {"pca": {"summer": 0.5, "summer+winter": 0.625}},
         "intervals": {"pca": {"summer": {"low": 0.25, "high": 0.75}}},  # one only: the other is shown bare
     }
-    autoencoders = {"fae": {"code": {"summer-fall": 0.375}, "output_patchnorm": {"summer-fall": 0.875}}}
+    autoencoders = {
+        "fae": {
+            "code": {
+                "fraction_correct": {"summer-fall": 0.375},
+                "interval": {"summer-fall": {"low": 0.25, "high": 0.5}},
+            },
+            "output_patchnorm": {
+                "fraction_correct": {"summer-fall": 0.875},
+                "interval": {"summer-fall": {"low": 0.75, "high": 1.0}},
+            },
+        }
+    }
     page = build_report(
         "r",
         [
@@ -151,8 +162,9 @@ def test_runtime_training_and_figures_sections(pngs):
     # runtime columns in the study's order (fit, then feature time), not the JSON's sorted order
     headers = re.findall(r"<th>([^<]+)</th>", page)
     assert [h for h in headers if h in ("fit (s)", "features (ms / image)")] == ["fit (s)", "features (ms / image)"]
-    for value in ["1.5", "0.25", "120", "50.0 [25, 75]", "62.5", "37.5", "87.5", "summer+winter", "output_patchnorm"]:
+    for value in ["1.5", "0.25", "120", "50.0 [25, 75]", "62.5", "37.5 [25, 50]", "87.5 [75, 100]", "summer+winter"]:
         assert f">{value}</" in page, value
+    assert "output_patchnorm" in page
     assert page.count("data:image/png;base64,") == 2
 
 

@@ -21,6 +21,7 @@ from seasonloop.significance.intervals import (
     resampled_ratios,
     wilson_interval,
 )
+from seasonloop.significance.means import mean_interval
 from seasonloop.significance.paired import holm, mcnemar_exact, paired_difference, with_verdicts
 from seasonloop.significance.tables import comparison_tables, pair_comparisons
 
@@ -211,3 +212,24 @@ def test_pair_comparisons_use_one_set_of_blocks_and_refuse_other_queries():
     shifted = {"a": np.arange(60), "b": np.arange(1, 61), "c": np.arange(60)}
     with pytest.raises(ValueError, match="b: its queries are not those of a"):
         pair_comparisons(lambda label: (shifted[label], correct[label]), tables, SETTINGS)
+
+
+def test_the_mean_of_one_pair_is_that_pairs_interval():
+    correct = np.random.default_rng(3).random(158) < 0.6
+    one = fraction_interval(correct, np.ones(158, bool), block_starts(158, SETTINGS), SETTINGS)
+    assert mean_interval([correct], SETTINGS) == pytest.approx(one["block_bootstrap"])
+
+
+def test_the_mean_resamples_the_same_places_in_every_pair():
+    correct = np.repeat(np.random.default_rng(4).random(16) < 0.5, 10)  # runs of 10 along the route
+    alone = mean_interval([correct], SETTINGS)
+    # the same outcomes in two pairs: a resample draws the same places in both, so their mean is
+    # as uncertain as one pair (two pairs resampled on their own would give a narrower interval)
+    assert mean_interval([correct, correct], SETTINGS) == pytest.approx(alone)
+    # one pair right exactly where the other is wrong: every resample's mean is one half
+    assert mean_interval([correct, ~correct], SETTINGS) == pytest.approx({"low": 0.5, "high": 0.5})
+
+
+def test_a_mean_over_no_pair_is_refused():
+    with pytest.raises(ValueError, match="no season pair"):
+        mean_interval([], SETTINGS)

@@ -9,14 +9,20 @@ import pytest
 # the fake metrics/eval and plots/pr folders of test_results
 from test_results import METHODS, PAIRS, VARIANTS, write_evaluations
 
+from seasonloop.evaluation.outcomes import QueryOutcomes
+from seasonloop.params.settings import StatisticsConfig
 from seasonloop.reporting.results import load_evaluations
 from seasonloop.reporting.summary_files import (
     compare_record,
+    mean_intervals,
     summary_record,
     write_dvc_plots,
     write_summary_files,
     write_tables,
 )
+from seasonloop.significance.means import mean_interval
+
+SETTINGS = StatisticsConfig(level=0.95, block_length=10, resamples=500, seed=0, alpha=0.05)
 
 RUNTIME = {
     "pca": {"fit_seconds": 1.23456, "n_train_images": 100, "feature_ms_per_image": 0.5, "descriptor_dimension": 16},
@@ -43,8 +49,16 @@ def training_curves() -> pd.DataFrame:
 
 
 def test_summary_record(results):
-    record = summary_record(results)
-    assert list(record) == ["fraction_correct", "fraction_correct_interval", "mean_fraction_correct", "pr_landmarks"]
+    record = summary_record(results, {label: {"low": 0.0, "high": 0.5} for label in results.labels})
+    assert list(record) == [
+        "fraction_correct",
+        "fraction_correct_interval",
+        "mean_fraction_correct",
+        "mean_fraction_correct_interval",
+        "pr_landmarks",
+    ]
+    assert list(record["mean_fraction_correct_interval"]) == results.labels
+    assert record["mean_fraction_correct_interval"]["ica"] == {"low": 0.0, "high": 0.5}
     assert list(record["fraction_correct"]) == results.labels
     assert record["fraction_correct"]["ica"] == {"summer-fall": 0.1, "winter-fall": 0.11}
     assert record["fraction_correct_interval"]["ica"]["summer-fall"] == pytest.approx({"low": 0.05, "high": 0.15})
@@ -52,6 +66,29 @@ def test_summary_record(results):
     assert isinstance(record["mean_fraction_correct"]["ica"], float)
     # the study's landmarks for summer-fall pca and ica, ours beside them
     assert record["pr_landmarks"]["summer-fall"]["pca"]["recall_at_100_precision"] == {"ours": 0.5, "study": 0.67}
+
+
+def test_mean_intervals_are_of_the_outcomes_of_every_label(tmp_path):
+    rng = np.random.default_rng(0)
+    written: dict[str, list[np.ndarray]] = {}
+    for method in METHODS:
+        for _, _, suffix in VARIANTS:
+            for pair in PAIRS:
+                correct = rng.random(60) < 0.5
+                written.setdefault(method + suffix, []).append(correct)
+                (tmp_path / method).mkdir(exist_ok=True)
+                n = len(correct)
+                QueryOutcomes(np.arange(n), correct, rng.random(n), np.ones(n, bool), correct).to_csv(
+                    tmp_path / method / f"{pair}{suffix}.csv"
+                )
+    intervals = mean_intervals(tmp_path, METHODS, VARIANTS, PAIRS, SETTINGS)
+    assert set(intervals) == set(written)
+    for label, by_pair in written.items():
+        assert intervals[label] == mean_interval(by_pair, SETTINGS)
+        assert intervals[label]["low"] <= np.mean([c.mean() for c in by_pair]) <= intervals[label]["high"]
+    (tmp_path / METHODS[0] / f"{PAIRS[0]}.csv").unlink()
+    with pytest.raises(ValueError, match=f"{PAIRS[0]}.csv"):
+        mean_intervals(tmp_path, METHODS, VARIANTS, PAIRS, SETTINGS)
 
 
 def test_the_compared_metrics_are_the_main_distance_averaged_over_pairs(results):

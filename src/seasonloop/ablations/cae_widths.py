@@ -31,8 +31,7 @@ from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.io import staged_file, write_json
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.plots import plot_series
-from seasonloop.reporting.figures import autoencoder_descriptors, descriptor_evaluations
-from seasonloop.significance.intervals import block_interval
+from seasonloop.reporting.figures import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
 
 TABLE5_CHANNELS = (96, 256, 384)
 DESCRIPTORS = ("output_patchnorm", "code")
@@ -80,17 +79,6 @@ def mean_cosine(first: np.ndarray, second: np.ndarray) -> float:
     norms = np.linalg.norm(first, axis=1) * np.linalg.norm(second, axis=1)
     cosines = np.divide(np.sum(first * second, axis=1), norms, out=np.zeros(len(first)), where=norms > 0)
     return float(np.mean(cosines))
-
-
-def fraction_correct_record(evaluations: Mapping[str, Any], statistics: StatisticsConfig) -> dict[str, Any]:
-    """{fraction_correct: {pair: value}, interval: {pair: {low, high}}} of one descriptor's
-    evaluations (pair -> seasonloop.evaluation.blocks.PairEvaluation)."""
-    return {
-        "fraction_correct": {pair: evaluation.metrics["fraction_correct"] for pair, evaluation in evaluations.items()},
-        "interval": {
-            pair: block_interval(evaluation.outcomes.correct, statistics) for pair, evaluation in evaluations.items()
-        },
-    }
 
 
 def describe_width(

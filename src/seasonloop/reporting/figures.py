@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -19,8 +20,9 @@ from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.models.registry import load_learner
 from seasonloop.params.learners import AE_DESCRIPTORS
 from seasonloop.params.schema import pair_name
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
+from seasonloop.significance.intervals import block_interval
 
 AUTOENCODERS = ("fae", "cae")
 # the learners whose models draw_figures loads (dvc.yaml's figures stage depends on their modules)
@@ -33,11 +35,12 @@ N_BASIS_SHOWN, BASIS_PER_ROW = 32, 8  # global ICA basis images
 
 @dataclass(frozen=True)
 class FigureRecords:
-    """What the figures leave besides PNGs: fraction correct per auto-encoder, descriptor and pair;
+    """What the figures leave besides PNGs: fraction correct with its interval per auto-encoder,
+    descriptor and pair ([method][descriptor], as fraction_correct_record gives it);
     one line per figure left out. (How each auto-encoder's training ended is the summary stage's
     metrics/autoencoder_training.json, from the fit records: seasonloop.reporting.results.)"""
 
-    autoencoder_descriptors: dict[str, dict[str, dict[str, float]]] = field(default_factory=dict)
+    autoencoder_descriptors: dict[str, dict[str, dict[str, Any]]] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
 
 
@@ -132,20 +135,35 @@ def descriptor_evaluations(
     }
 
 
-def descriptor_fraction_correct(
-    described: Mapping[str, Mapping[str, np.ndarray]],
-    truths: Mapping[tuple[str, str], PairTruth],
-    pairs: Sequence[tuple[str, str]],
-    evaluate: EvaluateConfig,
-    sequence: SequenceConfig,
-    descriptors: Sequence[str] = AE_DESCRIPTORS,
-) -> dict[str, dict[str, float]]:
-    """The fraction correct [descriptor][pair] of descriptor_evaluations."""
-    evaluations = descriptor_evaluations(described, truths, pairs, evaluate, sequence, descriptors)
+def fraction_correct_record(evaluations: Mapping[str, PairEvaluation], statistics: StatisticsConfig) -> dict[str, Any]:
+    """{fraction_correct: {pair: value}, interval: {pair: {low, high}}} of one descriptor's
+    evaluations (pair -> PairEvaluation): the fraction correct with its 95% block-bootstrap
+    interval (seasonloop.significance.intervals), as the evaluate stage draws it."""
     return {
-        descriptor: {pair: evaluation.metrics["fraction_correct"] for pair, evaluation in by_pair.items()}
-        for descriptor, by_pair in evaluations.items()
+        "fraction_correct": {pair: evaluation.metrics["fraction_correct"] for pair, evaluation in evaluations.items()},
+        "interval": {
+            pair: block_interval(evaluation.outcomes.correct, statistics) for pair, evaluation in evaluations.items()
+        },
     }
+
+
+def descriptors_figure(record: Mapping[str, Mapping[str, Any]], pairs: Sequence[tuple[str, str]], path: Path) -> None:
+    """Figure 19: fraction correct of each auto-encoder's descriptors (record[method][descriptor], as
+    fraction_correct_record gives it), one line per auto-encoder and pair."""
+    plot_series(
+        {
+            f"{method} {pair_name(a, b)}": (
+                list(AE_DESCRIPTORS),
+                [100 * by_descriptor[d]["fraction_correct"][pair_name(a, b)] for d in AE_DESCRIPTORS],
+            )
+            for method, by_descriptor in record.items()
+            for a, b in pairs
+        },
+        path,
+        title="Auto-encoder descriptors (study Fig. 19)",
+        xlabel="descriptor",
+        ylabel="fraction correct (%)",
+    )
 
 
 def autoencoder_figures(
@@ -157,12 +175,13 @@ def autoencoder_figures(
     batch_size: int,
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
+    statistics: StatisticsConfig,
     out: Path,
-) -> dict[str, dict[str, dict[str, float]]]:
+) -> dict[str, dict[str, dict[str, Any]]]:
     """Figures 19, 19b and 19c of the fitted auto-encoders models_dir/<method> of `methods` (at least
-    one); fraction correct[method][descriptor][pair]."""
+    one); record[method][descriptor] = fraction_correct_record of its single-image evaluations."""
     seasons = list(test)
-    fraction_correct: dict[str, dict[str, dict[str, float]]] = {}
+    record: dict[str, dict[str, dict[str, Any]]] = {}
     losses: dict[str, dict[str, list[float]]] = {}
     shown_places = np.linspace(0, len(test[seasons[0]]) - 1, N_RECONSTRUCTIONS + 2).astype(int)[1:-1]
     reconstructions = {season: [list(test[season][shown_places])] for season in seasons}
@@ -177,21 +196,11 @@ def autoencoder_figures(
             reconstructions[season].append(
                 list(described["output"][season][shown_places].reshape(-1, *test[season].shape[1:]))
             )
-        fraction_correct[method] = descriptor_fraction_correct(described, truths, pairs, evaluate, sequence)
-    plot_series(
-        {
-            f"{method} {pair_name(a, b)}": (
-                list(AE_DESCRIPTORS),
-                [100 * fraction_correct[method][d][pair_name(a, b)] for d in AE_DESCRIPTORS],
-            )
-            for method in methods
-            for a, b in pairs
-        },
-        out / "fig19_autoencoder_descriptors.png",
-        title="Auto-encoder descriptors (study Fig. 19)",
-        xlabel="descriptor",
-        ylabel="fraction correct (%)",
-    )
+        evaluations = descriptor_evaluations(described, truths, pairs, evaluate, sequence)
+        record[method] = {
+            descriptor: fraction_correct_record(by_pair, statistics) for descriptor, by_pair in evaluations.items()
+        }
+    descriptors_figure(record, pairs, out / "fig19_autoencoder_descriptors.png")
     # rows: a season's input images, then each auto-encoder's reconstructions of them
     plot_image_grid(
         [images for season in seasons for images in zip(*reconstructions[season])],
@@ -205,7 +214,7 @@ def autoencoder_figures(
         out / "fig19c_autoencoder_loss.png",
         title="Auto-encoder training: loss per epoch (validation on held-out training places)",
     )
-    return fraction_correct
+    return record
 
 
 def ica_basis_figure(ica, path: Path) -> None:
@@ -234,6 +243,7 @@ def draw_figures(
     batch_size: int,
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
+    statistics: StatisticsConfig,
 ) -> FigureRecords:
     """Every figure into `out` whose learner is in `learners`, from the models of models_dir/<learner>;
     test[season] are the test images of every season, in the run's season order."""
@@ -255,7 +265,7 @@ def draw_figures(
     if not autoencoders:
         notes.append("neither fae nor cae is in learners: no Figures 19, 19b, 19c")
         return FigureRecords(notes=notes)
-    fraction_correct = autoencoder_figures(
-        models_dir, autoencoders, test, truths, pairs, batch_size, evaluate, sequence, out
+    record = autoencoder_figures(
+        models_dir, autoencoders, test, truths, pairs, batch_size, evaluate, sequence, statistics, out
     )
-    return FigureRecords(fraction_correct, notes)
+    return FigureRecords(record, notes)

@@ -98,29 +98,33 @@ def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:
     )
 
 
-def figures_section(
-    figures: Mapping[str, Png], autoencoder_descriptors: Mapping[str, Mapping[str, Mapping[str, float]]]
-) -> Section:
+def figures_section(figures: Mapping[str, Png], autoencoder_descriptors: Mapping[str, Mapping[str, Any]]) -> Section:
     """The study's other figures (caption -> PNG) and the auto-encoder descriptor comparison table.
 
-    autoencoder_descriptors[method][descriptor][pair] is a fraction correct. Either may be empty
-    when the learners they need are not in the run.
+    autoencoder_descriptors[method][descriptor] = {fraction_correct: {pair: value}, interval: {pair:
+    {low, high}}} (metrics/autoencoder_descriptors.json); a cell shows the fraction correct with its
+    interval. Either may be empty when the learners they need are not in the run.
     """
     blocks: list[Block] = [Image(caption, png) for caption, png in figures.items()]
     if not figures:
         blocks.append(Text("No figure: the learners they show (pca, ica_bovw, fae, cae) are not in learners."))
     if autoencoder_descriptors:
-        table = 100 * pd.DataFrame.from_dict(
-            {
-                (method, descriptor): values
-                for method, by_descriptor in autoencoder_descriptors.items()
-                for descriptor, values in by_descriptor.items()
-            },
-            orient="index",
-        )
+        cells = {
+            (method, descriptor): {
+                pair: with_interval(100 * value, *(100 * record["interval"][pair][side] for side in ("low", "high")))
+                for pair, value in record["fraction_correct"].items()
+            }
+            for method, by_descriptor in autoencoder_descriptors.items()
+            for descriptor, record in by_descriptor.items()
+        }
+        table = pd.DataFrame.from_dict(cells, orient="index")
         table.index.names = ["method", "descriptor"]
         blocks.append(
-            Table("Auto-encoder descriptors (study Fig. 19): fraction correct (%), single-image matching", table)
+            Table(
+                "Auto-encoder descriptors (study Fig. 19): fraction correct (%) with its 95% block-bootstrap "
+                "interval, single-image matching",
+                table,
+            )
         )
     return Section("The study's other figures", blocks)
 

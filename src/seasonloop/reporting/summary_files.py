@@ -14,7 +14,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.io import load_array
+from seasonloop.params.settings import StatisticsConfig
 from seasonloop.plots import plot_pr_curves, plot_similarity_grid
 from seasonloop.reporting.dvcplots import pr_long
 from seasonloop.reporting.fraction_plots import plot_fraction_correct
@@ -28,11 +30,32 @@ from seasonloop.reporting.summary import (
     side_by_side_markdown,
     study_table,
 )
+from seasonloop.significance.means import mean_interval
 
 
-def summary_record(results: EvaluationResults) -> dict[str, Any]:
-    """Fraction correct per label and pair with its 95% block-bootstrap interval, its mean per label,
-    and the study's PR landmarks beside ours."""
+def mean_intervals(
+    outcomes_dir: Path,
+    methods: Sequence[str],
+    variants: Sequence[tuple[str, str, str]],
+    pairs: Sequence[str],
+    settings: StatisticsConfig,
+) -> dict[str, dict[str, float]]:
+    """label -> {low, high}: the block-bootstrap interval of the fraction correct averaged over
+    `pairs` (seasonloop.significance.means), from the evaluate stages' per-query outcomes
+    outcomes_dir/<method>/<pair><suffix>.csv of every learner and (metric, matcher, suffix) of `variants`."""
+    return {
+        method + suffix: mean_interval(
+            [QueryOutcomes.read_csv(outcomes_dir / method / f"{pair}{suffix}.csv").correct for pair in pairs], settings
+        )
+        for _, _, suffix in variants
+        for method in methods
+    }
+
+
+def summary_record(results: EvaluationResults, mean_interval_of: Mapping[str, Mapping[str, float]]) -> dict[str, Any]:
+    """Fraction correct per label and pair with its 95% block-bootstrap interval, its mean per label
+    with the mean's interval (mean_interval_of[label], as mean_intervals gives it), and the study's
+    PR landmarks beside ours."""
     labels, pairs, metrics = results.labels, results.pairs, results.metrics
     return {
         "fraction_correct": {
@@ -45,6 +68,7 @@ def summary_record(results: EvaluationResults) -> dict[str, Any]:
         "mean_fraction_correct": {
             label: float(np.mean([metrics[label][pair]["fraction_correct"] for pair in pairs])) for label in labels
         },
+        "mean_fraction_correct_interval": {label: dict(mean_interval_of[label]) for label in labels},
         "pr_landmarks": pr_landmarks(metrics),
     }
 

@@ -38,7 +38,10 @@ from _pipeline_run import timed_repro
 from seasonloop.fit_ending import how_fit_ended
 
 SOURCE = "bench_source.json"  # in FOLDER: the commit it was made from, and each call's machine
-FULL_SCALE_TABLES = "full_fraction_correct full_pr_landmarks full_autoencoder_training full_training_seasons full_cae_widths full_ica_basis"
+FULL_SCALE_TABLES = (
+    "full_fraction_correct full_pr_landmarks full_autoencoder_training full_training_seasons full_cae_widths "
+    "full_ica_basis full_claims"
+)
 
 
 def prepare(folder: Path, preset: Path, overrides: dict[str, Any] | None = None) -> dict:

@@ -520,9 +520,18 @@ def _check_block_length(path: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _claims(path: Path) -> str:
-    """docs/claims.yaml's comparisons, each on every pair, from a comparisons record."""
-    return claims_markdown(json.loads(path.read_text()), yaml.safe_load(CLAIMS.read_text()))
+def _claims_of(run: str) -> Callable[[Path], str]:
+    """The writer of one run's claims table: docs/claims.yaml's comparisons whose `run` is `run`
+    (no `run`: the default run's), each on every pair, from that run's comparisons record."""
+
+    def claims(path: Path) -> str:
+        every = yaml.safe_load(CLAIMS.read_text())
+        return claims_markdown(
+            json.loads(path.read_text()),
+            {name: claim for name, claim in every.items() if claim.get("run", "default") == run},
+        )
+
+    return claims
 
 
 # table name -> (the output file it is written from, its snapshot in docs/results/, how)
@@ -532,7 +541,7 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "pr_landmarks": ("plots/summary/pr_landmarks.md", "pr_landmarks.md", _fraction_correct),
     # paired comparisons (docs/results.md: how sure): every table, and the claims the prose cites
     "comparisons": ("plots/comparisons.md", "comparisons.md", _whole),
-    "claims": ("metrics/comparisons.json", "comparisons.json", _claims),
+    "claims": ("metrics/comparisons.json", "comparisons.json", _claims_of("default")),
     "check_block_length": (
         "benchmarks/results/check_block_length.json",
         "check_block_length.json",
@@ -622,6 +631,7 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "full_training_seasons": ("metrics/training_seasons.json", "full_training_seasons.json", _training_seasons),
     "full_cae_widths": ("metrics/cae_widths.json", "full_cae_widths_sweep.json", _cae_widths),
     "full_ica_basis": ("metrics/fit/ica.json", "full_ica_fit.json", _ica_fit),
+    "full_claims": ("metrics/comparisons.json", "full_comparisons.json", _claims_of("full")),
 }
 
 
@@ -637,6 +647,7 @@ OTHER_RUNS = (
     "full_training_seasons",
     "full_cae_widths",
     "full_ica_basis",
+    "full_claims",
 )
 
 # figures copied beside a table's snapshot (the README shows the copy): table name -> (figure, copy)

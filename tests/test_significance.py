@@ -15,6 +15,7 @@ from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.schema import check_whole
 from seasonloop.params.settings import StatisticsConfig
 from seasonloop.significance.intervals import (
+    block_interval,
     block_starts,
     fraction_interval,
     percentile_interval,
@@ -233,3 +234,9 @@ def test_the_mean_resamples_the_same_places_in_every_pair():
 def test_a_mean_over_no_pair_is_refused():
     with pytest.raises(ValueError, match="no season pair"):
         mean_interval([], SETTINGS)
+
+
+def test_block_interval_is_the_evaluate_stages_interval():
+    correct = np.repeat(np.random.default_rng(5).random(16) < 0.7, 10)
+    drawn = fraction_interval(correct, np.ones(len(correct), bool), block_starts(len(correct), SETTINGS), SETTINGS)
+    assert block_interval(correct, SETTINGS) == drawn["block_bootstrap"]

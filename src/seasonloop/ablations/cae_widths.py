@@ -32,6 +32,7 @@ from seasonloop.io import staged_file, write_json
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.plots import plot_series
 from seasonloop.reporting.figures import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
+from seasonloop.reporting.summary import record_cell
 
 TABLE5_CHANNELS = (96, 256, 384)
 DESCRIPTORS = ("output_patchnorm", "code")
@@ -163,13 +164,6 @@ def by_width(record: Mapping[str, Any]) -> list[tuple[str, Mapping[str, Any]]]:
     return sorted(record["widths"].items(), key=lambda item: item[1]["width"])
 
 
-def with_interval(descriptor: Mapping[str, Any], pair: str) -> str:
-    """'81.0 [75, 87]': a descriptor's fraction correct on a pair, %, with its interval where recorded."""
-    text = f"{100 * descriptor['fraction_correct'][pair]:.1f}"
-    interval = descriptor.get("interval", {}).get(pair)
-    return text + (f" [{100 * interval['low']:.0f}, {100 * interval['high']:.0f}]" if interval else "")
-
-
 def width_table(record: Mapping[str, Any]) -> str:
     """The sweep as a markdown table: one row per width, fraction correct (%) per pair for the
     patch-normalised output and the code, agreement with raw_patchnorm, fit facts."""
@@ -191,13 +185,13 @@ def width_table(record: Mapping[str, Any]) -> str:
                 f"{row['best_validation_loss']:.5f}",
                 f"{row['cosine_with_input']:.3f}",
             ]
-            + [with_interval(row["output_patchnorm"], p) for p in pairs]
-            + [with_interval(row["code"], p) for p in pairs]
+            + [record_cell(row["output_patchnorm"], p) for p in pairs]
+            + [record_cell(row["code"], p) for p in pairs]
             + [f"{100 * row['output_patchnorm']['agreement_with_raw'][p]:.1f}" for p in pairs]
         )
     rows.append(
         ["raw_patchnorm", "", "", "", "1.000"]
-        + [with_interval(record["raw_patchnorm"], p) for p in pairs]
+        + [record_cell(record["raw_patchnorm"], p) for p in pairs]
         + [""] * len(pairs)
         + ["100.0"] * len(pairs)
     )

@@ -10,14 +10,7 @@ from typing import Any
 import pandas as pd
 
 from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text
-from seasonloop.reporting.summary import with_interval
-
-
-def _percent_cell(value: float, interval: Mapping[str, float] | None) -> str:
-    """A fraction correct with its interval {low, high} (fractions) where it has one, in %."""
-    if not interval:
-        return with_interval(100 * value)
-    return with_interval(100 * value, 100 * interval["low"], 100 * interval["high"])
+from seasonloop.reporting.summary import percent_cell, record_cell
 
 
 def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -> Section:
@@ -32,7 +25,7 @@ def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -
     table = pd.DataFrame.from_dict(
         {
             series: {
-                seasons: _percent_cell(value, intervals.get(series, {}).get(seasons))
+                seasons: percent_cell(value, intervals.get(series, {}).get(seasons))
                 for seasons, value in values.items()
             }
             for series, values in training_seasons["fraction_correct"].items()
@@ -53,10 +46,6 @@ def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -
     )
 
 
-def _width_cell(descriptor: Mapping[str, Any], pair: str) -> str:
-    return _percent_cell(descriptor["fraction_correct"][pair], descriptor.get("interval", {}).get(pair))
-
-
 def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:
     """The CAE width sweep (metrics/cae_widths.json, seasonloop.ablations.cae_widths): one row per width."""
     pairs = record["pairs"]
@@ -69,11 +58,11 @@ def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:
             "epochs": row["epochs_run"],
             "best val. loss": row["best_validation_loss"],
             "cos(output, input)": row["cosine_with_input"],
-            **{f"output {pair}": _width_cell(row["output_patchnorm"], pair) for pair in pairs},
-            **{f"code {pair}": _width_cell(row["code"], pair) for pair in pairs},
+            **{f"output {pair}": record_cell(row["output_patchnorm"], pair) for pair in pairs},
+            **{f"code {pair}": record_cell(row["code"], pair) for pair in pairs},
             **{f"output = raw {pair}": 100 * row["output_patchnorm"]["agreement_with_raw"][pair] for pair in pairs},
         }
-    rows["raw_patchnorm"] = {f"output {pair}": _width_cell(record["raw_patchnorm"], pair) for pair in pairs}
+    rows["raw_patchnorm"] = {f"output {pair}": record_cell(record["raw_patchnorm"], pair) for pair in pairs}
     table = pd.DataFrame.from_dict(rows, orient="index")
     return Section(
         "CAE width",
@@ -110,10 +99,7 @@ def figures_section(figures: Mapping[str, Png], autoencoder_descriptors: Mapping
         blocks.append(Text("No figure: the learners they show (pca, ica_bovw, fae, cae) are not in learners."))
     if autoencoder_descriptors:
         cells = {
-            (method, descriptor): {
-                pair: with_interval(100 * value, *(100 * record["interval"][pair][side] for side in ("low", "high")))
-                for pair, value in record["fraction_correct"].items()
-            }
+            (method, descriptor): {pair: record_cell(record, pair) for pair in record["fraction_correct"]}
             for method, by_descriptor in autoencoder_descriptors.items()
             for descriptor, record in by_descriptor.items()
         }

@@ -68,6 +68,20 @@ def with_interval(percent: float, low: float | None = None, high: float | None =
     return f"{percent:.1f} [{low:.0f}, {high:.0f}]"
 
 
+def percent_cell(value: float, interval: Mapping[str, float] | None = None) -> str:
+    """with_interval's cell of a fraction (not %) and its interval {low, high} (fractions) where
+    it has one."""
+    if not interval:
+        return with_interval(100 * value)
+    return with_interval(100 * value, 100 * interval["low"], 100 * interval["high"])
+
+
+def record_cell(record: Mapping[str, Any], pair: str) -> str:
+    """percent_cell of a pair in a record {fraction_correct: {pair: value}, interval: {pair: {low,
+    high}}} (seasonloop.reporting.figures.fraction_correct_record's; interval optional)."""
+    return percent_cell(record["fraction_correct"][pair], record.get("interval", {}).get(pair))
+
+
 def side_by_side_markdown(
     ours: pd.DataFrame, study: pd.DataFrame, intervals: tuple[pd.DataFrame, pd.DataFrame] | None = None
 ) -> str:

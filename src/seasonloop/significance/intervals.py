@@ -99,7 +99,9 @@ def fraction_interval(
 def block_interval(correct: np.ndarray, settings: StatisticsConfig) -> dict[str, float]:
     """{low, high}: the block-bootstrap interval of the fraction of `correct` queries (in query order),
     as the evaluate stage draws it for a pair of that many queries (an ablation's evaluation)."""
-    correct = np.asarray(correct, bool)
-    every = np.ones_like(correct)
-    interval = fraction_interval(correct, every, block_starts(len(correct), settings), settings)
-    return interval["block_bootstrap"]
+    correct = np.asarray(correct, np.float64)
+    starts = block_starts(len(correct), settings)
+    low, high = percentile_interval(
+        resampled_ratios(correct, np.ones_like(correct), starts, settings.block_length), settings.level
+    )
+    return {"low": low, "high": high}

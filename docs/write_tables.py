@@ -534,6 +534,69 @@ def _claims_of(run: str) -> Callable[[Path], str]:
     return claims
 
 
+def _routes_line(record: dict) -> str:
+    """Which routes a replicate record stands on, and what their queue cost."""
+    seeds = ", ".join(str(route["seed"]) for route in record["routes"].values())
+    cost = (
+        f"; the queue of the {len(record['routes']) - 1} extra routes took {record['queue_seconds'] / 60:.0f} min, "
+        f"{record['jobs']} at a time, on {record['machine']['cpu']}"
+        if record.get("queue_seconds")
+        else ""
+    )
+    return f"{len(record['routes'])} routes (synthetic.seed {seeds}){cost}."
+
+
+def _replicate_spread(path: Path) -> str:
+    """Fraction correct over the replicate routes, under the main distance: mean ± standard
+    deviation [lowest, highest], in %."""
+    record = json.loads(path.read_text())
+    pairs = record["pairs"]
+    lines = [_routes_line(record), "", "| method | " + " | ".join(pairs) + " |", "|---|" + "---|" * len(pairs)]
+    for label, by_pair in record["fraction_correct"].items():
+        if "@" in label:
+            continue
+        cells = [
+            f"{100 * by_pair[pair]['mean']:.1f} ± {100 * by_pair[pair]['std']:.1f} "
+            f"[{100 * by_pair[pair]['min']:.0f}, {100 * by_pair[pair]['max']:.0f}]"
+            for pair in pairs
+        ]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _replicate_claims(path: Path) -> str:
+    """Each claim of docs/claims.yaml over the replicate routes: per pair, in how many routes it
+    points each way and is significant, and its pooled verdict."""
+    record = json.loads(path.read_text())
+    pairs, routes = record["pairs"], len(record["routes"])
+    lines = [
+        _routes_line(record),
+        "",
+        "| claim | compares | " + " | ".join(pairs) + " |",
+        "|---|---|" + "---|" * len(pairs),
+    ]
+    for name, by_pair in record["claims"].items():
+        cells = []
+        for pair in pairs:
+            counts = by_pair[pair]
+            if "ahead" in counts:
+                routes_cell = f"ahead in {counts['ahead']}/{routes}, ▲ {counts['better']} ▼ {counts['worse']}"
+            else:
+                better = f"{counts['least_better']}-{counts['most_better']}"
+                worse = f"{counts['least_worse']}-{counts['most_worse']}"
+                routes_cell = f"▲ {better} ▼ {worse} per route"
+            cells.append(f"{routes_cell}; pooled {counts['pooled']}")
+        lines.append(f"| {name} | {record['claims_says'][name]} | " + " | ".join(cells) + " |")
+    legend = (
+        "Cells: in how many routes the first side's point estimate is ahead, and in how many it is "
+        "significantly better (▲) or worse (▼) by that route's own paired test (for a whole table: the "
+        "range over the routes of its significant comparisons each way); pooled: every route's queries of "
+        "the pair as one long route, the same paired block bootstrap, McNemar and Holm "
+        "(seasonloop.reporting.replicates)."
+    )
+    return "\n".join(lines) + "\n\n" + legend + "\n"
+
+
 # table name -> (the output file it is written from, its snapshot in docs/results/, how)
 TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "headline": ("plots/summary/fraction_correct.md", "fraction_correct.md", _headline),
@@ -632,6 +695,9 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "full_cae_widths": ("metrics/cae_widths.json", "full_cae_widths_sweep.json", _cae_widths),
     "full_ica_basis": ("metrics/fit/ica.json", "full_ica_fit.json", _ica_fit),
     "full_claims": ("metrics/comparisons.json", "full_comparisons.json", _claims_of("full")),
+    # the default params on several synthetic routes (benchmarks/replicate_routes.py)
+    "replicate_spread": ("benchmarks/results/replicate_routes.json", "replicate_routes.json", _replicate_spread),
+    "replicate_claims": ("benchmarks/results/replicate_routes.json", "replicate_routes.json", _replicate_claims),
 }
 
 

@@ -5,8 +5,13 @@ test_fresh_clone.py; a queued experiment on real frames: test_real_frames.py.)""
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
+import yaml
 from workspaces import SMALL, dvc, git, in_a_terminal, make_workspace, wait_for_the_queue
 
 
@@ -44,3 +49,33 @@ def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path, small_see
     assert "…" not in table, table  # nothing cut to fit 120 columns
     diff = dvc(root, "plots", "diff", "discard-1", "discard-5", "--json")
     assert diff.returncode == 0 and "plots/summary/pr/summer-fall.csv" in json.loads(diff.stdout)["data"]
+
+
+@pytest.mark.e2e
+def test_replicate_routes_run_as_experiments_and_are_read_back(tmp_path, small_seed_cache):
+    root = make_workspace(tmp_path / "repo", SMALL, cache=small_seed_cache)
+    assert dvc(root, "repro").returncode == 0
+    git(root, "add", "-A")
+    git(root, "commit", "-qm", "baseline")
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+    done = subprocess.run(
+        [sys.executable, "benchmarks/replicate_routes.py", "run", "--seeds", "7"],
+        cwd=root,
+        env=env,
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    record = json.loads((root / "benchmarks/results/replicate_routes.json").read_text())
+    own_seed = yaml.safe_load((root / "params.yaml").read_text())["synthetic"]["seed"]
+    assert sorted(route["seed"] for route in record["routes"].values()) == sorted([own_seed, 7])
+    assert record["queue_seconds"] > 0 and record["pairs"] == ["summer-fall", "winter-summer", "winter-fall"]
+    # two routes: the spread is real (another route, other numbers), every cell ordered
+    cells = [cell for by_pair in record["fraction_correct"].values() for cell in by_pair.values()]
+    assert all(cell["min"] <= cell["mean"] <= cell["max"] for cell in cells)
+    assert any(cell["min"] < cell["max"] for cell in cells)
+    # the claims on learners this run has (raw_patchnorm, pca), tallied over both routes and pooled
+    assert "sequences_help" in record["claims"] and "ica_over_pca" in record["claims_left_out"]
+    for by_pair in record["claims"].values():
+        for counts in by_pair.values():
+            assert counts["pooled"] and all(value <= 2 for key, value in counts.items() if key != "pooled")

@@ -33,6 +33,19 @@ LEGEND = (
 )
 
 
+Reader = Callable[[str, str, str], tuple[np.ndarray, np.ndarray]]  # (method, pair, suffix) -> (places, correct)
+
+
+def csv_reader(outcomes_dir: Path) -> Reader:
+    """The per-query outcomes an evaluate stage wrote: outcomes_dir/<method>/<pair><suffix>.csv."""
+
+    def read(method: str, pair: str, suffix: str) -> tuple[np.ndarray, np.ndarray]:
+        outcomes = QueryOutcomes.read_csv(outcomes_dir / method / f"{pair}{suffix}.csv")
+        return outcomes.query_place, outcomes.correct
+
+    return read
+
+
 def run_comparisons(
     outcomes_dir: Path,
     methods: Sequence[str],
@@ -42,14 +55,21 @@ def run_comparisons(
 ) -> dict[str, Any]:
     """Every table of every season pair from outcomes_dir/<method>/<pair><suffix>.csv, with the
     settings they were computed under and the order of pairs and tables."""
+    return comparisons_of(csv_reader(outcomes_dir), methods, variants, pairs, settings)
+
+
+def comparisons_of(
+    read: Reader, methods: Sequence[str], variants: Sequence[Variant], pairs: Sequence[str], settings: StatisticsConfig
+) -> dict[str, Any]:
+    """run_comparisons' record from any reader of per-query outcomes (one run's, or several runs'
+    one after another: seasonloop.reporting.replicates)."""
     tables = comparison_tables(methods, variants)
     source = {method + suffix: (method, suffix) for method in methods for _, _, suffix in variants}
 
     def reader(pair: str) -> Callable[[str], tuple[np.ndarray, np.ndarray]]:
         def outcome_of(label: str) -> tuple[np.ndarray, np.ndarray]:
             method, suffix = source[label]
-            outcomes = QueryOutcomes.read_csv(outcomes_dir / method / f"{pair}{suffix}.csv")
-            return outcomes.query_place, outcomes.correct
+            return read(method, pair, suffix)
 
         return outcome_of
 

@@ -1,0 +1,152 @@
+"""Replicate routes: the pipeline on several synthetic routes, and which conclusions hold on all.
+
+    python benchmarks/replicate_routes.py run --seeds 1 2 3 4 [--jobs 1]
+    python benchmarks/replicate_routes.py collect
+
+`run` queues one DVC experiment per seed, everything else as in params.yaml
+(`dvc exp run --queue -n route-<seed> -S synthetic.seed=<seed>`), runs the queue
+(`dvc queue start -j <jobs>`), waits for it, then collects. `collect` reads the routes back: the
+experiments named route-<seed> of `dvc exp show --json` and the committed run of params.yaml's own
+seed (HEAD: run `dvc repro` and commit first), each one's metrics/summary.json,
+metrics/comparisons.json and data/outcomes/ through DVC's file system at its revision (from the
+cache: no second copy of the pipeline). It writes benchmarks/results/replicate_routes.json: the
+spread of every fraction correct over the routes, each claim of docs/claims.yaml tallied over the
+routes and pooled (seasonloop.reporting.replicates), and the queue's wall time;
+`python docs/write_tables.py --snapshot replicate_spread replicate_claims` puts it in docs/results.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import yaml
+from tqdm import tqdm
+
+from _bench_common import REPO, git_state, machine, write_result
+from seasonloop.evaluation.matchers import evaluations
+from seasonloop.params.schema import available_pairs, pair_name
+from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
+from seasonloop.reporting.replicates import claims_across_routes, claims_in, fraction_spread, pooled_comparisons
+
+PREFIX = "route-"
+FETCHED = ("metrics/summary.json", "metrics/comparisons.json", "data/outcomes")
+CLAIMS = REPO / "docs" / "claims.yaml"
+
+
+def dvc(*args: str) -> subprocess.CompletedProcess:
+    """A dvc command in the repository; a one-line error with its message when it fails."""
+    done = subprocess.run(["dvc", *args], cwd=REPO, capture_output=True, text=True)
+    if done.returncode:
+        raise SystemExit(f"dvc {' '.join(args)}: {(done.stderr or done.stdout).strip().splitlines()[-1:]}")
+    return done
+
+
+def queue_routes(seeds: list[int], jobs: int) -> float:
+    """Queue and run one experiment per seed; the queue's wall seconds."""
+    for seed in seeds:
+        dvc("exp", "run", "--queue", "-n", f"{PREFIX}{seed}", "-S", f"synthetic.seed={seed}")
+    started = time.monotonic()
+    dvc("queue", "start", "-j", str(jobs))
+    with tqdm(total=len(seeds), desc="routes", unit="route") as progress:
+        while True:
+            status = dvc("queue", "status").stdout
+            done = sum(
+                any(f"{PREFIX}{seed} " in line for seed in seeds) and "Success" in line for line in status.splitlines()
+            )
+            progress.update(done - progress.n)
+            if not any(word in status for word in ("Queued", "Running")):
+                break
+            time.sleep(10)
+    if "Failed" in status:
+        raise SystemExit(f"a route's experiment failed (`dvc queue logs <name>`):\n{status}")
+    return time.monotonic() - started
+
+
+def routes_of(shown: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
+    """name -> {rev, seed} of the finished experiments named route-<seed> in `dvc exp show --json`
+    (the newest of a name when it was run more than once)."""
+    found: dict[str, dict[str, Any]] = {}
+    for baseline in shown:
+        for experiment in baseline.get("experiments") or []:
+            for rev in experiment["revs"]:
+                name = rev.get("name") or ""
+                if name.startswith(PREFIX) and name not in found and rev["data"].get("params"):
+                    seed = rev["data"]["params"]["params.yaml"]["data"]["synthetic"]["seed"]
+                    found[name] = {"rev": rev["rev"], "seed": int(seed)}
+    return found
+
+
+def fetch(rev: str, folder: Path) -> None:
+    """The route's outputs FETCHED at revision `rev`, from DVC's cache, into `folder`."""
+    from dvc.api import DVCFileSystem
+
+    fs = DVCFileSystem(str(REPO), rev=rev)
+    for path in FETCHED:
+        target = folder / path
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fs.get(path, str(target), recursive=path.startswith("data/"))
+
+
+def collect(queue_seconds: float | None, jobs: int | None, measured_on: dict[str, Any]) -> Path:
+    params = yaml.safe_load((REPO / "params.yaml").read_text())
+    if subprocess.run(["git", "diff", "--quiet", "HEAD"], cwd=REPO).returncode:
+        raise SystemExit("replicate_routes: uncommitted changes; the baseline route is HEAD's run (commit it first)")
+    routes = {
+        f"{PREFIX}{params['synthetic']['seed']} (params.yaml)": {"rev": "HEAD", "seed": params["synthetic"]["seed"]}
+    }
+    routes.update(routes_of(json.loads(dvc("exp", "show", "--json").stdout)))
+    if len(routes) < 2:
+        raise SystemExit("replicate_routes: no experiment named route-<seed>: run `replicate_routes.py run` first")
+    evaluate = EvaluateConfig.from_params(params)
+    settings = StatisticsConfig.from_params(params)
+    seasons = params["data"]["seasons"]
+    pairs = [pair_name(a, b) for a, b in available_pairs(seasons, evaluate.pairs)]
+    claims = {name: claim for name, claim in yaml.safe_load(CLAIMS.read_text()).items() if "run" not in claim}
+    with tempfile.TemporaryDirectory() as tmp:
+        folders = {name: Path(tmp) / f"route{index}" for index, name in enumerate(routes)}
+        for name, route in routes.items():
+            print(f"reading {name} ({route['rev'][:7]})", file=sys.stderr)
+            fetch(route["rev"], folders[name])
+        summaries = {name: json.loads((folders[name] / FETCHED[0]).read_text()) for name in routes}
+        comparisons = {name: json.loads((folders[name] / FETCHED[1]).read_text()) for name in routes}
+        pooled = pooled_comparisons(
+            [folders[name] / "data/outcomes" for name in routes],
+            params["learners"],
+            evaluations(evaluate),
+            pairs,
+            settings,
+        )
+    claims, left_out = claims_in(next(iter(comparisons.values())), claims)
+    record = {
+        "routes": routes,
+        "pairs": pairs,
+        "queue_seconds": queue_seconds,
+        "jobs": jobs,
+        "fraction_correct": fraction_spread(summaries),
+        "claims": claims_across_routes(comparisons, pooled, claims),
+        "claims_says": {name: claim["says"] for name, claim in claims.items()},
+        "claims_left_out": left_out,  # on a learner or table this run does not have
+    }
+    return write_result("replicate_routes", record, measured_on)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("action", choices=["run", "collect"])
+    parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3, 4], help="synthetic.seed of each extra route")
+    parser.add_argument("--jobs", type=int, default=1, help="experiments run at a time (dvc queue start -j)")
+    args = parser.parse_args()
+    measured_on = {**machine(), "source": git_state()}
+    seconds = queue_routes(args.seeds, args.jobs) if args.action == "run" else None
+    print(collect(seconds, args.jobs if args.action == "run" else None, measured_on))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,126 @@
+"""Conclusions across replicate routes: the same pipeline and params on several synthetic routes
+(synthetic.seed), each run as a DVC experiment (benchmarks/replicate_routes.py queues and collects
+them), read back as each route's outputs: metrics/summary.json, metrics/comparisons.json and the
+per-query outcomes data/outcomes/.
+
+Three answers per route set:
+- the spread of every fraction correct (label x pair): mean, standard deviation, lowest, highest;
+- for each claim of docs/claims.yaml (one comparison, or a whole table), on each pair: in how many
+  routes it points each way and is significant each way (each route's own paired tests);
+- the pooled verdict: every route's queries of a pair taken one after another, as one long route,
+  with the same paired block bootstrap, McNemar test and Holm correction as a single run
+  (seasonloop.significance.tables). A block may straddle the end of one route and the start of the
+  next (fewer than one resample block in eight at 158 queries a route and blocks of 20); the
+  routes are independent, so what a block joins there is two unrelated stretches, as the bootstrap
+  of one route joins its blocks. A sign test over routes would be the other way to combine them,
+  but with 5 routes even 5 of 5 in one direction gives p = 0.0625: it cannot reach 5%.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from seasonloop.params.settings import StatisticsConfig
+from seasonloop.reporting.comparisons import claim_cells, comparisons_of, csv_reader, find_comparison, in_order
+from seasonloop.significance.tables import Variant
+
+
+def fraction_spread(summaries: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, dict[str, float]]]:
+    """label -> pair -> {mean, std, min, max} of fraction correct over the routes (summaries[route]:
+    that route's metrics/summary.json; std with one degree of freedom, 0 for a single route)."""
+    first = next(iter(summaries.values()))["fraction_correct"]
+    spread: dict[str, dict[str, dict[str, float]]] = {}
+    for label, by_pair in first.items():
+        spread[label] = {}
+        for pair in by_pair:
+            values = np.array([summary["fraction_correct"][label][pair] for summary in summaries.values()])
+            spread[label][pair] = {
+                "mean": float(values.mean()),
+                "std": float(values.std(ddof=1)) if len(values) > 1 else 0.0,
+                "min": float(values.min()),
+                "max": float(values.max()),
+            }
+    return spread
+
+
+def pooled_comparisons(
+    outcomes_dirs: Sequence[Path],
+    methods: Sequence[str],
+    variants: Sequence[Variant],
+    pairs: Sequence[str],
+    settings: StatisticsConfig,
+) -> dict[str, Any]:
+    """The comparisons record (as metrics/comparisons.json) of every route's queries one after
+    another: outcomes_dirs[i] is route i's data/outcomes folder."""
+    readers = [csv_reader(folder) for folder in outcomes_dirs]
+
+    def pooled(method: str, pair: str, suffix: str) -> tuple[np.ndarray, np.ndarray]:
+        read = [reader(method, pair, suffix) for reader in readers]
+        # places numbered per route: route i's place p is i * (1 + the largest place) + p
+        span = 1 + max(int(places.max()) for places, _ in read)
+        places = np.concatenate([route * span + places for route, (places, _) in enumerate(read)])
+        return places, np.concatenate([correct for _, correct in read])
+
+    return comparisons_of(pooled, methods, variants, pairs, settings)
+
+
+def claims_in(
+    record: Mapping[str, Any], claims: Mapping[str, Mapping[str, str]]
+) -> tuple[dict[str, Mapping[str, str]], list[str]]:
+    """(the claims a comparisons record can answer, the names of those it cannot: a learner or
+    table the run does not have, e.g. a run on fewer learners)."""
+    kept, left_out = {}, []
+    for name, claim in claims.items():
+        try:
+            claim_cells(record, claim)
+        except ValueError:
+            left_out.append(name)
+        else:
+            kept[name] = claim
+    return kept, left_out
+
+
+def claim_tally(
+    records: Mapping[str, Mapping[str, Any]], claims: Mapping[str, Mapping[str, str]]
+) -> dict[str, dict[str, dict[str, int]]]:
+    """claim -> pair -> counts over the routes (records[route]: its comparisons record). A claim on
+    one comparison: "ahead" / "behind" (first's point estimate above / below second's), "better" /
+    "worse" (significant). A claim on a whole table: "least_better" / "most_better" and "least_worse" /
+    "most_worse", the range over the routes of its significant comparisons each way."""
+    tally: dict[str, dict[str, dict[str, int]]] = {}
+    for name, claim in claims.items():
+        tally[name] = {}
+        for record in records.values():
+            for pair, tables in in_order(record).items():
+                rows = tables[claim["table"]]
+                counts = tally[name].setdefault(pair, {})
+                if "first" in claim:
+                    difference, verdict = find_comparison(rows, claim["first"], claim["second"])
+                    for key, holds in (
+                        ("ahead", difference > 0),
+                        ("behind", difference < 0),
+                        ("better", verdict == "better"),
+                        ("worse", verdict == "worse"),
+                    ):
+                        counts[key] = counts.get(key, 0) + int(holds)
+                else:
+                    for side in ("better", "worse"):
+                        count = sum(row["verdict"] == side for row in rows)
+                        counts[f"least_{side}"] = min(counts.get(f"least_{side}", count), count)
+                        counts[f"most_{side}"] = max(counts.get(f"most_{side}", count), count)
+    return tally
+
+
+def claims_across_routes(
+    records: Mapping[str, Mapping[str, Any]], pooled: Mapping[str, Any], claims: Mapping[str, Mapping[str, str]]
+) -> dict[str, dict[str, dict[str, Any]]]:
+    """claim -> pair -> the routes' tally (claim_tally) and the pooled cell ("+5.1 ▲", "3 ▲ 0 ▼ of 7")."""
+    tally = claim_tally(records, claims)
+    return {
+        name: {pair: {**tally[name][pair], "pooled": cell} for pair, cell in claim_cells(pooled, claim).items()}
+        for name, claim in claims.items()
+    }

@@ -1,0 +1,111 @@
+"""Conclusions across replicate routes (seasonloop.reporting.replicates) on cases with a known answer."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from seasonloop.evaluation.outcomes import QueryOutcomes
+from seasonloop.params.settings import StatisticsConfig
+from seasonloop.reporting.comparisons import claim_cells, run_comparisons
+from seasonloop.reporting.replicates import (
+    claim_tally,
+    claims_across_routes,
+    claims_in,
+    fraction_spread,
+    pooled_comparisons,
+)
+
+SETTINGS = StatisticsConfig(level=0.95, block_length=10, resamples=500, seed=0, alpha=0.05)
+VARIANTS = [("cosine", "single", "")]
+METHODS = ["good", "bad", "same"]
+CLAIMS = {
+    "good_over_bad": {"says": "good against bad", "table": "learners", "first": "good", "second": "bad"},
+    "every_learner": {"says": "every two learners", "table": "learners"},
+}
+
+
+def write_route(folder, good: np.ndarray, bad: np.ndarray) -> None:
+    """One route's outcomes on pair summer-fall: `same` is a copy of `good`."""
+    for method, correct in (("good", good), ("bad", bad), ("same", good)):
+        (folder / method).mkdir(parents=True)
+        n = len(correct)
+        QueryOutcomes(np.arange(n), correct, np.zeros(n), np.ones(n, bool), correct).to_csv(
+            folder / method / "summer-fall.csv"
+        )
+
+
+def routes(tmp_path, n_routes: int, n_queries: int, edge: int):
+    """Routes on which `good` is right on `edge` more queries than `bad` (in one stretch), the rest alike."""
+    folders = []
+    rng = np.random.default_rng(1)
+    for route in range(n_routes):
+        bad = rng.random(n_queries) < 0.5
+        good = bad.copy()
+        start = rng.integers(0, n_queries - edge)
+        good[start : start + edge] = True
+        bad[start : start + edge] = False
+        write_route(tmp_path / f"route{route}", good, bad)
+        folders.append(tmp_path / f"route{route}")
+    return folders
+
+
+def test_fraction_spread_over_routes():
+    summaries = {
+        "a": {"fraction_correct": {"pca": {"summer-fall": 0.5, "winter-fall": 0.25}}},
+        "b": {"fraction_correct": {"pca": {"summer-fall": 0.7, "winter-fall": 0.25}}},
+    }
+    spread = fraction_spread(summaries)
+    assert spread["pca"]["summer-fall"] == pytest.approx({"mean": 0.6, "std": 0.1414213, "min": 0.5, "max": 0.7})
+    assert spread["pca"]["winter-fall"]["std"] == 0.0
+    assert fraction_spread({"a": summaries["a"]})["pca"]["summer-fall"]["std"] == 0.0
+
+
+def test_pooling_routes_finds_what_each_route_is_too_short_to_show(tmp_path):
+    # a 12-query edge on each 60-query route: a single route's blocks see it in one or two blocks
+    folders = routes(tmp_path, n_routes=6, n_queries=60, edge=12)
+    single = [run_comparisons(folder, METHODS, VARIANTS, ["summer-fall"], SETTINGS) for folder in folders]
+    pooled = pooled_comparisons(folders, METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+    verdicts = [claim_cells(record, CLAIMS["good_over_bad"])["summer-fall"] for record in single]
+    # one stretch per route: McNemar alone would call it, the route's block interval does not
+    assert verdicts == ["+20.0 ·"] * 6
+    assert claim_cells(pooled, CLAIMS["good_over_bad"]) == {"summer-fall": "+20.0 ▲"}
+    # identical learners: no difference, pooled or not
+    same = {"says": "same", "table": "learners", "first": "good", "second": "same"}
+    assert claim_cells(pooled, same) == {"summer-fall": "+0.0 ·"}
+    rows = pooled["pairs"]["summer-fall"]["learners"]
+    good_bad = next(row for row in rows if {row["first"], row["second"]} == {"good", "bad"})
+    assert good_bad["first_only"] + good_bad["second_only"] == 6 * 12
+
+
+def test_claim_tally_counts_routes_each_way(tmp_path):
+    folders = routes(tmp_path, n_routes=3, n_queries=60, edge=12)
+    records = {folder.name: run_comparisons(folder, METHODS, VARIANTS, ["summer-fall"], SETTINGS) for folder in folders}
+    tally = claim_tally(records, CLAIMS)
+    counts = tally["good_over_bad"]["summer-fall"]
+    assert counts["ahead"] == 3 and counts["behind"] == 0
+    assert counts["better"] + 0 <= 3 and counts["worse"] == 0
+    whole = tally["every_learner"]["summer-fall"]
+    assert whole["least_better"] <= whole["most_better"] <= 3 and whole["most_worse"] <= 3
+    pooled = pooled_comparisons(folders, METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+    across = claims_across_routes(records, pooled, CLAIMS)
+    assert (
+        across["good_over_bad"]["summer-fall"]["pooled"] == claim_cells(pooled, CLAIMS["good_over_bad"])["summer-fall"]
+    )
+    assert across["good_over_bad"]["summer-fall"]["ahead"] == 3
+
+
+def test_pooling_refuses_routes_with_other_pairs(tmp_path):
+    folders = routes(tmp_path, n_routes=2, n_queries=30, edge=5)
+    (folders[1] / "bad" / "summer-fall.csv").unlink()
+    with pytest.raises(ValueError, match="route1/bad/summer-fall.csv"):
+        pooled_comparisons(folders, METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+
+
+def test_claims_on_learners_the_run_lacks_are_left_out(tmp_path):
+    folders = routes(tmp_path, n_routes=1, n_queries=30, edge=5)
+    record = run_comparisons(folders[0], METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+    other = {"says": "ica against pca", "table": "learners", "first": "ica", "second": "pca"}
+    no_table = {"says": "sequences", "table": "matchers+seq"}
+    kept, left_out = claims_in(record, {**CLAIMS, "ica_over_pca": other, "sequences_help": no_table})
+    assert list(kept) == list(CLAIMS) and left_out == ["ica_over_pca", "sequences_help"]

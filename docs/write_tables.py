@@ -30,6 +30,7 @@ sys.path.insert(0, str(ROOT / "src"))
 from seasonloop.ablations.cae_widths import width_table  # noqa: E402
 from seasonloop.machine import cpu_model  # noqa: E402
 from seasonloop.reporting.comparisons import claims_markdown  # noqa: E402
+from seasonloop.reporting.summary import percent_cell  # noqa: E402
 
 RESULTS = ROOT / "docs" / "results"
 README = ROOT / "README.md"
@@ -278,13 +279,16 @@ def _training_seasons(path: Path) -> str:
     record = json.loads(path.read_text())
     sets = record["season_sets"]
     lines = [
-        f"Pair {record['pair']}, single image; columns: the seasons the learner was trained on.",
+        f"Pair {record['pair']}, single image, fraction correct (%) with its 95% block-bootstrap interval; "
+        "columns: the seasons the learner was trained on.",
         "",
         "| learner | " + " | ".join(sets) + " |",
         "|---|" + "---|" * len(sets),
     ]
+    intervals = record.get("intervals", {})
     for learner, fractions in record["fraction_correct"].items():
-        lines.append(f"| {learner} | " + " | ".join(f"{100 * fractions[s]:.1f}" for s in sets) + " |")
+        cells = [percent_cell(fractions[s], intervals.get(learner, {}).get(s)) for s in sets]
+        lines.append(f"| {learner} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 

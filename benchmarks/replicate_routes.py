@@ -38,6 +38,7 @@ from seasonloop.reporting.replicates import claims_across_routes, claims_in, fra
 PREFIX = "route-"
 FETCHED = ("metrics/summary.json", "metrics/comparisons.json", "data/outcomes")
 CLAIMS = REPO / "docs" / "claims.yaml"
+QUEUE = REPO / "benchmarks" / "results" / "replicate_routes_queue.json"  # the last `run`'s queue
 
 
 def dvc(*args: str) -> subprocess.CompletedProcess:
@@ -53,7 +54,9 @@ def queue_routes(seeds: list[int], jobs: int) -> float:
     for seed in seeds:
         dvc("exp", "run", "--queue", "-n", f"{PREFIX}{seed}", "-S", f"synthetic.seed={seed}")
     started = time.monotonic()
-    dvc("queue", "start", "-j", str(jobs))
+    # the workers it starts keep its stdout: captured, the call would wait for the whole queue
+    if subprocess.run(["dvc", "queue", "start", "-j", str(jobs)], cwd=REPO, stdout=subprocess.DEVNULL).returncode:
+        raise SystemExit("dvc queue start failed")
     with tqdm(total=len(seeds), desc="routes", unit="route") as progress:
         while True:
             status = dvc("queue", "status").stdout
@@ -67,6 +70,19 @@ def queue_routes(seeds: list[int], jobs: int) -> float:
     if "Failed" in status:
         raise SystemExit(f"a route's experiment failed (`dvc queue logs <name>`):\n{status}")
     return time.monotonic() - started
+
+
+def queue_cost(seeds: list[int]) -> dict[str, Any]:
+    """{queue_seconds, jobs, queue_timed (how)} of the last `run` when it queued exactly the extra routes of `seeds`
+    (every seed but the first, params.yaml's), else None for both."""
+    queued = json.loads(QUEUE.read_text()) if QUEUE.is_file() else {}
+    if sorted(queued.get("seeds", [])) != sorted(seeds[1:]):
+        return {"queue_seconds": None, "jobs": None, "queue_timed": None}
+    return {
+        "queue_seconds": queued["seconds"],
+        "jobs": queued["jobs"],
+        "queue_timed": queued.get("timed", "by `replicate_routes.py run`, from `dvc queue start` to an empty queue"),
+    }
 
 
 def routes_of(shown: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
@@ -94,10 +110,10 @@ def fetch(rev: str, folder: Path) -> None:
         fs.get(path, str(target), recursive=path.startswith("data/"))
 
 
-def collect(queue_seconds: float | None, jobs: int | None, measured_on: dict[str, Any]) -> Path:
+def collect(measured_on: dict[str, Any]) -> Path:
     params = yaml.safe_load((REPO / "params.yaml").read_text())
-    if subprocess.run(["git", "diff", "--quiet", "HEAD"], cwd=REPO).returncode:
-        raise SystemExit("replicate_routes: uncommitted changes; the baseline route is HEAD's run (commit it first)")
+    if subprocess.run(["git", "diff", "--quiet", "HEAD", "--", "dvc.lock", "params.yaml"], cwd=REPO).returncode:
+        raise SystemExit("replicate_routes: dvc.lock or params.yaml differ from HEAD; the baseline route is HEAD's run")
     routes = {
         f"{PREFIX}{params['synthetic']['seed']} (params.yaml)": {"rev": "HEAD", "seed": params["synthetic"]["seed"]}
     }
@@ -127,14 +143,20 @@ def collect(queue_seconds: float | None, jobs: int | None, measured_on: dict[str
     record = {
         "routes": routes,
         "pairs": pairs,
-        "queue_seconds": queue_seconds,
-        "jobs": jobs,
+        # the last `run`'s queue, when it queued these routes' seeds
+        **queue_cost([route["seed"] for route in routes.values()]),
         "fraction_correct": fraction_spread(summaries),
         "claims": claims_across_routes(comparisons, pooled, claims),
         "claims_says": {name: claim["says"] for name, claim in claims.items()},
         "claims_left_out": left_out,  # on a learner or table this run does not have
     }
     return write_result("replicate_routes", record, measured_on)
+
+
+def save_queue(seeds: list[int], jobs: int, seconds: float) -> None:
+    """The queue's cost, kept apart so that a later `collect` reports it (QUEUE)."""
+    QUEUE.parent.mkdir(parents=True, exist_ok=True)
+    QUEUE.write_text(json.dumps({"seeds": seeds, "jobs": jobs, "seconds": seconds}) + "\n")
 
 
 def main() -> None:
@@ -144,8 +166,9 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=1, help="experiments run at a time (dvc queue start -j)")
     args = parser.parse_args()
     measured_on = {**machine(), "source": git_state()}
-    seconds = queue_routes(args.seeds, args.jobs) if args.action == "run" else None
-    print(collect(seconds, args.jobs if args.action == "run" else None, measured_on))
+    if args.action == "run":
+        save_queue(args.seeds, args.jobs, queue_routes(args.seeds, args.jobs))
+    print(collect(measured_on))
 
 
 if __name__ == "__main__":

@@ -6,8 +6,8 @@
 `run` queues one DVC experiment per seed, everything else as in params.yaml
 (`dvc exp run --queue -n route-<seed> -S synthetic.seed=<seed>`), runs the queue
 (`dvc queue start -j <jobs>`), waits for it, then collects. `collect` reads the routes back: the
-experiments named route-<seed> of `dvc exp show --json` and the committed run of params.yaml's own
-seed (HEAD: run `dvc repro` and commit first), each one's metrics/summary.json,
+experiments named route-<seed> of `dvc exp show --json` and the committed run they branched from
+(params.yaml's own seed: run `dvc repro` and commit before `run`), each one's metrics/summary.json,
 metrics/comparisons.json and data/outcomes/ through DVC's file system at its revision (from the
 cache: no second copy of the pipeline). It writes benchmarks/results/replicate_routes.json: the
 spread of every fraction correct over the routes, each claim of docs/claims.yaml tallied over the
@@ -38,6 +38,7 @@ from seasonloop.reporting.replicates import claims_across_routes, claims_in, fra
 PREFIX = "route-"
 FETCHED = ("metrics/summary.json", "metrics/comparisons.json", "data/outcomes")
 CLAIMS = REPO / "docs" / "claims.yaml"
+SEARCHED = 20  # commits back from HEAD whose experiments `collect` looks at
 QUEUE = REPO / "benchmarks" / "results" / "replicate_routes_queue.json"  # the last `run`'s queue
 
 
@@ -86,17 +87,21 @@ def queue_cost(seeds: list[int]) -> dict[str, Any]:
 
 
 def routes_of(shown: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
-    """name -> {rev, seed} of the finished experiments named route-<seed> in `dvc exp show --json`
-    (the newest of a name when it was run more than once)."""
-    found: dict[str, dict[str, Any]] = {}
+    """name -> {rev, seed} of the routes in `dvc exp show --json`: the newest commit that has
+    experiments named route-<seed> (the baseline route, params.yaml's own seed, first), then those
+    experiments (the newest of a name when it was run more than once)."""
     for baseline in shown:
+        found: dict[str, dict[str, Any]] = {}
         for experiment in baseline.get("experiments") or []:
             for rev in experiment["revs"]:
                 name = rev.get("name") or ""
                 if name.startswith(PREFIX) and name not in found and rev["data"].get("params"):
                     seed = rev["data"]["params"]["params.yaml"]["data"]["synthetic"]["seed"]
                     found[name] = {"rev": rev["rev"], "seed": int(seed)}
-    return found
+        if found:
+            seed = int(baseline["data"]["params"]["params.yaml"]["data"]["synthetic"]["seed"])
+            return {f"{PREFIX}{seed} (baseline)": {"rev": baseline["rev"], "seed": seed}, **found}
+    return {}
 
 
 def fetch(rev: str, folder: Path) -> None:
@@ -111,15 +116,19 @@ def fetch(rev: str, folder: Path) -> None:
 
 
 def collect(measured_on: dict[str, Any]) -> Path:
-    params = yaml.safe_load((REPO / "params.yaml").read_text())
-    if subprocess.run(["git", "diff", "--quiet", "HEAD", "--", "dvc.lock", "params.yaml"], cwd=REPO).returncode:
-        raise SystemExit("replicate_routes: dvc.lock or params.yaml differ from HEAD; the baseline route is HEAD's run")
-    routes = {
-        f"{PREFIX}{params['synthetic']['seed']} (params.yaml)": {"rev": "HEAD", "seed": params["synthetic"]["seed"]}
-    }
-    routes.update(routes_of(json.loads(dvc("exp", "show", "--json").stdout)))
-    if len(routes) < 2:
-        raise SystemExit("replicate_routes: no experiment named route-<seed>: run `replicate_routes.py run` first")
+    routes = routes_of(json.loads(dvc("exp", "show", "--json", "-n", str(SEARCHED)).stdout))
+    if not routes:
+        raise SystemExit(
+            f"replicate_routes: no experiment named {PREFIX}<seed> on the last {SEARCHED} commits: "
+            "run `replicate_routes.py run` first"
+        )
+    baseline = next(iter(routes.values()))["rev"]
+    # the baseline's params: the routes' own, but for synthetic.seed
+    params = yaml.safe_load(
+        subprocess.run(
+            ["git", "show", f"{baseline}:params.yaml"], cwd=REPO, capture_output=True, text=True, check=True
+        ).stdout
+    )
     evaluate = EvaluateConfig.from_params(params)
     settings = StatisticsConfig.from_params(params)
     seasons = params["data"]["seasons"]
@@ -148,6 +157,11 @@ def collect(measured_on: dict[str, Any]) -> Path:
         "fraction_correct": fraction_spread(summaries),
         "claims": claims_across_routes(comparisons, pooled, claims),
         "claims_says": {name: claim["says"] for name, claim in claims.items()},
+        # JSON objects come back with sorted keys: the tables' order of rows
+        "order": {
+            "labels": [method + suffix for _, _, suffix in evaluations(evaluate) for method in params["learners"]],
+            "claims": list(claims),
+        },
         "claims_left_out": left_out,  # on a learner or table this run does not have
     }
     return write_result("replicate_routes", record, measured_on)

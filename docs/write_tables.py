@@ -556,7 +556,8 @@ def _replicate_spread(path: Path) -> str:
     record = json.loads(path.read_text())
     pairs = record["pairs"]
     lines = [_routes_line(record), "", "| method | " + " | ".join(pairs) + " |", "|---|" + "---|" * len(pairs)]
-    for label, by_pair in record["fraction_correct"].items():
+    for label in record["order"]["labels"]:
+        by_pair = record["fraction_correct"][label]
         if "@" in label:
             continue
         cells = [
@@ -579,7 +580,8 @@ def _replicate_claims(path: Path) -> str:
         "| claim | compares | " + " | ".join(pairs) + " |",
         "|---|---|" + "---|" * len(pairs),
     ]
-    for name, by_pair in record["claims"].items():
+    for name in record["order"]["claims"]:
+        by_pair = record["claims"][name]
         cells = []
         for pair in pairs:
             counts = by_pair[pair]

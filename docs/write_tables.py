@@ -569,6 +569,21 @@ def _replicate_spread(path: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _replicate_totals(cells: list[dict], routes: int) -> str:
+    """A claim over every route-pair cell: ahead / significant counts of all, and on how many pairs
+    its pooled verdict is significant each way."""
+    if "ahead" not in cells[0]:  # a whole table: its pooled cells read "5 ▲ 0 ▼ of 7"
+        counts = [re.fullmatch(r"(\d+) ▲ (\d+) ▼ of (\d+)", cell["pooled"]) for cell in cells]
+        better, worse, of = (sum(int(match[group]) for match in counts if match) for group in (1, 2, 3))
+        return f"pooled ▲ {better} ▼ {worse} of {of} comparisons"
+    pooled_better = sum(cell["pooled"].endswith("▲") for cell in cells)
+    pooled_worse = sum(cell["pooled"].endswith("▼") for cell in cells)
+    pooled = f"pooled ▲ on {pooled_better}, ▼ on {pooled_worse} of {len(cells)} pairs"
+    total = routes * len(cells)
+    ahead, better, worse = (sum(cell[key] for cell in cells) for key in ("ahead", "better", "worse"))
+    return f"ahead in {ahead}/{total}, ▲ {better} ▼ {worse}; {pooled}"
+
+
 def _replicate_claims(path: Path) -> str:
     """Each claim of docs/claims.yaml over the replicate routes: per pair, in how many routes it
     points each way and is significant, and its pooled verdict."""
@@ -577,8 +592,8 @@ def _replicate_claims(path: Path) -> str:
     lines = [
         _routes_line(record),
         "",
-        "| claim | compares | " + " | ".join(pairs) + " |",
-        "|---|---|" + "---|" * len(pairs),
+        "| claim | compares | " + " | ".join(pairs) + " | all pairs |",
+        "|---|---|" + "---|" * (len(pairs) + 1),
     ]
     for name in record["order"]["claims"]:
         by_pair = record["claims"][name]
@@ -592,11 +607,13 @@ def _replicate_claims(path: Path) -> str:
                 worse = f"{counts['least_worse']}-{counts['most_worse']}"
                 routes_cell = f"▲ {better} ▼ {worse} per route"
             cells.append(f"{routes_cell}; pooled {counts['pooled']}")
+        cells.append(_replicate_totals([by_pair[pair] for pair in pairs], routes))
         lines.append(f"| {name} | {record['claims_says'][name]} | " + " | ".join(cells) + " |")
     legend = (
         "Cells: in how many routes the first side's point estimate is ahead, and in how many it is "
         "significantly better (▲) or worse (▼) by that route's own paired test (for a whole table: the "
-        "range over the routes of its significant comparisons each way); pooled: every route's queries of "
+        "range over the routes of its significant comparisons each way); all pairs: the same counted over "
+        "every route and pair; pooled: every route's queries of "
         "the pair as one long route, the same paired block bootstrap, McNemar and Holm "
         "(seasonloop.reporting.replicates)."
     )

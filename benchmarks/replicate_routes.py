@@ -6,7 +6,8 @@
 `run` queues one DVC experiment per seed, everything else as in params.yaml
 (`dvc exp run --queue -n route-<seed> -S synthetic.seed=<seed>`), runs the queue
 (`dvc queue start -j <jobs>`), waits for it, then collects. `collect` reads the routes back: the
-experiments named route-<seed> of `dvc exp show --json` and the committed run they branched from
+experiments named route-<seed> of `dvc exp show --json` (of the newest commit that has any, and of
+older commits with the same pipeline: see routes_of) and the committed run they branched from
 (params.yaml's own seed: run `dvc repro` and commit before `run`), each one's metrics/summary.json,
 metrics/comparisons.json and data/outcomes/ through DVC's file system at its revision (from the
 cache: no second copy of the pipeline). It writes benchmarks/results/replicate_routes.json: the
@@ -23,6 +24,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -86,22 +88,36 @@ def queue_cost(seeds: list[int]) -> dict[str, Any]:
     }
 
 
-def routes_of(shown: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
+def routes_of(shown: list[dict[str, Any]], same_pipeline: Callable[[str, str], bool]) -> dict[str, dict[str, Any]]:
     """name -> {rev, seed} of the routes in `dvc exp show --json`: the newest commit that has
-    experiments named route-<seed> (the baseline route, params.yaml's own seed, first), then those
-    experiments (the newest of a name when it was run more than once)."""
+    experiments named route-<seed> (the baseline route, its params.yaml's seed, first), those
+    experiments, and those of older commits whose pipeline is the same (same_pipeline(newer, older):
+    a commit that changed only docs leaves the routes comparable); the newest route of a seed."""
+    routes: dict[str, dict[str, Any]] = {}
+    newest = None
     for baseline in shown:
-        found: dict[str, dict[str, Any]] = {}
+        if baseline["rev"] == "workspace" or (newest is not None and not same_pipeline(newest, baseline["rev"])):
+            continue
         for experiment in baseline.get("experiments") or []:
             for rev in experiment["revs"]:
                 name = rev.get("name") or ""
-                if name.startswith(PREFIX) and name not in found and rev["data"].get("params"):
-                    seed = rev["data"]["params"]["params.yaml"]["data"]["synthetic"]["seed"]
-                    found[name] = {"rev": rev["rev"], "seed": int(seed)}
-        if found:
-            seed = int(baseline["data"]["params"]["params.yaml"]["data"]["synthetic"]["seed"])
-            return {f"{PREFIX}{seed} (baseline)": {"rev": baseline["rev"], "seed": seed}, **found}
-    return {}
+                if name.startswith(PREFIX) and rev["data"].get("params"):
+                    seed = int(rev["data"]["params"]["params.yaml"]["data"]["synthetic"]["seed"])
+                    if newest is None:
+                        newest = baseline["rev"]
+                        own = int(baseline["data"]["params"]["params.yaml"]["data"]["synthetic"]["seed"])
+                        routes[f"{PREFIX}{own} (baseline)"] = {"rev": newest, "seed": own}
+                    if seed not in {route["seed"] for route in routes.values()}:
+                        routes[name] = {"rev": rev["rev"], "seed": seed}
+    baseline_route = list(routes.items())[:1]
+    return dict(baseline_route + sorted(list(routes.items())[1:], key=lambda item: item[1]["seed"]))
+
+
+def same_pipeline(newer: str, older: str) -> bool:
+    """Whether two commits run the same pipeline: no change to dvc.yaml, params.yaml, stages/ or
+    src/ between them (git)."""
+    paths = ["dvc.yaml", "params.yaml", "stages", "src"]
+    return subprocess.run(["git", "diff", "--quiet", older, newer, "--", *paths], cwd=REPO).returncode == 0
 
 
 def fetch(rev: str, folder: Path) -> None:
@@ -116,7 +132,7 @@ def fetch(rev: str, folder: Path) -> None:
 
 
 def collect(measured_on: dict[str, Any]) -> Path:
-    routes = routes_of(json.loads(dvc("exp", "show", "--json", "-n", str(SEARCHED)).stdout))
+    routes = routes_of(json.loads(dvc("exp", "show", "--json", "-n", str(SEARCHED)).stdout), same_pipeline)
     if not routes:
         raise SystemExit(
             f"replicate_routes: no experiment named {PREFIX}<seed> on the last {SEARCHED} commits: "

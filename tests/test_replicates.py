@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -109,3 +112,40 @@ def test_claims_on_learners_the_run_lacks_are_left_out(tmp_path):
     no_table = {"says": "sequences", "table": "matchers+seq"}
     kept, left_out = claims_in(record, {**CLAIMS, "ica_over_pca": other, "sequences_help": no_table})
     assert list(kept) == list(CLAIMS) and left_out == ["ica_over_pca", "sequences_help"]
+
+
+def shown(baseline: str, seed: int, experiments: dict[str, int]) -> dict:
+    """One baseline of `dvc exp show --json`: its params' seed and experiments name -> seed."""
+
+    def data(seed: int) -> dict:
+        return {"params": {"params.yaml": {"data": {"synthetic": {"seed": seed}}}}}
+
+    return {
+        "rev": baseline,
+        "data": data(seed),
+        "experiments": [
+            {"revs": [{"rev": f"{baseline}-{name}", "name": name, "data": data(s)}]} for name, s in experiments.items()
+        ]
+        or None,
+    }
+
+
+def test_routes_are_read_from_commits_with_the_same_pipeline():
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from replicate_routes import routes_of
+
+    exps = [
+        {"rev": "workspace", "data": {}, "experiments": None},
+        shown("c3", 0, {"route-7": 7, "route-5": 5}),  # newest commit with routes
+        shown("c2", 0, {}),
+        shown("c1", 0, {"route-1": 1, "route-5": 5}),  # same pipeline: its route-1 joins, route-5 is c3's
+        shown("c0", 0, {"route-2": 2}),  # another pipeline: left out
+    ]
+    routes = routes_of(exps, lambda newer, older: older != "c0")
+    assert routes == {
+        "route-0 (baseline)": {"rev": "c3", "seed": 0},
+        "route-1": {"rev": "c1-route-1", "seed": 1},
+        "route-5": {"rev": "c3-route-5", "seed": 5},
+        "route-7": {"rev": "c3-route-7", "seed": 7},
+    }
+    assert routes_of(exps[:1], lambda newer, older: True) == {}

@@ -99,6 +99,9 @@ def routes_of(shown: list[dict[str, Any]], same_pipeline: Callable[[str, str], b
         if baseline["rev"] == "workspace" or (newest is not None and not same_pipeline(newest, baseline["rev"])):
             continue
         for experiment in baseline.get("experiments") or []:
+            # a queued, running or failed experiment has params but no outputs of its own
+            if (experiment.get("executor") or {}).get("state") not in (None, "success"):
+                continue
             for rev in experiment["revs"]:
                 name = rev.get("name") or ""
                 if name.startswith(PREFIX) and rev["data"].get("params"):

@@ -114,8 +114,9 @@ def test_claims_on_learners_the_run_lacks_are_left_out(tmp_path):
     assert list(kept) == list(CLAIMS) and left_out == ["ica_over_pca", "sequences_help"]
 
 
-def shown(baseline: str, seed: int, experiments: dict[str, int]) -> dict:
-    """One baseline of `dvc exp show --json`: its params' seed and experiments name -> seed."""
+def shown(baseline: str, seed: int, experiments: dict[str, int], state: str | None = None) -> dict:
+    """One baseline of `dvc exp show --json`: its params' seed and experiments name -> seed, in
+    executor `state` (None: finished)."""
 
     def data(seed: int) -> dict:
         return {"params": {"params.yaml": {"data": {"synthetic": {"seed": seed}}}}}
@@ -124,7 +125,11 @@ def shown(baseline: str, seed: int, experiments: dict[str, int]) -> dict:
         "rev": baseline,
         "data": data(seed),
         "experiments": [
-            {"revs": [{"rev": f"{baseline}-{name}", "name": name, "data": data(s)}]} for name, s in experiments.items()
+            {
+                "executor": state and {"state": state},
+                "revs": [{"rev": f"{baseline}-{name}", "name": name, "data": data(s)}],
+            }
+            for name, s in experiments.items()
         ]
         or None,
     }
@@ -137,6 +142,7 @@ def test_routes_are_read_from_commits_with_the_same_pipeline():
     exps = [
         {"rev": "workspace", "data": {}, "experiments": None},
         shown("c3", 0, {"route-7": 7, "route-5": 5}),  # newest commit with routes
+        shown("c3", 0, {"route-9": 9}, state="failed"),  # no outputs: left out
         shown("c2", 0, {}),
         shown("c1", 0, {"route-1": 1, "route-5": 5}),  # same pipeline: its route-1 joins, route-5 is c3's
         shown("c0", 0, {"route-2": 2}),  # another pipeline: left out

@@ -14,6 +14,10 @@ Three answers per route set:
   routes are independent, so what a block joins there is two unrelated stretches, as the bootstrap
   of one route joins its blocks. A sign test over routes would be the other way to combine them,
   but with 5 routes even 5 of 5 in one direction gives p = 0.0625: it cannot reach 5%.
+  The resamples depend on the order the routes are joined in (the callers join them by seed): on
+  the five routes of docs/results.md, joining them in another order turned one of the 672 pooled
+  comparisons (a +seq against single images under L1, near the threshold). Resampling each route
+  on its own (a stratified bootstrap) would not depend on the order; not done yet.
 """
 
 from __future__ import annotations

@@ -5,23 +5,17 @@ test_fresh_clone.py; a queued experiment on real frames: test_real_frames.py.)""
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 import yaml
-from workspaces import SMALL, dvc, git, in_a_terminal, make_workspace, wait_for_the_queue
+from workspaces import SMALL, committed_run, dvc, in_a_terminal, tool_env, wait_for_the_queue
 
 
 @pytest.mark.e2e
 def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path, small_seed_cache):
-    root = make_workspace(tmp_path / "repo", SMALL, cache=small_seed_cache)
-    baseline = dvc(root, "repro")
-    assert baseline.returncode == 0, baseline.stderr[-2000:]
-    git(root, "add", "-A")
-    git(root, "commit", "-qm", "baseline")
+    root = committed_run(tmp_path / "repo", SMALL, cache=small_seed_cache)
     for name, discard in (("discard-1", 1), ("discard-5", 5)):
         queued = dvc(root, "exp", "run", "--queue", "-n", name, "-S", f"pca.n_discard={discard}")
         assert queued.returncode == 0, queued.stderr
@@ -53,15 +47,11 @@ def test_two_queued_experiments_run_side_by_side_and_compare(tmp_path, small_see
 
 @pytest.mark.e2e
 def test_replicate_routes_run_as_experiments_and_are_read_back(tmp_path, small_seed_cache):
-    root = make_workspace(tmp_path / "repo", SMALL, cache=small_seed_cache)
-    assert dvc(root, "repro").returncode == 0
-    git(root, "add", "-A")
-    git(root, "commit", "-qm", "baseline")
-    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+    root = committed_run(tmp_path / "repo", SMALL, cache=small_seed_cache)
     done = subprocess.run(
         [sys.executable, "benchmarks/replicate_routes.py", "run", "--seeds", "7"],
         cwd=root,
-        env=env,
+        env=tool_env(),
         capture_output=True,
         text=True,
     )

@@ -7,16 +7,13 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from workspaces import SMALL, dvc, git, make_workspace
+from workspaces import SMALL, committed_run, dvc, git
 
 
 @pytest.mark.e2e
 def test_exp_run_of_one_target_in_a_fresh_clone(tmp_path, small_seed_cache):
     # the origin's stages come from the seed's run cache; the clones start without any cache
-    origin = make_workspace(tmp_path / "origin", SMALL, cache=small_seed_cache)
-    assert dvc(origin, "repro").returncode == 0
-    git(origin, "add", "-A")
-    git(origin, "commit", "-qm", "run")
+    origin = committed_run(tmp_path / "origin", SMALL, cache=small_seed_cache)
 
     def fresh_clone(name: str) -> Path:
         clone = tmp_path / name

@@ -11,19 +11,14 @@ import time
 from pathlib import Path
 
 import pytest
-from workspaces import SMALL, dvc, git, make_workspace
+from workspaces import SMALL, committed_run, dvc, git
 
 
 @pytest.fixture(scope="module")
 def pushed_run(tmp_path_factory, small_seed_cache) -> Path:
     """A workspace that ran the pipeline (its stages restored from the seed's run cache), with
     dvc.lock committed."""
-    root = make_workspace(tmp_path_factory.mktemp("origin"), SMALL, cache=small_seed_cache)
-    result = dvc(root, "repro")
-    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
-    git(root, "add", "-A")
-    git(root, "commit", "-qm", "run")
-    return root
+    return committed_run(tmp_path_factory.mktemp("origin"), SMALL, cache=small_seed_cache)
 
 
 def pull_into_a_fresh_clone(origin: Path, clone: Path, remote_name: str, *local_settings: tuple[str, ...]) -> None:

@@ -135,8 +135,24 @@ def make_workspace(root: Path, overrides: dict, cache: Path | None = None) -> Pa
     return root
 
 
+def committed_run(root: Path, overrides: dict, cache: Path | None = None) -> Path:
+    """make_workspace, then `dvc repro` with its dvc.lock committed: the run that experiments,
+    clones and replicate routes start from."""
+    make_workspace(root, overrides, cache)
+    result = dvc(root, "repro")
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    git(root, "add", "-A")
+    assert git(root, "commit", "-qm", "run").returncode == 0
+    return root
+
+
+def tool_env(**extra: str) -> dict[str, str]:
+    """This environment with the test's Python (and its dvc) first on PATH."""
+    return dict(os.environ, **extra, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+
+
 def dvc(root: Path, *args: str) -> subprocess.CompletedProcess:
-    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+    env = tool_env()
     return subprocess.run(
         [str(Path(sys.executable).parent / "dvc"), *args], cwd=root, env=env, capture_output=True, text=True
     )
@@ -144,7 +160,7 @@ def dvc(root: Path, *args: str) -> subprocess.CompletedProcess:
 
 def in_a_terminal(root: Path, columns: int, *args: str) -> str:
     """What a dvc command prints in a terminal `columns` wide (rich fits its tables to it)."""
-    env = dict(os.environ, COLUMNS=str(columns), PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+    env = tool_env(COLUMNS=str(columns))
     return subprocess.run(
         [str(Path(sys.executable).parent / "dvc"), *args], cwd=root, env=env, capture_output=True, text=True
     ).stdout

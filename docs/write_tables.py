@@ -572,12 +572,11 @@ def _replicate_spread(path: Path) -> str:
 def _replicate_totals(cells: list[dict], routes: int) -> str:
     """A claim over every route-pair cell: ahead / significant counts of all, and on how many pairs
     its pooled verdict is significant each way."""
-    if "ahead" not in cells[0]:  # a whole table: its pooled cells read "5 ▲ 0 ▼ of 7"
-        counts = [re.fullmatch(r"(\d+) ▲ (\d+) ▼ of (\d+)", cell["pooled"]) for cell in cells]
-        better, worse, of = (sum(int(match[group]) for match in counts if match) for group in (1, 2, 3))
+    if "ahead" not in cells[0]:  # a whole table
+        better, worse, of = (sum(cell[f"pooled_{key}"] for cell in cells) for key in ("better", "worse", "of"))
         return f"pooled ▲ {better} ▼ {worse} of {of} comparisons"
-    pooled_better = sum(cell["pooled"].endswith("▲") for cell in cells)
-    pooled_worse = sum(cell["pooled"].endswith("▼") for cell in cells)
+    pooled_better = sum(cell["pooled_verdict"] == "better" for cell in cells)
+    pooled_worse = sum(cell["pooled_verdict"] == "worse" for cell in cells)
     pooled = f"pooled ▲ on {pooled_better}, ▼ on {pooled_worse} of {len(cells)} pairs"
     total = routes * len(cells)
     ahead, better, worse = (sum(cell[key] for cell in cells) for key in ("ahead", "better", "worse"))

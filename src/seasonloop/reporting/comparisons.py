@@ -191,20 +191,34 @@ def find_comparison(rows: Sequence[Mapping[str, Any]], first: str, second: str) 
     raise ValueError(f"no comparison of {first} with {second} in this table")
 
 
-def claim_cells(record: Mapping[str, Any], claim: Mapping[str, str]) -> dict[str, str]:
-    """pair -> the claim's cell: "+5.1 ▲" for one comparison, "3 ▲ 0 ▼ of 7" for a whole table."""
-    cells = {}
+def claim_values(record: Mapping[str, Any], claim: Mapping[str, str]) -> dict[str, dict[str, Any]]:
+    """pair -> the claim's numbers: {difference, verdict} (first side's) for one comparison,
+    {better, worse, of} (its significant comparisons each way, of how many) for a whole table."""
+    values: dict[str, dict[str, Any]] = {}
     for pair, tables in in_order(record).items():
         if claim["table"] not in tables:
             raise ValueError(f"claim on table {claim['table']!r}: the run has no such table (it has {sorted(tables)})")
         rows = tables[claim["table"]]
         if "first" in claim:
-            cells[pair] = _cell(*find_comparison(rows, claim["first"], claim["second"]))
+            difference, verdict = find_comparison(rows, claim["first"], claim["second"])
+            values[pair] = {"difference": difference, "verdict": verdict}
         else:
-            better = sum(row["verdict"] == "better" for row in rows)
-            worse = sum(row["verdict"] == "worse" for row in rows)
-            cells[pair] = f"{better} ▲ {worse} ▼ of {len(rows)}"
-    return cells
+            values[pair] = {
+                "better": sum(row["verdict"] == "better" for row in rows),
+                "worse": sum(row["verdict"] == "worse" for row in rows),
+                "of": len(rows),
+            }
+    return values
+
+
+def claim_cells(record: Mapping[str, Any], claim: Mapping[str, str]) -> dict[str, str]:
+    """pair -> the claim's cell: "+5.1 ▲" for one comparison, "3 ▲ 0 ▼ of 7" for a whole table."""
+    return {
+        pair: _cell(value["difference"], value["verdict"])
+        if "verdict" in value
+        else f"{value['better']} ▲ {value['worse']} ▼ of {value['of']}"
+        for pair, value in claim_values(record, claim).items()
+    }
 
 
 def claims_markdown(record: Mapping[str, Any], claims: Mapping[str, Mapping[str, str]]) -> str:

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.reporting.comparisons import claim_cells, comparisons_of, csv_reader, find_comparison, in_order
+from seasonloop.reporting.comparisons import claim_cells, claim_values, comparisons_of, csv_reader
 from seasonloop.significance.tables import Variant
 
 
@@ -99,32 +99,38 @@ def claim_tally(
     for name, claim in claims.items():
         tally[name] = {}
         for record in records.values():
-            for pair, tables in in_order(record).items():
-                rows = tables[claim["table"]]
+            for pair, value in claim_values(record, claim).items():
                 counts = tally[name].setdefault(pair, {})
-                if "first" in claim:
-                    difference, verdict = find_comparison(rows, claim["first"], claim["second"])
+                if "verdict" in value:
                     for key, holds in (
-                        ("ahead", difference > 0),
-                        ("behind", difference < 0),
-                        ("better", verdict == "better"),
-                        ("worse", verdict == "worse"),
+                        ("ahead", value["difference"] > 0),
+                        ("behind", value["difference"] < 0),
+                        ("better", value["verdict"] == "better"),
+                        ("worse", value["verdict"] == "worse"),
                     ):
                         counts[key] = counts.get(key, 0) + int(holds)
                 else:
                     for side in ("better", "worse"):
-                        count = sum(row["verdict"] == side for row in rows)
-                        counts[f"least_{side}"] = min(counts.get(f"least_{side}", count), count)
-                        counts[f"most_{side}"] = max(counts.get(f"most_{side}", count), count)
+                        counts[f"least_{side}"] = min(counts.get(f"least_{side}", value[side]), value[side])
+                        counts[f"most_{side}"] = max(counts.get(f"most_{side}", value[side]), value[side])
     return tally
 
 
 def claims_across_routes(
     records: Mapping[str, Mapping[str, Any]], pooled: Mapping[str, Any], claims: Mapping[str, Mapping[str, str]]
 ) -> dict[str, dict[str, dict[str, Any]]]:
-    """claim -> pair -> the routes' tally (claim_tally) and the pooled cell ("+5.1 ▲", "3 ▲ 0 ▼ of 7")."""
+    """claim -> pair -> the routes' tally (claim_tally), the pooled cell ("+5.1 ▲", "3 ▲ 0 ▼ of 7")
+    and its numbers (claim_values) as pooled_<key>."""
     tally = claim_tally(records, claims)
-    return {
-        name: {pair: {**tally[name][pair], "pooled": cell} for pair, cell in claim_cells(pooled, claim).items()}
-        for name, claim in claims.items()
-    }
+    across: dict[str, dict[str, dict[str, Any]]] = {}
+    for name, claim in claims.items():
+        cells, values = claim_cells(pooled, claim), claim_values(pooled, claim)
+        across[name] = {
+            pair: {
+                **tally[name][pair],
+                "pooled": cells[pair],
+                **{f"pooled_{key}": v for key, v in values[pair].items()},
+            }
+            for pair in cells
+        }
+    return across

@@ -77,7 +77,7 @@ def queue_routes(seeds: list[int], jobs: int) -> float:
 
 def queue_cost(seeds: list[int]) -> dict[str, Any]:
     """{queue_seconds, jobs, queue_timed (how)} of the last `run` when it queued exactly the extra routes of `seeds`
-    (every seed but the first, params.yaml's), else None for both."""
+    (every seed but the first, the baseline's), else None for each."""
     queued = json.loads(QUEUE.read_text()) if QUEUE.is_file() else {}
     if sorted(queued.get("seeds", [])) != sorted(seeds[1:]):
         return {"queue_seconds": None, "jobs": None, "queue_timed": None}

@@ -24,7 +24,7 @@ import yaml
 from _bench_common import machine, write_result
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.significance.intervals import block_starts, fraction_interval
+from seasonloop.significance.intervals import block_resampling, fraction_interval
 
 LAGS = (1, 2, 5, 10, 20, 40)
 BLOCK_LENGTHS = (1, 5, 10, 20, 40)
@@ -41,7 +41,7 @@ def autocorrelation(correct: np.ndarray, lag: int) -> float | None:
 
 def interval_width(correct: np.ndarray, settings: StatisticsConfig, kind: str) -> float:
     every = np.ones_like(correct)
-    interval = fraction_interval(correct, every, block_starts(len(correct), settings), settings)[kind]
+    interval = fraction_interval(correct, every, block_resampling(len(correct), settings), settings)[kind]
     return 100 * (interval["high"] - interval["low"])
 
 

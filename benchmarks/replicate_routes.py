@@ -161,7 +161,7 @@ def collect(measured_on: dict[str, Any]) -> Path:
         summaries = {name: json.loads((folders[name] / FETCHED[0]).read_text()) for name in routes}
         comparisons = {name: json.loads((folders[name] / FETCHED[1]).read_text()) for name in routes}
         pooled = pooled_comparisons(
-            [folders[name] / "data/outcomes" for name in routes],
+            {route["seed"]: folders[name] / "data/outcomes" for name, route in routes.items()},
             params["learners"],
             evaluations(evaluate),
             pairs,

@@ -40,7 +40,7 @@ def write_route(folder, good: np.ndarray, bad: np.ndarray) -> None:
 
 def routes(tmp_path, n_routes: int, n_queries: int, edge: int):
     """Routes on which `good` is right on `edge` more queries than `bad` (in one stretch), the rest alike."""
-    folders = []
+    folders = {}
     rng = np.random.default_rng(1)
     for route in range(n_routes):
         bad = rng.random(n_queries) < 0.5
@@ -49,7 +49,7 @@ def routes(tmp_path, n_routes: int, n_queries: int, edge: int):
         good[start : start + edge] = True
         bad[start : start + edge] = False
         write_route(tmp_path / f"route{route}", good, bad)
-        folders.append(tmp_path / f"route{route}")
+        folders[route] = tmp_path / f"route{route}"
     return folders
 
 
@@ -67,7 +67,7 @@ def test_fraction_spread_over_routes():
 def test_pooling_routes_finds_what_each_route_is_too_short_to_show(tmp_path):
     # a 12-query edge on each 60-query route: a single route's blocks see it in one or two blocks
     folders = routes(tmp_path, n_routes=6, n_queries=60, edge=12)
-    single = [run_comparisons(folder, METHODS, VARIANTS, ["summer-fall"], SETTINGS) for folder in folders]
+    single = [run_comparisons(folder, METHODS, VARIANTS, ["summer-fall"], SETTINGS) for folder in folders.values()]
     pooled = pooled_comparisons(folders, METHODS, VARIANTS, ["summer-fall"], SETTINGS)
     verdicts = [claim_cells(record, CLAIMS["good_over_bad"])["summer-fall"] for record in single]
     # one stretch per route: McNemar alone would call it, the route's block interval does not
@@ -81,9 +81,25 @@ def test_pooling_routes_finds_what_each_route_is_too_short_to_show(tmp_path):
     assert good_bad["first_only"] + good_bad["second_only"] == 6 * 12
 
 
+def test_pooled_verdicts_do_not_depend_on_the_order_routes_are_read_in(tmp_path):
+    folders = routes(tmp_path, n_routes=4, n_queries=45, edge=6)
+    pooled = pooled_comparisons(folders, METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+    reversed_order = dict(reversed(list(folders.items())))
+    assert pooled_comparisons(reversed_order, METHODS, VARIANTS, ["summer-fall"], SETTINGS) == pooled
+    # the same routes under other keys: other resamples (the key seeds each route's generator)
+    rekeyed = {key + 10: folder for key, folder in folders.items()}
+    other = pooled_comparisons(rekeyed, METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+    rows, other_rows = (record["pairs"]["summer-fall"]["learners"] for record in (pooled, other))
+    assert [row["difference"] for row in rows] == [row["difference"] for row in other_rows]
+    assert [row["low"] for row in rows] != [row["low"] for row in other_rows]
+
+
 def test_claim_tally_counts_routes_each_way(tmp_path):
     folders = routes(tmp_path, n_routes=3, n_queries=60, edge=12)
-    records = {folder.name: run_comparisons(folder, METHODS, VARIANTS, ["summer-fall"], SETTINGS) for folder in folders}
+    records = {
+        folder.name: run_comparisons(folder, METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+        for folder in folders.values()
+    }
     tally = claim_tally(records, CLAIMS)
     counts = tally["good_over_bad"]["summer-fall"]
     assert counts["ahead"] == 3 and counts["behind"] == 0

@@ -22,6 +22,7 @@ from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.settings import StatisticsConfig
 from seasonloop.reporting.html import Section, Table, Text
 from seasonloop.reporting.summary import markdown_table
+from seasonloop.significance.intervals import Resampling
 from seasonloop.significance.tables import Variant, comparison_tables, pair_comparisons
 
 SYMBOLS = {"better": "▲", "worse": "▼", "no difference": "·"}
@@ -59,10 +60,16 @@ def run_comparisons(
 
 
 def comparisons_of(
-    read: Reader, methods: Sequence[str], variants: Sequence[Variant], pairs: Sequence[str], settings: StatisticsConfig
+    read: Reader,
+    methods: Sequence[str],
+    variants: Sequence[Variant],
+    pairs: Sequence[str],
+    settings: StatisticsConfig,
+    resampling_of: Callable[[str], Resampling] | None = None,
 ) -> dict[str, Any]:
     """run_comparisons' record from any reader of per-query outcomes (one run's, or several runs'
-    one after another: seasonloop.reporting.replicates)."""
+    one after another: seasonloop.reporting.replicates, whose resampling_of(pair) resamples each
+    run's queries on their own; by default a pair's queries are one route's)."""
     tables = comparison_tables(methods, variants)
     source = {method + suffix: (method, suffix) for method in methods for _, _, suffix in variants}
 
@@ -77,7 +84,10 @@ def comparisons_of(
         "statistics": asdict(settings),
         # JSON objects come back with sorted keys: the run's order of pairs and tables
         "order": {"pairs": list(pairs), "tables": list(tables)},
-        "pairs": {pair: pair_comparisons(reader(pair), tables, settings) for pair in pairs},
+        "pairs": {
+            pair: pair_comparisons(reader(pair), tables, settings, resampling_of(pair) if resampling_of else None)
+            for pair in pairs
+        },
     }
 
 

@@ -7,17 +7,16 @@ Three answers per route set:
 - the spread of every fraction correct (label x pair): mean, standard deviation, lowest, highest;
 - for each claim of docs/claims.yaml (one comparison, or a whole table), on each pair: in how many
   routes it points each way and is significant each way (each route's own paired tests);
-- the pooled verdict: every route's queries of a pair taken one after another, as one long route,
-  with the same paired block bootstrap, McNemar test and Holm correction as a single run
-  (seasonloop.significance.tables). A block may straddle the end of one route and the start of the
-  next (fewer than one resample block in eight at 158 queries a route and blocks of 20); the
-  routes are independent, so what a block joins there is two unrelated stretches, as the bootstrap
-  of one route joins its blocks. A sign test over routes would be the other way to combine them,
-  but with 5 routes even 5 of 5 in one direction gives p = 0.0625: it cannot reach 5%.
-  The resamples depend on the order the routes are joined in (the callers join them by seed): on
-  the five routes of docs/results.md, joining them in another order turned one of the 672 pooled
-  comparisons (a +seq against single images under L1, near the threshold). Resampling each route
-  on its own (a stratified bootstrap) would not depend on the order; not done yet.
+- the pooled verdict: every route's queries of a pair taken together, as one long route, with the
+  same McNemar test and Holm correction as a single run (seasonloop.significance.tables) and a
+  stratified block bootstrap: each route's queries resampled on their own, with as many queries and
+  the block length of a single run, from a generator seeded by the route's key (its synthetic.seed;
+  seasonloop.significance.intervals.stratified_resampling). So no block joins the end of one route
+  to the start of another, and the verdicts depend neither on the order the routes are read in nor
+  on which other routes are there (a first version joined the routes into one and resampled that:
+  reading the five routes of docs/results.md in another order turned one of its 672 comparisons).
+  A sign test over routes would be the other way to combine them, but with 5 routes even 5 of 5 in
+  one direction gives p = 0.0625: it cannot reach 5%.
 """
 
 from __future__ import annotations
@@ -30,6 +29,7 @@ import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
 from seasonloop.reporting.comparisons import claim_cells, claim_values, comparisons_of, csv_reader
+from seasonloop.significance.intervals import Resampling, stratified_resampling
 from seasonloop.significance.tables import Variant
 
 
@@ -52,24 +52,33 @@ def fraction_spread(summaries: Mapping[str, Mapping[str, Any]]) -> dict[str, dic
 
 
 def pooled_comparisons(
-    outcomes_dirs: Sequence[Path],
+    outcomes_dirs: Mapping[int, Path],
     methods: Sequence[str],
     variants: Sequence[Variant],
     pairs: Sequence[str],
     settings: StatisticsConfig,
 ) -> dict[str, Any]:
-    """The comparisons record (as metrics/comparisons.json) of every route's queries one after
-    another: outcomes_dirs[i] is route i's data/outcomes folder."""
-    readers = [csv_reader(folder) for folder in outcomes_dirs]
+    """The comparisons record (as metrics/comparisons.json) of every route's queries together:
+    outcomes_dirs[key] is the data/outcomes folder of the route whose resamples are seeded by key
+    (its synthetic.seed)."""
+    readers = {key: csv_reader(folder) for key, folder in outcomes_dirs.items()}
+
+    def routes_of(method: str, pair: str, suffix: str) -> list[tuple[np.ndarray, np.ndarray]]:
+        return [reader(method, pair, suffix) for reader in readers.values()]
 
     def pooled(method: str, pair: str, suffix: str) -> tuple[np.ndarray, np.ndarray]:
-        read = [reader(method, pair, suffix) for reader in readers]
+        read = routes_of(method, pair, suffix)
         # places numbered per route: route i's place p is i * (1 + the largest place) + p
         span = 1 + max(int(places.max()) for places, _ in read)
         places = np.concatenate([route * span + places for route, (places, _) in enumerate(read)])
         return places, np.concatenate([correct for _, correct in read])
 
-    return comparisons_of(pooled, methods, variants, pairs, settings)
+    def resampling_of(pair: str) -> Resampling:
+        # a pair's evaluations share their queries (pair_comparisons checks): the first one's count
+        read = routes_of(methods[0], pair, variants[0][2])
+        return stratified_resampling([(key, len(places)) for key, (places, _) in zip(readers, read)], settings)
+
+    return comparisons_of(pooled, methods, variants, pairs, settings, resampling_of)
 
 
 def claims_in(

@@ -7,14 +7,18 @@ binomial's, is too narrow. The moving block bootstrap (Kuensch 1989) resamples b
 `block_length` consecutive queries, so the runs inside a block stay whole; its percentile interval
 is the one the tables use, the Wilson interval of the binomial beside it for comparison.
 
-A resample is a set of block starts (block_starts), the same for every learner of a pair (the
-starts depend only on the number of queries and the settings), so a paired difference between
-two learners is resampled on the same queries (seasonloop.significance.paired).
+A resample is a set of blocks (block_resampling), the same for every learner of a pair (they
+depend only on the number of queries and the settings), so a paired difference between two
+learners is resampled on the same queries (seasonloop.significance.paired). Several independent
+routes' queries joined into one (replicate routes) are resampled route by route
+(stratified_resampling).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from dataclasses import dataclass
 from statistics import NormalDist
 from typing import Any
 
@@ -23,32 +27,68 @@ import numpy as np
 from seasonloop.params.settings import StatisticsConfig
 
 
-def block_starts(n_queries: int, settings: StatisticsConfig) -> np.ndarray:
-    """(resamples, blocks) int64: the first query of each block of each resample, uniform over the
-    n - length + 1 possible starts; ceil(n / length) blocks a resample, the last cut so that a
-    resample has n queries. A block never wraps around: the route's two ends are not neighbours."""
+@dataclass(frozen=True)
+class Resampling:
+    """Block resamples of a run of queries: starts (resamples, blocks), the first query of each block
+    of each resample; lengths (blocks,), each block column's number of queries. A resample's queries
+    are its blocks' queries, block after block."""
+
+    starts: np.ndarray
+    lengths: np.ndarray
+
+    @property
+    def n_queries(self) -> int:
+        return int(self.lengths.sum())
+
+
+def block_resampling(n_queries: int, settings: StatisticsConfig, seed: Sequence[int] | int | None = None) -> Resampling:
+    """The moving block bootstrap of one route's queries: ceil(n / length) blocks a resample, each
+    first query uniform over the n - length + 1 possible starts, the last block cut so that a resample
+    has n queries. A block never wraps around: the route's two ends are not neighbours. Drawn from
+    settings.seed, or from `seed` where given (a route among several: stratified_resampling)."""
     if n_queries < 1:
-        raise ValueError(f"block_starts: no query to resample (n_queries {n_queries})")
+        raise ValueError(f"block_resampling: no query to resample (n_queries {n_queries})")
     length = min(settings.block_length, n_queries)
     blocks = math.ceil(n_queries / length)
-    rng = np.random.default_rng(settings.seed)
-    return rng.integers(0, n_queries - length + 1, size=(settings.resamples, blocks), dtype=np.int64)
+    rng = np.random.default_rng(settings.seed if seed is None else seed)
+    starts = rng.integers(0, n_queries - length + 1, size=(settings.resamples, blocks), dtype=np.int64)
+    lengths = np.full(blocks, length, np.int64)
+    lengths[-1] = n_queries - (blocks - 1) * length
+    return Resampling(starts, lengths)
 
 
-def resampled_ratios(
-    numerator: np.ndarray, denominator: np.ndarray, starts: np.ndarray, block_length: int
-) -> np.ndarray:
+def stratified_resampling(routes: Sequence[tuple[int, int]], settings: StatisticsConfig) -> Resampling:
+    """Several independent routes' queries one after another, routes[i] = (key, n_queries) in that
+    order: each route resampled on its own (its blocks inside it, as many queries as it has), from a
+    generator seeded by (settings.seed, key). A route's resamples then depend neither on the order the
+    routes are joined in nor on which other routes are there, and no block joins two routes."""
+    if not routes:
+        raise ValueError("stratified_resampling: no route to resample")
+    keys = [key for key, _ in routes]
+    if len(set(keys)) != len(keys):
+        raise ValueError(f"stratified_resampling: route keys {keys} repeat (each route needs its own generator)")
+    strata, offset = [], 0
+    for key, n_queries in routes:
+        route = block_resampling(n_queries, settings, seed=[settings.seed, key])
+        strata.append(Resampling(route.starts + offset, route.lengths))
+        offset += n_queries
+    return Resampling(
+        np.concatenate([stratum.starts for stratum in strata], axis=1),
+        np.concatenate([stratum.lengths for stratum in strata]),
+    )
+
+
+def resampled_ratios(numerator: np.ndarray, denominator: np.ndarray, resampling: Resampling) -> np.ndarray:
     """(resamples,) sum(numerator) / sum(denominator) over each resample's queries (NaN where a
     resample holds no denominator). With a denominator of ones, the resampled means."""
     numerator, denominator = np.asarray(numerator, np.float64), np.asarray(denominator, np.float64)
-    n_queries = len(numerator)
-    length = min(block_length, n_queries)
-    last = n_queries - (starts.shape[1] - 1) * length  # the last block's queries
+    if len(numerator) != resampling.n_queries:
+        raise ValueError(f"resampled_ratios: {len(numerator)} queries, resamples of {resampling.n_queries}")
+    ends = resampling.starts + resampling.lengths
 
     def sums(values: np.ndarray) -> np.ndarray:
         cumulative = np.concatenate(([0.0], np.cumsum(values)))
-        whole = cumulative[starts[:, :-1] + length] - cumulative[starts[:, :-1]]
-        return whole.sum(axis=1) + cumulative[starts[:, -1] + last] - cumulative[starts[:, -1]]
+        return (cumulative[ends] - cumulative[resampling.starts]).sum(axis=1)
 
     below = sums(denominator)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -82,7 +122,7 @@ def wilson_interval(successes: int, trials: int, level: float) -> tuple[float, f
 
 
 def fraction_interval(
-    successes: np.ndarray, counted: np.ndarray, starts: np.ndarray, settings: StatisticsConfig
+    successes: np.ndarray, counted: np.ndarray, resampling: Resampling, settings: StatisticsConfig
 ) -> dict[str, Any]:
     """The block-bootstrap and Wilson intervals of the fraction of the counted queries that succeed
     (fraction correct: every query counted; recall@1: the queries that have a correct place)."""
@@ -90,7 +130,7 @@ def fraction_interval(
     hits, trials = int((successes & counted).sum()), int(counted.sum())
     if trials == 0:  # e.g. recall@1 of a pair where no query has a correct place (JSON has no NaN)
         return {"block_bootstrap": None, "wilson": None}
-    resampled = resampled_ratios(successes & counted, counted, starts, settings.block_length)
+    resampled = resampled_ratios(successes & counted, counted, resampling)
     low, high = percentile_interval(resampled, settings.level)
     wilson_low, wilson_high = wilson_interval(hits, trials, settings.level)
     return {"block_bootstrap": {"low": low, "high": high}, "wilson": {"low": wilson_low, "high": wilson_high}}
@@ -100,8 +140,6 @@ def block_interval(correct: np.ndarray, settings: StatisticsConfig) -> dict[str,
     """{low, high}: the block-bootstrap interval of the fraction of `correct` queries (in query order),
     as the evaluate stage draws it for a pair of that many queries (an ablation's evaluation)."""
     correct = np.asarray(correct, np.float64)
-    starts = block_starts(len(correct), settings)
-    low, high = percentile_interval(
-        resampled_ratios(correct, np.ones_like(correct), starts, settings.block_length), settings.level
-    )
+    resampling = block_resampling(len(correct), settings)
+    low, high = percentile_interval(resampled_ratios(correct, np.ones_like(correct), resampling), settings.level)
     return {"low": low, "high": high}

@@ -21,7 +21,7 @@ import numpy as np
 from scipy.stats import binomtest
 
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.significance.intervals import percentile_interval, resampled_ratios
+from seasonloop.significance.intervals import Resampling, percentile_interval, resampled_ratios
 
 VERDICTS = ("better", "worse", "no difference")
 
@@ -49,7 +49,7 @@ def holm(p_values: Sequence[float]) -> np.ndarray:
 
 
 def paired_difference(
-    first: np.ndarray, second: np.ndarray, starts: np.ndarray, settings: StatisticsConfig
+    first: np.ndarray, second: np.ndarray, resampling: Resampling, settings: StatisticsConfig
 ) -> dict[str, Any]:
     """first's fraction correct minus second's on the same queries (bool arrays in query order),
     its paired block-bootstrap interval, the discordant counts and McNemar's exact p-value."""
@@ -57,9 +57,7 @@ def paired_difference(
     if first.shape != second.shape:
         raise ValueError(f"paired comparison: {first.shape[0]} queries against {second.shape[0]}: not the same queries")
     change = first.astype(np.float64) - second.astype(np.float64)
-    low, high = percentile_interval(
-        resampled_ratios(change, np.ones_like(change), starts, settings.block_length), settings.level
-    )
+    low, high = percentile_interval(resampled_ratios(change, np.ones_like(change), resampling), settings.level)
     first_only, second_only = int((first & ~second).sum()), int((~first & second).sum())
     return {
         "difference": float(change.mean()),

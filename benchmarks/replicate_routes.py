@@ -9,11 +9,12 @@
 experiments named route-<seed> of `dvc exp show --json` (of the newest commit that has any, and of
 older commits with the same pipeline: see routes_of) and the committed run they branched from
 (params.yaml's own seed: run `dvc repro` and commit before `run`), each one's metrics/summary.json,
-metrics/comparisons.json and data/outcomes/ through DVC's file system at its revision (from the
+metrics/comparisons.json, metrics/training_seasons.json and data/outcomes/ through DVC's file system at its revision (from the
 cache: no second copy of the pipeline). It writes benchmarks/results/replicate_routes.json: the
-spread of every fraction correct over the routes, each claim of docs/claims.yaml tallied over the
+spread of every fraction correct over the routes (and of the training-season ablation's), each claim of docs/claims.yaml tallied over the
 routes and pooled (seasonloop.reporting.replicates), and the queue's wall time;
-`python docs/write_tables.py --snapshot replicate_spread replicate_claims` puts it in docs/results.md.
+`python docs/write_tables.py --snapshot replicate_spread replicate_claims replicate_training_seasons`
+puts it in docs/results.md.
 """
 
 from __future__ import annotations
@@ -35,10 +36,16 @@ from _bench_common import REPO, git_state, machine, write_result
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.params.schema import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
-from seasonloop.reporting.replicates import claims_across_routes, claims_in, fraction_spread, pooled_comparisons
+from seasonloop.reporting.replicates import (
+    claims_across_routes,
+    claims_in,
+    first_to_last,
+    fraction_spread,
+    pooled_comparisons,
+)
 
 PREFIX = "route-"
-FETCHED = ("metrics/summary.json", "metrics/comparisons.json", "data/outcomes")
+FETCHED = ("metrics/summary.json", "metrics/comparisons.json", "metrics/training_seasons.json", "data/outcomes")
 CLAIMS = REPO / "docs" / "claims.yaml"
 SEARCHED = 20  # commits back from HEAD whose experiments `collect` looks at
 QUEUE = REPO / "benchmarks" / "results" / "replicate_routes_queue.json"  # the last `run`'s queue
@@ -160,6 +167,7 @@ def collect(measured_on: dict[str, Any]) -> Path:
             fetch(route["rev"], folders[name])
         summaries = {name: json.loads((folders[name] / FETCHED[0]).read_text()) for name in routes}
         comparisons = {name: json.loads((folders[name] / FETCHED[1]).read_text()) for name in routes}
+        training = {name: json.loads((folders[name] / FETCHED[2]).read_text()) for name in routes}
         pooled = pooled_comparisons(
             {route["seed"]: folders[name] / "data/outcomes" for name, route in routes.items()},
             params["learners"],
@@ -174,6 +182,8 @@ def collect(measured_on: dict[str, Any]) -> Path:
         # the last `run`'s queue, when it queued these routes' seeds
         **queue_cost([route["seed"] for route in routes.values()]),
         "fraction_correct": fraction_spread(summaries),
+        # the training-season ablation: label -> training set -> spread; the largest set against the smallest
+        "training_seasons": {"fraction_correct": fraction_spread(training), "first_to_last": first_to_last(training)},
         "claims": claims_across_routes(comparisons, pooled, claims),
         "claims_says": {name: claim["says"] for name, claim in claims.items()},
         # JSON objects come back with sorted keys: the tables' order of rows

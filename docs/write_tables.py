@@ -569,6 +569,31 @@ def _replicate_spread(path: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _replicate_training_seasons(path: Path) -> str:
+    """The training-season ablation over the replicate routes: per label and training set, fraction
+    correct mean ± standard deviation [lowest, highest] (%); in how many routes the largest training
+    set is above, below or equal to the smallest."""
+    record = json.loads(path.read_text())
+    spread, changes = record["training_seasons"]["fraction_correct"], record["training_seasons"]["first_to_last"]
+    sets = sorted(next(iter(spread.values())), key=lambda name: name.count("+"))
+    lines = [
+        _routes_line(record),
+        "",
+        "| method | " + " | ".join(sets) + " | largest set against smallest |",
+        "|---|" + "---|" * (len(sets) + 1),
+    ]
+    for label, by_set in spread.items():
+        cells = [
+            f"{100 * by_set[name]['mean']:.1f} ± {100 * by_set[name]['std']:.1f} "
+            f"[{100 * by_set[name]['min']:.0f}, {100 * by_set[name]['max']:.0f}]"
+            for name in sets
+        ]
+        change = changes[label]
+        cells.append(f"above in {change['up']}, below in {change['down']}, equal in {change['same']}")
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
 def _replicate_totals(cells: list[dict], routes: int) -> str:
     """A claim over every route-pair cell: ahead / significant counts of all, and on how many pairs
     its pooled verdict is significant each way."""
@@ -612,9 +637,9 @@ def _replicate_claims(path: Path) -> str:
         "Cells: in how many routes the first side's point estimate is ahead, and in how many it is "
         "significantly better (▲) or worse (▼) by that route's own paired test (for a whole table: the "
         "range over the routes of its significant comparisons each way); all pairs: the same counted over "
-        "every route and pair; pooled: every route's queries of "
-        "the pair as one long route, the same paired block bootstrap, McNemar and Holm "
-        "(seasonloop.reporting.replicates)."
+        "every route and pair; pooled: every route's queries of the pair together, McNemar and Holm "
+        "as in one run, the paired block bootstrap stratified by route (each route's queries resampled "
+        "on their own; seasonloop.reporting.replicates)."
     )
     return "\n".join(lines) + "\n\n" + legend + "\n"
 
@@ -720,6 +745,11 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     # the default params on several synthetic routes (benchmarks/replicate_routes.py)
     "replicate_spread": ("benchmarks/results/replicate_routes.json", "replicate_routes.json", _replicate_spread),
     "replicate_claims": ("benchmarks/results/replicate_routes.json", "replicate_routes.json", _replicate_claims),
+    "replicate_training_seasons": (
+        "benchmarks/results/replicate_routes.json",
+        "replicate_routes.json",
+        _replicate_training_seasons,
+    ),
 }
 
 

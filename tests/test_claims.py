@@ -3,7 +3,12 @@ learner against another either cites a claim of docs/claims.yaml ("[claim: <id>]
 difference and verdict on every pair docs/write_tables.py writes from its run's comparisons (table
 `claims` for the default run in docs/results.md, `full_claims` for the full preset's in
 docs/full-scale.md), so that no verdict is typed in and none can drift from the numbers; or says
-in so many words that it is not tested (a comparison across runs, or a point estimate only)."""
+in so many words that it is not tested (a comparison across runs, or a point estimate only).
+
+The default run is one synthetic route; docs/results/replicate_routes.json has every claim on five
+routes (benchmarks/replicate_routes.py). A sentence that cites a claim whose verdict is not the
+same on every route says which route it speaks of (this one, every one, pooled), and the counts a
+sentence gives over the routes ("in 26 of 30 cells", "pooled on five pairs") are the record's."""
 
 from __future__ import annotations
 
@@ -25,6 +30,9 @@ RUNS = {
     "default": (ROOT / "docs" / "results" / "comparisons.json", ROOT / "docs" / "results.md"),
     "full": (ROOT / "docs" / "results" / "full_comparisons.json", ROOT / "docs" / "full-scale.md"),
 }
+
+
+REPLICATES = json.loads((ROOT / "docs" / "results" / "replicate_routes.json").read_text())
 
 
 def run_record(claim: dict) -> dict:
@@ -97,3 +105,66 @@ def test_a_sentence_that_says_it_is_untested_needs_no_claim():
     ranking = "On the wider sweep the code is the better descriptor than the CAE's output"
     assert RANKING.search(ranking) and LEARNER.search(ranking) and not UNTESTED.search(ranking)
     assert UNTESTED.search(ranking + " (by point estimate, not tested).")
+
+
+def same_on_every_route(name: str) -> bool:
+    """Whether every replicate route gives the claim the same verdict on every pair."""
+    routes = len(REPLICATES["routes"])
+    for counts in REPLICATES["claims"][name].values():
+        if "better" in counts and not (counts["better"] in (0, routes) and counts["worse"] in (0, routes)):
+            return False
+        if "least_better" in counts and (
+            counts["least_better"] != counts["most_better"] or counts["least_worse"] != counts["most_worse"]
+        ):
+            return False
+    return True
+
+
+# a sentence that says which route(s) its verdict is of
+ROUTE = re.compile(r"\b(routes?|pooled)\b", re.IGNORECASE)
+
+
+@pytest.mark.parametrize("document", DOCUMENTS, ids=lambda path: path.name)
+def test_a_verdict_that_turns_with_the_route_says_which_route(document):
+    general = []
+    for sentence in sentences(document.read_text()):
+        cited = [name for name in CITATION.findall(sentence) if CLAIMS[name].get("run", "default") == "default"]
+        if any(not same_on_every_route(name) for name in cited) and not ROUTE.search(sentence):
+            general.append(sentence)
+    assert not general, (
+        f"{document.name}: cite a claim whose verdict differs between the replicate routes "
+        "(docs/results/replicate_routes.json) without saying which route:\n" + "\n".join(general)
+    )
+
+
+def replicate_totals(name: str) -> dict[str, int]:
+    """Over every route and pair: cells ahead, significantly better and worse; pairs pooled significant."""
+    cells = REPLICATES["claims"][name].values()
+    totals = {key: sum(counts.get(key, 0) for counts in cells) for key in ("ahead", "better", "worse")}
+    totals["pooled"] = sum(counts["pooled"].endswith(("▲", "▼")) for counts in cells)
+    return totals
+
+
+# "pooled on five pairs", "pooled ... significant on every pair but summer-fall", "pooled on all six"
+PAIRS_POOLED = re.compile(
+    r"pooled\b[^\[;]*?\bon (all six|every|one|two|three|four|five|six|no)\b(?! (?:or|to|routes?)\b)(?: pairs?)?( but [\w-]+)?[^\[]*"
+    r"\[claim: ([a-z0-9_]+)\]"
+)
+CELLS = re.compile(r"in (all|\d+ of) (?:the )?30\b(?: route-pair)?(?: cells)?[^\[]*\[claim: ([a-z0-9_]+)\]")
+CELLS_SIGNIFICANT = re.compile(r"significant(?:ly)? in (all|\d+)\b[^\[]*\[claim: ([a-z0-9_]+)\]")
+
+
+@pytest.mark.parametrize("document", DOCUMENTS, ids=lambda path: path.name)
+def test_counts_over_the_routes_are_the_replicate_records(document):
+    for sentence in sentences(document.read_text()):
+        for said, but, name in PAIRS_POOLED.findall(sentence):
+            pairs = {"all six": 6, "every": 6}.get(said, NUMBERS.get(said, -1)) - (1 if but else 0)
+            assert replicate_totals(name)["pooled"] == pairs, f"{document.name}: {sentence}"
+        for said, name in CELLS.findall(sentence):
+            ahead = 30 if said == "all" else int(said.split()[0])
+            assert replicate_totals(name)["ahead"] == ahead, f"{document.name}: {sentence}"
+        for said, name in CELLS_SIGNIFICANT.findall(sentence):
+            totals = replicate_totals(name)
+            assert max(totals["better"], totals["worse"]) == (30 if said == "all" else int(said)), (
+                f"{document.name}: {sentence}"
+            )

@@ -69,3 +69,7 @@ def test_replicate_routes_run_as_experiments_and_are_read_back(tmp_path, small_s
     for by_pair in record["claims"].values():
         for counts in by_pair.values():
             assert counts["pooled"] and all(value <= 2 for key, value in counts.items() if key != "pooled")
+    # the training-season ablation of both routes: each learner's sets, and both routes counted once
+    training = record["training_seasons"]
+    assert set(training["fraction_correct"]) == set(training["first_to_last"]) and training["first_to_last"]
+    assert all(sum(change.values()) == 2 for change in training["first_to_last"].values())

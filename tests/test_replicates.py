@@ -15,6 +15,7 @@ from seasonloop.reporting.replicates import (
     claim_tally,
     claims_across_routes,
     claims_in,
+    first_to_last,
     fraction_spread,
     pooled_comparisons,
 )
@@ -62,6 +63,15 @@ def test_fraction_spread_over_routes():
     assert spread["pca"]["summer-fall"] == pytest.approx({"mean": 0.6, "std": 0.1414213, "min": 0.5, "max": 0.7})
     assert spread["pca"]["winter-fall"]["std"] == 0.0
     assert fraction_spread({"a": summaries["a"]})["pca"]["summer-fall"]["std"] == 0.0
+
+
+def test_first_to_last_counts_routes_where_the_largest_training_set_is_above_the_smallest():
+    def route(pca: list[float], ica: list[float]) -> dict:
+        sets = ["summer+winter+spring+fall", "summer", "summer+winter"]  # not in size order
+        return {"fraction_correct": {"pca": dict(zip(sets, pca)), "ica": dict(zip(sets, ica))}}
+
+    records = {"a": route([0.9, 0.8, 0.1], [0.5, 0.5, 0.9]), "b": route([0.7, 0.8, 0.9], [0.6, 0.5, 0.1])}
+    assert first_to_last(records) == {"pca": {"up": 1, "down": 1, "same": 0}, "ica": {"up": 1, "down": 0, "same": 1}}
 
 
 def test_pooling_routes_finds_what_each_route_is_too_short_to_show(tmp_path):

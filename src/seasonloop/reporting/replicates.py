@@ -5,6 +5,8 @@ per-query outcomes data/outcomes/.
 
 Three answers per route set:
 - the spread of every fraction correct (label x pair): mean, standard deviation, lowest, highest;
+  the same for the training-season ablation (label x training set), and in how many routes its
+  largest training set is above its smallest;
 - for each claim of docs/claims.yaml (one comparison, or a whole table), on each pair: in how many
   routes it points each way and is significant each way (each route's own paired tests);
 - the pooled verdict: every route's queries of a pair taken together, as one long route, with the
@@ -49,6 +51,20 @@ def fraction_spread(summaries: Mapping[str, Mapping[str, Any]]) -> dict[str, dic
                 "max": float(values.max()),
             }
     return spread
+
+
+def first_to_last(records: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, int]]:
+    """label -> in how many routes the last training set's fraction correct is above ("up"), below
+    ("down") or equal to ("same") the first's (records[route]: its metrics/training_seasons.json,
+    whose training sets are named by their seasons joined with "+": first and last by that count)."""
+    counts: dict[str, dict[str, int]] = {}
+    for record in records.values():
+        for label, by_set in record["fraction_correct"].items():
+            sets = sorted(by_set, key=lambda name: name.count("+"))
+            first, last = by_set[sets[0]], by_set[sets[-1]]
+            change = "up" if last > first else "down" if last < first else "same"
+            counts.setdefault(label, {"up": 0, "down": 0, "same": 0})[change] += 1
+    return counts
 
 
 def pooled_comparisons(

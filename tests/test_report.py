@@ -146,8 +146,8 @@ def test_runtime_training_and_figures_sections(pngs):
                 "interval": {"summer-fall": {"low": 0.25, "high": 0.5}},
             },
             "output_patchnorm": {
-                "fraction_correct": {"summer-fall": 0.875},
-                "interval": {"summer-fall": {"low": 0.75, "high": 1.0}},
+                "fraction_correct": {"summer-fall": 0.875, "winter-summer": 0.125},
+                "interval": {"summer-fall": {"low": 0.75, "high": 1.0}, "winter-summer": {"low": 0.0, "high": 0.25}},
             },
         }
     }
@@ -156,12 +156,14 @@ def test_runtime_training_and_figures_sections(pngs):
         [
             runtime_section(runtime),
             training_seasons_section(training, pngs[0]),
-            figures_section({"fig12 patch ica filters": pngs[1]}, autoencoders),
+            figures_section({"fig12 patch ica filters": pngs[1]}, autoencoders, ["winter-summer", "summer-fall"]),
         ],
     )
     # runtime columns in the study's order (fit, then feature time), not the JSON's sorted order
     headers = re.findall(r"<th>([^<]+)</th>", page)
     assert [h for h in headers if h in ("fit (s)", "features (ms / image)")] == ["fit (s)", "features (ms / image)"]
+    # the descriptors' pairs in the run's order, not the JSON's sorted one
+    assert [h for h in headers if h.endswith(("-fall", "-summer"))] == ["winter-summer", "summer-fall"]
     for value in ["1.5", "0.25", "120", "50.0 [25, 75]", "62.5", "37.5 [25, 50]", "87.5 [75, 100]", "summer+winter"]:
         assert f">{value}</" in page, value
     assert "output_patchnorm" in page
@@ -192,7 +194,7 @@ def test_sections_show_what_a_subset_run_has(pngs):
         [
             training_seasons_section(skipped, pngs[0]),
             training_seasons_section(adapted, pngs[0]),
-            figures_section({}, {}),
+            figures_section({}, {}, ["winter-summer"]),
         ],
     )
     assert "ablation was skipped: it needs two seasons" in page

@@ -4,7 +4,7 @@ and figures and returns a seasonloop.reporting.html.Section."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import pandas as pd
@@ -87,23 +87,29 @@ def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:
     )
 
 
-def figures_section(figures: Mapping[str, Png], autoencoder_descriptors: Mapping[str, Mapping[str, Any]]) -> Section:
+def figures_section(
+    figures: Mapping[str, Png], autoencoder_descriptors: Mapping[str, Mapping[str, Any]], pairs: Sequence[str]
+) -> Section:
     """The study's other figures (caption -> PNG) and the auto-encoder descriptor comparison table.
 
     autoencoder_descriptors[method][descriptor] = {fraction_correct: {pair: value}, interval: {pair:
     {low, high}}} (metrics/autoencoder_descriptors.json); a cell shows the fraction correct with its
-    interval. Either may be empty when the learners they need are not in the run.
+    interval, its columns in the run's order of pairs (the JSON's are sorted). Either may be empty
+    when the learners they need are not in the run.
     """
     blocks: list[Block] = [Image(caption, png) for caption, png in figures.items()]
     if not figures:
         blocks.append(Text("No figure: the learners they show (pca, ica_bovw, fae, cae) are not in learners."))
     if autoencoder_descriptors:
         cells = {
-            (method, descriptor): {pair: record_cell(record, pair) for pair in record["fraction_correct"]}
+            (method, descriptor): {
+                pair: record_cell(record, pair) for pair in pairs if pair in record["fraction_correct"]
+            }
             for method, by_descriptor in autoencoder_descriptors.items()
             for descriptor, record in by_descriptor.items()
         }
         table = pd.DataFrame.from_dict(cells, orient="index")
+        table = table[[pair for pair in pairs if pair in table.columns]]  # a row may lack a pair: keep the order
         table.index.names = ["method", "descriptor"]
         blocks.append(
             Table(

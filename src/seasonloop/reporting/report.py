@@ -148,7 +148,9 @@ def study_report(
         ),
         autoencoder_training_section(read_json(files.autoencoder_training)),
         cae_widths_section(read_json(files.cae_widths), files.cae_widths_figure),
-        figures_section(_figures(files.figures), load_autoencoder_descriptors(files.autoencoder_descriptors, methods)),
+        figures_section(
+            _figures(files.figures), load_autoencoder_descriptors(files.autoencoder_descriptors, methods), pairs
+        ),
         software_section({method: read_json(files.fits / f"{method}.json")["environment"] for method in methods}),
         parameters_section(files.params.read_text()),
     ]

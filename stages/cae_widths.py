@@ -6,23 +6,29 @@ plateau, and its code and patch-normalised output are evaluated on cae_widths.pa
 matching) beside raw_patchnorm. The width of the pipeline's own CAE (cae.channels, when cae is in
 learners) is not trained again: fit@cae trained it with the same settings, images and seed, so the
 stage loads models/cae. Writes metrics/cae_widths.json, plots/cae_widths.png and plots/cae_widths.md
-(the table the report shows).
+(the table the report shows). An empty cae_widths.widths skips the sweep: the three outputs say
+so, and torch is not imported.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from _truths import pair_truths
 
 from _common import data_seasons, load_params, param, stage_main, train_seasons
 from _datasets import test_images, training_images, training_places
-from seasonloop.ablations.cae_widths import run_width_sweep, width_channels, write_width_sweep
-from seasonloop.models.cae import ConvolutionalAutoEncoder
+from seasonloop.ablations.cae_widths import run_width_sweep, width_channels, write_skipped_sweep, write_width_sweep
 from seasonloop.models.raw_patchnorm import RawPatchNorm
 from seasonloop.models.registry import load_learner
 from seasonloop.params.schema import available_pairs
 from seasonloop.params.settings import CaeWidthsConfig, EvaluateConfig, FeaturesConfig, SequenceConfig, StatisticsConfig
+
+if TYPE_CHECKING:
+    from seasonloop.models.cae import ConvolutionalAutoEncoder
+
+OUTPUTS = (Path("metrics/cae_widths.json"), Path("plots/cae_widths.png"), Path("plots/cae_widths.md"))
 
 
 @stage_main
@@ -32,6 +38,12 @@ def main() -> None:
         "cae_widths", "cae", "raw_patchnorm", "statistics",
     )  # fmt: skip
     sweep = CaeWidthsConfig.from_params(params)
+    if not sweep.widths:
+        write_skipped_sweep(*OUTPUTS)
+        return
+    # torch (~2 s to import) only for a sweep that trains
+    from seasonloop.models.cae import ConvolutionalAutoEncoder
+
     evaluate = EvaluateConfig.from_params(params)
     seed = int(param(params, "seed"))
     cae_params = dict(param(params, "cae"))
@@ -73,9 +85,7 @@ def main() -> None:
         StatisticsConfig.from_params(params),
         fitted,
     )
-    write_width_sweep(
-        record, Path("metrics/cae_widths.json"), Path("plots/cae_widths.png"), Path("plots/cae_widths.md")
-    )
+    write_width_sweep(record, *OUTPUTS)
 
 
 if __name__ == "__main__":

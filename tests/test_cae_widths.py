@@ -1,9 +1,11 @@
 """The CAE width sweep: channels per width, closeness to the raw image, and the sweep's record."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from seasonloop.ablations.cae_widths import (
     agreement,
@@ -12,12 +14,18 @@ from seasonloop.ablations.cae_widths import (
     width_channels,
     width_label,
     width_table,
+    write_skipped_sweep,
     write_width_sweep,
 )
 from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.raw_patchnorm import RawPatchNorm
+from seasonloop.params.schema import check_whole
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
+from seasonloop.reporting.html import build_report
+from seasonloop.reporting.model_sections import cae_widths_section
+
+PARAMS = Path(__file__).resolve().parents[1] / "params.yaml"
 
 
 def test_widths_are_fractions_of_table_5():
@@ -123,3 +131,20 @@ def test_sweep_record_table_and_figure(tmp_path):
         {**record, "widths": dict(reversed(record["widths"].items()))}
     )
     assert (tmp_path / "sweep.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_an_empty_sweep_writes_that_it_was_skipped(tmp_path):
+    outputs = (tmp_path / "cae_widths.json", tmp_path / "cae_widths.png", tmp_path / "cae_widths.md")
+    write_skipped_sweep(*outputs)
+    assert json.loads(outputs[0].read_text()) == {"skipped": "skipped: cae_widths.widths is empty"}
+    assert outputs[1].read_bytes().startswith(b"\x89PNG") and "skipped" in outputs[2].read_text()
+    section = cae_widths_section(json.loads(outputs[0].read_text()), outputs[1].read_bytes())
+    page = build_report("r", [section])
+    assert "The CAE width sweep was skipped: cae_widths.widths is empty." in page
+
+
+def test_the_params_accept_an_empty_sweep_and_no_other_empty_list():
+    params = yaml.safe_load(PARAMS.read_text())
+    check_whole({**params, "cae_widths": {**params["cae_widths"], "widths": []}})
+    with pytest.raises(ValueError, match="cae_widths.pairs: expected a non-empty list"):
+        check_whole({**params, "cae_widths": {**params["cae_widths"], "pairs": []}})

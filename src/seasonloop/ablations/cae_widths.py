@@ -30,7 +30,7 @@ from seasonloop.evaluation.blocks import best_columns
 from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.io import staged_file, write_json
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
-from seasonloop.plots import plot_series
+from seasonloop.plots import plot_message, plot_series
 from seasonloop.reporting.figures import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
 from seasonloop.reporting.summary import record_cell
 
@@ -198,6 +198,18 @@ def width_table(record: Mapping[str, Any]) -> str:
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     lines += ["| " + " | ".join(row) + " |" for row in rows]
     return "\n".join(lines) + "\n"
+
+
+SKIPPED = "skipped: cae_widths.widths is empty"
+
+
+def write_skipped_sweep(json_path: Path, figure_path: Path, table_path: Path) -> None:
+    """The sweep's three outputs when cae_widths.widths is empty: each says it was skipped (a
+    declared output must exist; the report shows the reason)."""
+    write_json(json_path, {"skipped": SKIPPED})
+    plot_message(figure_path, f"CAE width sweep {SKIPPED}")
+    with staged_file(table_path) as staged:
+        staged.write_text(f"The CAE width sweep was {SKIPPED}.\n")
 
 
 def write_width_sweep(record: Mapping[str, Any], json_path: Path, figure_path: Path, table_path: Path) -> None:

@@ -184,8 +184,8 @@ SCHEMA: dict[str, dict[str, Check]] = {
     "ablation": {"methods": list_of(one_of(*LEARNER_SECTIONS)), "pair": pair, "training_seasons": list_of(seasons)},
     "report": {"example_pair": pair},
     "cae_widths": {
-        # fractions of Table 5's channels [96, 256, 384] (seasonloop.ablations.cae_widths)
-        "widths": list_of(number(0, 1, low_open=True)),
+        # fractions of Table 5's channels [96, 256, 384] (seasonloop.ablations.cae_widths); [] skips the sweep
+        "widths": list_of(number(0, 1, low_open=True), non_empty=False),
         "pairs": list_of(pair),
     },
 }

@@ -47,7 +47,10 @@ def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -
 
 
 def cae_widths_section(record: Mapping[str, Any], figure: Png) -> Section:
-    """The CAE width sweep (metrics/cae_widths.json, seasonloop.ablations.cae_widths): one row per width."""
+    """The CAE width sweep (metrics/cae_widths.json, seasonloop.ablations.cae_widths): one row per width,
+    or why it was skipped ({"skipped": why})."""
+    if "skipped" in record:
+        return Section("CAE width", [Text(f"The CAE width sweep was {record['skipped']}.")])
     pairs = record["pairs"]
     rows = {}
     for label, row in sorted(record["widths"].items(), key=lambda item: item[1]["width"]):

@@ -18,7 +18,6 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from scipy.stats import binomtest
 
 from seasonloop.params.settings import StatisticsConfig
 from seasonloop.significance.intervals import Resampling, percentile_interval, resampled_ratios
@@ -32,6 +31,10 @@ def mcnemar_exact(first_only: int, second_only: int) -> float:
     discordant = first_only + second_only
     if discordant == 0:
         return 1.0
+    # imported here: scipy.stats takes ~0.5 s to import, and the report stage, which imports this
+    # module for the tables, never tests
+    from scipy.stats import binomtest
+
     return float(binomtest(first_only, discordant, 0.5, alternative="two-sided").pvalue)
 
 

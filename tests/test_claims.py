@@ -150,6 +150,8 @@ PAIRS_POOLED = re.compile(
     r"pooled\b[^\[;]*?\bon (all six|every|one|two|three|four|five|six|no)\b(?! (?:or|to|routes?)\b)(?: pairs?)?( but [\w-]+)?[^\[]*"
     r"\[claim: ([a-z0-9_]+)\]"
 )
+# route x pair cells of the record: the prose's "30" (five routes, six pairs)
+CELLS_IN_ALL = len(REPLICATES["routes"]) * len(REPLICATES["pairs"])
 CELLS = re.compile(r"in (all|\d+ of) (?:the )?30\b(?: route-pair)?(?: cells)?[^\[]*\[claim: ([a-z0-9_]+)\]")
 CELLS_SIGNIFICANT = re.compile(r"significant(?:ly)? in (all|\d+)\b[^\[]*\[claim: ([a-z0-9_]+)\]")
 
@@ -161,10 +163,10 @@ def test_counts_over_the_routes_are_the_replicate_records(document):
             pairs = {"all six": 6, "every": 6}.get(said, NUMBERS.get(said, -1)) - (1 if but else 0)
             assert replicate_totals(name)["pooled"] == pairs, f"{document.name}: {sentence}"
         for said, name in CELLS.findall(sentence):
-            ahead = 30 if said == "all" else int(said.split()[0])
+            ahead = CELLS_IN_ALL if said == "all" else int(said.split()[0])
             assert replicate_totals(name)["ahead"] == ahead, f"{document.name}: {sentence}"
         for said, name in CELLS_SIGNIFICANT.findall(sentence):
             totals = replicate_totals(name)
-            assert max(totals["better"], totals["worse"]) == (30 if said == "all" else int(said)), (
+            assert max(totals["better"], totals["worse"]) == (CELLS_IN_ALL if said == "all" else int(said)), (
                 f"{document.name}: {sentence}"
             )

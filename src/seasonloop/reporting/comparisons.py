@@ -221,14 +221,16 @@ def claim_values(record: Mapping[str, Any], claim: Mapping[str, str]) -> dict[st
     return values
 
 
+def claim_cell(value: Mapping[str, Any]) -> str:
+    """One pair's claim_values as a cell: "+5.1 ▲" for one comparison, "3 ▲ 0 ▼ of 7" for a whole table."""
+    if "verdict" in value:
+        return _cell(value["difference"], value["verdict"])
+    return f"{value['better']} ▲ {value['worse']} ▼ of {value['of']}"
+
+
 def claim_cells(record: Mapping[str, Any], claim: Mapping[str, str]) -> dict[str, str]:
-    """pair -> the claim's cell: "+5.1 ▲" for one comparison, "3 ▲ 0 ▼ of 7" for a whole table."""
-    return {
-        pair: _cell(value["difference"], value["verdict"])
-        if "verdict" in value
-        else f"{value['better']} ▲ {value['worse']} ▼ of {value['of']}"
-        for pair, value in claim_values(record, claim).items()
-    }
+    """pair -> the claim's cell (claim_cell)."""
+    return {pair: claim_cell(value) for pair, value in claim_values(record, claim).items()}
 
 
 def claims_markdown(record: Mapping[str, Any], claims: Mapping[str, Mapping[str, str]]) -> str:

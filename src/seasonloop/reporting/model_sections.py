@@ -105,14 +105,12 @@ def figures_section(
         blocks.append(Text("No figure: the learners they show (pca, ica_bovw, fae, cae) are not in learners."))
     if autoencoder_descriptors:
         cells = {
-            (method, descriptor): {
-                pair: record_cell(record, pair) for pair in pairs if pair in record["fraction_correct"]
-            }
+            (method, descriptor): {pair: record_cell(record, pair) for pair in record["fraction_correct"]}
             for method, by_descriptor in autoencoder_descriptors.items()
             for descriptor, record in by_descriptor.items()
         }
         table = pd.DataFrame.from_dict(cells, orient="index")
-        table = table[[pair for pair in pairs if pair in table.columns]]  # a row may lack a pair: keep the order
+        table = table[[pair for pair in pairs if pair in table.columns]]  # the run's order, not the JSON's
         table.index.names = ["method", "descriptor"]
         blocks.append(
             Table(

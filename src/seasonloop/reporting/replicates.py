@@ -23,6 +23,7 @@ Three answers per route set:
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -30,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.reporting.comparisons import claim_cells, claim_values, comparisons_of, csv_reader
+from seasonloop.reporting.comparisons import claim_cell, claim_cells, claim_values, comparisons_of, csv_reader
 from seasonloop.significance.intervals import Resampling, stratified_resampling
 from seasonloop.significance.tables import Variant
 
@@ -79,6 +80,8 @@ def pooled_comparisons(
     (its synthetic.seed)."""
     readers = {key: csv_reader(folder) for key, folder in outcomes_dirs.items()}
 
+    # read once: resampling_of reads the first evaluation of a pair, which pooled reads again
+    @functools.cache
     def routes_of(method: str, pair: str, suffix: str) -> list[tuple[np.ndarray, np.ndarray]]:
         return [reader(method, pair, suffix) for reader in readers.values()]
 
@@ -149,13 +152,8 @@ def claims_across_routes(
     tally = claim_tally(records, claims)
     across: dict[str, dict[str, dict[str, Any]]] = {}
     for name, claim in claims.items():
-        cells, values = claim_cells(pooled, claim), claim_values(pooled, claim)
         across[name] = {
-            pair: {
-                **tally[name][pair],
-                "pooled": cells[pair],
-                **{f"pooled_{key}": v for key, v in values[pair].items()},
-            }
-            for pair in cells
+            pair: {**tally[name][pair], "pooled": claim_cell(value), **{f"pooled_{key}": v for key, v in value.items()}}
+            for pair, value in claim_values(pooled, claim).items()
         }
     return across

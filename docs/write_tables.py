@@ -550,6 +550,13 @@ def _routes_line(record: dict) -> str:
     return f"{len(record['routes'])} routes (synthetic.seed {seeds}){cost}."
 
 
+def _spread_cell(spread: dict) -> str:
+    """A fraction correct's spread over the routes (replicates.fraction_spread), in %: "mean ± std [lowest, highest]"."""
+    return (
+        f"{100 * spread['mean']:.1f} ± {100 * spread['std']:.1f} [{100 * spread['min']:.0f}, {100 * spread['max']:.0f}]"
+    )
+
+
 def _replicate_spread(path: Path) -> str:
     """Fraction correct over the replicate routes, under the main distance: mean ± standard
     deviation [lowest, highest], in %."""
@@ -560,11 +567,7 @@ def _replicate_spread(path: Path) -> str:
         by_pair = record["fraction_correct"][label]
         if "@" in label:
             continue
-        cells = [
-            f"{100 * by_pair[pair]['mean']:.1f} ± {100 * by_pair[pair]['std']:.1f} "
-            f"[{100 * by_pair[pair]['min']:.0f}, {100 * by_pair[pair]['max']:.0f}]"
-            for pair in pairs
-        ]
+        cells = [_spread_cell(by_pair[pair]) for pair in pairs]
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
@@ -583,11 +586,7 @@ def _replicate_training_seasons(path: Path) -> str:
         "|---|" + "---|" * (len(sets) + 1),
     ]
     for label, by_set in spread.items():
-        cells = [
-            f"{100 * by_set[name]['mean']:.1f} ± {100 * by_set[name]['std']:.1f} "
-            f"[{100 * by_set[name]['min']:.0f}, {100 * by_set[name]['max']:.0f}]"
-            for name in sets
-        ]
+        cells = [_spread_cell(by_set[name]) for name in sets]
         change = changes[label]
         cells.append(f"above in {change['up']}, below in {change['down']}, equal in {change['same']}")
         lines.append(f"| {label} | " + " | ".join(cells) + " |")

@@ -8,6 +8,16 @@ reference itself shows between seeds.
 
     python benchmarks/bench_training_schedule.py [--learners fae,cae] [--seeds 0,1]
         [--settings "cae=learning_rate=0.002,batch_size=64;max_train_images=1024"]
+        [--settings "fae=adam=per_tensor" --settings "cae=upsampling=separate"]
+
+Besides keys of the learner's section, a setting can name how the training computes (IMPLEMENTATIONS):
+adam=per_tensor runs torch's default Adam (one pass over the weights per operation) instead of the
+pipeline's fused one; upsampling=separate runs the CAE's decoder as nn.Upsample then the convolution
+instead of its sub-pixel convolution (seasonloop.models.cae.UpsampledConv2d); denormals=kept trains
+without flushing denormal floats to zero (seasonloop.models.core.arithmetic.flush_denormals). Each
+computes the same function up to float rounding, so a difference in quality is that rounding's
+effect on training. Every fit runs in a fresh process, as a fit stage does (a process's threads
+keep the floating-point mode they were created with).
 
 Run from the repository root after `dvc repro` (reads data/split and data/augmented, and
 params.yaml's sections of the learners). The first setting of each learner is the reference
@@ -17,11 +27,17 @@ params.yaml's sections of the learners). The first setting of each learner is th
 from __future__ import annotations
 
 import argparse
+import contextlib
+import multiprocessing
 import sys
 import time
+from collections.abc import Iterator
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
+from unittest import mock
 
 import numpy as np
+import torch
 import yaml
 
 from _bench_common import REPO, load_note, machine, write_result
@@ -29,6 +45,8 @@ from seasonloop.data import datasets
 from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
 from seasonloop.io import read_json
+from seasonloop.models.cae import ConvolutionalAutoEncoder, UpsampledConv2d
+from seasonloop.models.core import torch_learner
 from seasonloop.models.registry import get_learner
 
 sys.path.insert(0, str(REPO / "stages"))
@@ -60,6 +78,47 @@ def parse_settings(texts: list[str], learners: list[str]) -> dict[str, list[dict
     }
 
 
+@contextlib.contextmanager
+def per_tensor_adam() -> Iterator[None]:
+    """torch.optim.Adam without fused=True: the update the pipeline ran before its fused optimiser."""
+    adam = torch.optim.Adam
+    with mock.patch.object(
+        torch.optim, "Adam", lambda weights, **options: adam(weights, **{**options, "fused": False})
+    ):
+        yield
+
+
+@contextlib.contextmanager
+def separate_upsampling() -> Iterator[None]:
+    """The CAE's decoder as nn.Upsample then a "same" convolution at the higher resolution."""
+    build = ConvolutionalAutoEncoder._build_model
+
+    def built_separate(learner, height: int, width: int):
+        model = build(learner, height, width)
+        for module in model.modules():
+            if isinstance(module, UpsampledConv2d):
+                module.sub_pixel = False
+        return model
+
+    with mock.patch.object(ConvolutionalAutoEncoder, "_build_model", built_separate):
+        yield
+
+
+@contextlib.contextmanager
+def kept_denormals() -> Iterator[None]:
+    """Training without flushing denormal floats to zero."""
+    with mock.patch.object(torch_learner, "flush_denormals", lambda device: None):
+        yield
+
+
+# setting key -> value -> the context the fit runs in (not a key of the learner's section)
+IMPLEMENTATIONS = {
+    "adam": {"per_tensor": per_tensor_adam},
+    "upsampling": {"separate": separate_upsampling},
+    "denormals": {"kept": kept_denormals},
+}
+
+
 def label(overrides: dict) -> str:
     return " ".join(f"{key}={value}" for key, value in overrides.items()) or "params.yaml"
 
@@ -82,11 +141,17 @@ def fraction_correct(learner, params: dict) -> dict[str, float]:
 
 
 def fit_once(name: str, section: dict, overrides: dict, seed: int, data: tuple) -> dict:
-    learner = get_learner(name)({**section, **overrides}, seed=seed)
+    section_overrides = {key: value for key, value in overrides.items() if key not in IMPLEMENTATIONS}
+    learner = get_learner(name)({**section, **section_overrides}, seed=seed)
     images, places, params = data
-    start = time.perf_counter()
-    info = learner.fit(images, progress=False, places=places)
-    seconds = time.perf_counter() - start
+    with contextlib.ExitStack() as implementation:
+        for key in overrides.keys() & IMPLEMENTATIONS.keys():
+            if overrides[key] not in IMPLEMENTATIONS[key]:
+                raise SystemExit(f"--settings: {key}={overrides[key]} (known: {', '.join(IMPLEMENTATIONS[key])})")
+            implementation.enter_context(IMPLEMENTATIONS[key][overrides[key]]())
+        start = time.perf_counter()
+        info = learner.fit(images, progress=False, places=places)
+        seconds = time.perf_counter() - start
     correct = fraction_correct(learner, params)
     return {
         "setting": label(overrides),
@@ -158,7 +223,9 @@ def main() -> None:
         runs = []
         for overrides in settings:
             for seed in seeds:
-                runs.append(fit_once(name, params[name], overrides, seed, data))
+                # a fresh process per fit: no thread pool, floating-point mode or cache of another fit
+                with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as fresh:
+                    runs.append(fresh.submit(fit_once, name, params[name], overrides, seed, data).result())
                 shown = {key: value for key, value in runs[-1].items() if not isinstance(value, (dict, list))}
                 print(name, shown, flush=True)
         results["learners"][name] = {"runs": runs, "verdicts": verdicts(runs)}

@@ -700,8 +700,9 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
         _default_run_stages,
     ),
     "bench_pca": ("benchmarks/results/bench_pca.json", "bench_pca.json", _bench_headline),
-    # two runs of the benchmark (its file is rewritten by each): halved training sets, then the
-    # settings between those and params.yaml's
+    # five runs of the benchmark (its file is rewritten by each): halved training sets, the
+    # settings between those and params.yaml's, then the training's kernels (fused Adam, denormals
+    # flushed, the CAE's sub-pixel up-sampling) against the ones before, and three more seeds of the CAE
     "bench_training_schedule": (
         "benchmarks/results/bench_training_schedule.json",
         "bench_training_schedule.json",
@@ -710,6 +711,16 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "bench_training_schedule_subsets": (
         "benchmarks/results/bench_training_schedule.json",
         "bench_training_schedule_subsets.json",
+        _bench_training_schedule,
+    ),
+    "bench_training_kernels": (
+        "benchmarks/results/bench_training_schedule.json",
+        "bench_training_kernels.json",
+        _bench_training_schedule,
+    ),
+    "bench_training_kernels_cae_seeds": (
+        "benchmarks/results/bench_training_schedule.json",
+        "bench_training_kernels_cae_seeds.json",
         _bench_training_schedule,
     ),
     "bench_matching": ("benchmarks/results/bench_matching.json", "bench_matching.json", _bench_headline),

@@ -9,6 +9,7 @@ import torch
 from sklearn.decomposition import PCA
 from sklearn.exceptions import ConvergenceWarning
 
+from seasonloop.models.cae import UpsampledConv2d
 from seasonloop.models.core.learner import RUN_KEYS, FeatureLearner, to_float
 from seasonloop.models.registry import LEARNERS, get_learner, load_learner
 
@@ -306,12 +307,40 @@ def test_cae_layers_match_table_5():
         (96, 1, (3, 3)),
     ]
     assert sum(isinstance(module, torch.nn.MaxPool2d) for module in model.encoder) == 2
-    assert sum(isinstance(module, torch.nn.Upsample) for module in model.decoder) == 2
+    assert sum(isinstance(module, UpsampledConv2d) for module in model.decoder) == 2
     with torch.no_grad():
         code = model.encoder(torch.rand(2, 1, 32, 64))
         output = model.decoder(code)
     assert code.shape == (2, 384, 8, 16) and output.shape == (2, 1, 32, 64)
     assert output.min() >= 0 and output.max() <= 1
+
+
+@pytest.mark.parametrize("kernel", [1, 2, 3, 4, 5, 6, 11])
+@pytest.mark.parametrize("channels_last", [False, True])
+def test_upsampled_conv_is_upsample_then_same_conv(kernel, channels_last):
+    """The fused layer (a sub-pixel convolution from kernel 4 on) computes nn.Upsample + a "same"
+    nn.Conv2d with its weights, forward and backward, to float32 rounding."""
+    torch.manual_seed(kernel)
+    fused = UpsampledConv2d(5, 3, kernel)
+    reference = torch.nn.Conv2d(5, 3, kernel, padding="same")
+    reference.load_state_dict(fused.state_dict())
+    inputs = torch.randn(2, 5, 7, 9)
+    if channels_last:
+        inputs = inputs.to(memory_format=torch.channels_last)
+    inputs.requires_grad_(True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # torch's note on even kernels with padding="same"
+        outputs = fused(inputs)
+        expected = reference(torch.nn.functional.interpolate(inputs, scale_factor=2, mode="nearest"))
+    assert fused.sub_pixel == (kernel >= 4)
+    grad = torch.randn_like(expected)
+    got = torch.autograd.grad(outputs, [inputs, fused.weight, fused.bias], grad)
+    want = torch.autograd.grad(expected, [inputs, reference.weight, reference.bias], grad)
+    for name, value, truth in zip(
+        ["output", "input grad", "weight grad", "bias grad"], (outputs, *got), (expected, *want)
+    ):
+        assert value.shape == truth.shape, name
+        assert (value - truth).abs().max() <= 1e-5 * truth.abs().max(), name
 
 
 def test_cae_rejects_size_not_divisible_by_4():

@@ -1,19 +1,18 @@
 """The auto-encoders' training loop: held-out validation places, early stopping, best weights,
 learning-rate schedule, budget, and precision choice."""
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 import torch
 from torch import nn
 
+from seasonloop.models.core import arithmetic
 from seasonloop.models.core import training as _training
-from seasonloop.models.core.training import (
-    TrainingConfig,
-    mean_loss,
-    resolve_precision,
-    train_until_plateau,
-    validation_places,
-)
+from seasonloop.models.core.arithmetic import resolve_precision
+from seasonloop.models.core.training import TrainingConfig, mean_loss, train_until_plateau, validation_places
 from seasonloop.models.registry import get_learner
 
 CPU = torch.device("cpu")
@@ -113,9 +112,9 @@ def test_training_is_reproducible_and_leaves_the_global_rng_alone():
 def test_precision_choice(monkeypatch):
     assert resolve_precision("float32", CPU, "fae.precision") == torch.float32
     assert resolve_precision("bfloat16", CPU, "fae.precision") == torch.bfloat16
-    monkeypatch.setattr(_training, "cpu_has_native_bfloat16", lambda: True)
+    monkeypatch.setattr(arithmetic, "cpu_has_native_bfloat16", lambda: True)
     assert resolve_precision("auto", CPU, "fae.precision") == torch.bfloat16
-    monkeypatch.setattr(_training, "cpu_has_native_bfloat16", lambda: False)
+    monkeypatch.setattr(arithmetic, "cpu_has_native_bfloat16", lambda: False)
     assert resolve_precision("auto", CPU, "fae.precision") == torch.float32
     with pytest.raises(ValueError, match=r"cae\.precision"):
         resolve_precision("half", CPU, "cae.precision")
@@ -194,3 +193,21 @@ def test_a_run_that_diverges_says_so_and_keeps_its_last_finite_weights():
     assert np.isnan(info["validation_loss_per_epoch"][-1])
     assert info["best_epoch"] in (1, 2) and np.isfinite(info["best_validation_loss"])
     assert all(torch.isfinite(parameter).all() for parameter in model.parameters())
+
+
+def test_denormals_are_flushed_on_the_cpu_from_the_fit_on():
+    """A subprocess (the floating-point mode is the process's): before flush_denormals a float32
+    below ~1.2e-38 survives a product, after it the product is zero; a CUDA device leaves the CPU
+    mode alone."""
+    script = (
+        "import torch\n"
+        "from seasonloop.models.core.arithmetic import flush_denormals\n"
+        "tiny = torch.tensor([1e-30], dtype=torch.float32)\n"
+        "before = (tiny * 1e-10).item()\n"
+        "flush_denormals(torch.device('cuda'))\n"
+        "untouched = (tiny * 1e-10).item()\n"
+        "flush_denormals(torch.device('cpu'))\n"
+        "print(before > 0, untouched > 0, (tiny * 1e-10).item() == 0)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
+    assert result.stdout.split() == ["True", "True", "True"]

@@ -1,6 +1,6 @@
 """Shared torch machinery of the two auto-encoders: device, precision and thread choice, the
 held-out validation places, batched inference with the three descriptors, and save/load of the
-state_dict. The training loop itself is in _training.py."""
+state_dict. The training loop is in training.py, the arithmetic (precision, denormals) in arithmetic.py."""
 
 from __future__ import annotations
 
@@ -15,15 +15,9 @@ import torch
 from torch import nn
 
 from seasonloop.data.patchnorm import patch_normalise
+from seasonloop.models.core.arithmetic import autocast, cpu_has_native_bfloat16, flush_denormals, resolve_precision
 from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
-from seasonloop.models.core.training import (
-    TrainingConfig,
-    autocast,
-    cpu_has_native_bfloat16,
-    resolve_precision,
-    train_until_plateau,
-    validation_places,
-)
+from seasonloop.models.core.training import TrainingConfig, train_until_plateau, validation_places
 from seasonloop.params.learners import AE_DESCRIPTORS
 
 MODEL_FILE = "model.pt"
@@ -181,6 +175,7 @@ class TorchAutoEncoderLearner(FeatureLearner):
                 f"{self._key('patch_size')} = {patch_size} does not divide the image size {height}x{width}"
             )
         device = resolve_device(self.params["device"], self._key("device"))
+        flush_denormals(device)  # before torch's first parallel work: in every thread
         self._dtype = resolve_precision(self.params["precision"], device, self._key("precision"))
         self._set_threads()
         train, validation, split_info = self._split_validation(images)

@@ -1,6 +1,7 @@
 """Training of the auto-encoders until they have learned: a validation set held out by place,
 a learning-rate schedule, early stopping on a validation plateau (or at a maximum number of
-epochs, or a wall-clock budget), the best weights kept, and mixed precision where it is fast.
+epochs, or a wall-clock budget), the best weights kept, and mixed precision where it is fast
+(seasonloop.models.core.arithmetic).
 
 Only the forward pass runs under autocast; the loss, the gradients' accumulation in the float32
 weights and the optimiser state stay float32.
@@ -10,8 +11,6 @@ from __future__ import annotations
 
 import copy
 import time
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -20,47 +19,12 @@ import torch
 from torch import nn
 from tqdm.auto import tqdm
 
+from seasonloop.models.core.arithmetic import autocast
 from seasonloop.models.core.learner import EpochCallback
-from seasonloop.params.learners import PRECISIONS
 
 # Why training stopped; only a plateau means the model has learned what it can from this data.
 # diverged: a loss became NaN or infinite (the weights of the best finite epoch are kept).
 STOP_PLATEAU, STOP_MAX_EPOCHS, STOP_BUDGET, STOP_DIVERGED = "plateau", "max_epochs", "budget", "diverged"
-
-
-def cpu_has_native_bfloat16() -> bool:
-    """True where the CPU computes bfloat16 in hardware (AVX512-BF16 or AMX); elsewhere torch
-    emulates it, which is slower than float32."""
-    cpu = torch.cpu
-    return any(
-        getattr(cpu, check, lambda: False)() for check in ("_is_avx512_bf16_supported", "_is_amx_tile_supported")
-    )
-
-
-def resolve_precision(requested: str, device: torch.device, key: str) -> torch.dtype:
-    """The autocast dtype for `requested` ('auto' | 'float32' | 'bfloat16') on `device`.
-
-    auto: bfloat16 on CUDA devices that support it and on CPUs with native bfloat16, float32
-    otherwise. An explicit 'bfloat16' is honoured where torch can run it (emulated on CPUs
-    without the units, which is slow but not wrong) and raises naming `key` on a CUDA device
-    without bfloat16.
-    """
-    if requested not in PRECISIONS:
-        raise ValueError(f"{key} must be one of {', '.join(PRECISIONS)}, got {requested!r}")
-    cuda = device.type == "cuda"
-    native = torch.cuda.is_bf16_supported() if cuda else cpu_has_native_bfloat16()
-    if requested == "bfloat16" and cuda and not native:
-        raise ValueError(f"{key} = 'bfloat16' but this CUDA device has no bfloat16 support")
-    if requested == "bfloat16" or (requested == "auto" and native):
-        return torch.bfloat16
-    return torch.float32
-
-
-@contextmanager
-def autocast(device: torch.device, dtype: torch.dtype) -> Iterator[None]:
-    """Mixed-precision forward pass in `dtype` (no-op for float32)."""
-    with torch.autocast(device.type, dtype=dtype, enabled=dtype != torch.float32):
-        yield
 
 
 @dataclass(frozen=True)
@@ -195,6 +159,13 @@ def _stop_reason(epoch: int, diverged: bool, plateau: _Plateau, config: Training
     return None
 
 
+def adam(model: nn.Module, learning_rate: float) -> torch.optim.Adam:
+    """Adam, fused: one pass over the weights a step instead of one per operation of the update, the
+    same update up to float rounding; the per-operation default was ~40% of the FAE's epoch on the
+    CPU (benchmarks/bench_training_schedule.py: adam=per_tensor)."""
+    return torch.optim.Adam(model.parameters(), lr=learning_rate, fused=True)
+
+
 def learning_rate_schedule(
     optimiser: torch.optim.Optimizer, config: TrainingConfig
 ) -> torch.optim.lr_scheduler.ReduceLROnPlateau:
@@ -238,7 +209,7 @@ def train_until_plateau(
     """
     generator = torch.Generator().manual_seed(config.seed)
     model.to(device=device, memory_format=memory_format)  # type: ignore[call-overload]  # torch's stubs lack it
-    optimiser = torch.optim.Adam(model.parameters(), lr=config.learning_rate)
+    optimiser = adam(model, config.learning_rate)
     scheduler = learning_rate_schedule(optimiser, config)
     train_loss: list[float] = []
     validation_loss: list[float] = []

@@ -36,7 +36,6 @@ from seasonloop.fit_ending import how_fit_ended
 from seasonloop.io import read_json, write_json
 from seasonloop.params.schema import SEASONS, check_seasons, pair_name, pair_present, parse_pair
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
-from seasonloop.plots import plot_message, plot_series
 from seasonloop.significance.intervals import block_interval
 
 
@@ -165,6 +164,9 @@ def write_ablation(
 ) -> None:
     """The ablation's JSON record and its figure (study Fig. 18), each fraction correct with its
     interval (intervals[series][label] = {low, high}) where given; for a skipped plan, both say why."""
+    # imported here: matplotlib is ~0.25 s of every training_seasons_fit process, which draws nothing
+    from seasonloop.plots import plot_message, plot_series
+
     if plan.skipped:
         write_json(record, {"skipped": plan.skipped})
         plot_message(figure, f"Training-season effect {plan.skipped}")

@@ -33,11 +33,12 @@ class UpsampledConv2d(nn.Conv2d):
     """Nearest 2x up-sampling, then a "same" convolution: the function of nn.Upsample(scale_factor=2)
     followed by nn.Conv2d(padding="same") with the same weights, up to float rounding.
 
-    Where the kernel is wider than the span of low-resolution pixels it reads (kernel >= 5), it runs
+    Where the kernel is wider than the span of low-resolution pixels it reads (kernel >= 4), it runs
     as a sub-pixel convolution (Shi et al. 2016): the taps that read the same low-resolution pixel
     are summed into one kernel per output parity (2 x 2 kernels, stacked as output channels),
     convolved at the input's resolution and interleaved by pixel_shuffle. The 11x11 layer then costs
-    7 x 7 multiply-adds an output pixel instead of 11 x 11 (benchmarks/bench_autoencoders.py).
+    7 x 7 multiply-adds an output pixel instead of 11 x 11 (the CAE's fit 1.7x faster at the same
+    plateau: benchmarks/bench_training_schedule.py, upsampling=separate).
     """
 
     def __init__(self, in_channels: int, out_channels: int, kernel: int):

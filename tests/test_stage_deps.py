@@ -388,3 +388,24 @@ def test_config_reads_count_as_section_reads(tmp_path: Path) -> None:
     assert uncovered_params(keys, sorted(checked_keys(script))) == ["evaluate"]
     # every settings class is known, by the section it reads
     assert config_sections()["SplitConfig"] == "split" and config_sections()["ReportConfig"] == "report"
+
+
+def test_bytecode_is_no_part_of_a_source_dependency() -> None:
+    """Python writes __pycache__/*.pyc beside the modules a stage imports (unless
+    PYTHONDONTWRITEBYTECODE is set): DVC must not hash them into the source folders the stages
+    depend on (src/seasonloop/params, ...), or a run would change its own and other stages' deps
+    and a fresh clone's first `dvc repro` would rerun what the committed dvc.lock says is done."""
+    from dvc.repo import Repo
+
+    root = Path(__file__).resolve().parents[1]
+    with Repo(str(root)) as repo:
+        ignored = [
+            repo.dvcignore.is_ignored_file(str(root / path))
+            for path in (
+                "src/seasonloop/params/__pycache__/schema.cpython-311.pyc",
+                "src/seasonloop/evaluation/__pycache__/metrics.cpython-311.pyc",
+                "stages/_common.pyc",
+                "src/seasonloop/params/schema.py",
+            )
+        ]
+    assert ignored == [True, True, True, False]

@@ -149,8 +149,11 @@ def committed_run(root: Path, overrides: dict, cache: Path | None = None) -> Pat
 
 
 def tool_env(**extra: str) -> dict[str, str]:
-    """This environment with the test's Python (and its dvc) first on PATH."""
-    return dict(os.environ, **extra, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+    """This environment with the test's Python (and its dvc) first on PATH, writing bytecode as
+    Python does by default (a sandbox's PYTHONDONTWRITEBYTECODE would make every stage process
+    compile the package's modules again; .dvcignore keeps the bytecode out of DVC's hashes)."""
+    env = {key: value for key, value in os.environ.items() if key != "PYTHONDONTWRITEBYTECODE"}
+    return dict(env, **extra, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
 
 
 def dvc(root: Path, *args: str) -> subprocess.CompletedProcess:

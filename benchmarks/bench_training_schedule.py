@@ -46,7 +46,7 @@ from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
 from seasonloop.io import read_json
 from seasonloop.models.cae import ConvolutionalAutoEncoder, UpsampledConv2d
-from seasonloop.models.core import torch_learner
+from seasonloop.models.core import torch_learner, training
 from seasonloop.models.registry import get_learner
 
 sys.path.insert(0, str(REPO / "stages"))
@@ -68,7 +68,7 @@ def parse_settings(texts: list[str], learners: list[str]) -> dict[str, list[dict
     for text in texts:
         name, _, values = text.partition("=")
         given[name] = values
-    return {
+    settings = {
         name: [{}]
         + [
             {key: yaml.safe_load(value) for key, value in (item.split("=") for item in setting.split(","))}
@@ -76,15 +76,19 @@ def parse_settings(texts: list[str], learners: list[str]) -> dict[str, list[dict
         ]
         for name in learners
     }
+    # an unknown implementation stops the run here, not after the fits before it
+    for overrides in (overrides for listed in settings.values() for overrides in listed):
+        for key in overrides.keys() & IMPLEMENTATIONS.keys():
+            if overrides[key] not in IMPLEMENTATIONS[key]:
+                raise SystemExit(f"--settings: {key}={overrides[key]} (known: {', '.join(IMPLEMENTATIONS[key])})")
+    return settings
 
 
 @contextlib.contextmanager
 def per_tensor_adam() -> Iterator[None]:
-    """torch.optim.Adam without fused=True: the update the pipeline ran before its fused optimiser."""
-    adam = torch.optim.Adam
-    with mock.patch.object(
-        torch.optim, "Adam", lambda weights, **options: adam(weights, **{**options, "fused": False})
-    ):
+    """torch's default Adam (not fused): the update the pipeline ran before training.adam fused it."""
+    per_tensor = lambda model, learning_rate: torch.optim.Adam(model.parameters(), lr=learning_rate)  # noqa: E731
+    with mock.patch.object(training, "adam", per_tensor):
         yield
 
 
@@ -145,9 +149,7 @@ def fit_once(name: str, section: dict, overrides: dict, seed: int, data: tuple) 
     learner = get_learner(name)({**section, **section_overrides}, seed=seed)
     images, places, params = data
     with contextlib.ExitStack() as implementation:
-        for key in overrides.keys() & IMPLEMENTATIONS.keys():
-            if overrides[key] not in IMPLEMENTATIONS[key]:
-                raise SystemExit(f"--settings: {key}={overrides[key]} (known: {', '.join(IMPLEMENTATIONS[key])})")
+        for key in overrides.keys() & IMPLEMENTATIONS.keys():  # values checked by parse_settings
             implementation.enter_context(IMPLEMENTATIONS[key][overrides[key]]())
         start = time.perf_counter()
         info = learner.fit(images, progress=False, places=places)

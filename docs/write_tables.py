@@ -724,6 +724,8 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
         _bench_training_schedule,
     ),
     "bench_matching": ("benchmarks/results/bench_matching.json", "bench_matching.json", _bench_headline),
+    # DVC's per-stage work with ruamel.yaml's C parser and without (the suite's and every run's overhead)
+    "bench_dvc_yaml": ("benchmarks/results/bench_dvc_yaml.json", "bench_dvc_yaml.json", _bench_headline),
     "bench_scaling": ("benchmarks/results/bench_scaling.json", "bench_scaling.json", _bench_scaling),
     "bench_large_pair": ("benchmarks/results/bench_large_pair.json", "bench_large_pair.json", _bench_large_pair),
     # two runs of benchmarks/compare_window_rules.py (its file is rewritten by each): the full preset

@@ -38,6 +38,7 @@ from _bench_common import REPO, copy_repository, load_note, machine, write_resul
 # pure-Python parser and emitter, as when ruamel.yaml.clib is not installed
 PURE = "import sys, ruamel.yaml.main as m; m.CParser = m.CEmitter = None; from dvc.cli import main; sys.exit(main())"
 C_PARSER = "import sys; from dvc.cli import main; sys.exit(main())"
+sys.path.insert(0, str(REPO / "tests"))  # tests/workspaces.py: the tests' params and tool environment
 PARSERS = {"pure": PURE, "c": C_PARSER}
 COMMANDS = {
     "status": ["status"],
@@ -58,9 +59,14 @@ def check_c_parser() -> None:
 
 
 def dvc(root: Path, parser: str, *args: str) -> float:
-    """Wall seconds of one DVC command in root run with `parser`; stops on a failure."""
+    """Wall seconds of one DVC command in root run with `parser`; stops on a failure. The stages it
+    runs find this Python first on PATH (tests/workspaces.py tool_env), venv activated or not."""
+    from workspaces import tool_env
+
     start = time.perf_counter()
-    done = subprocess.run([sys.executable, "-c", PARSERS[parser], *args], cwd=root, capture_output=True, text=True)
+    done = subprocess.run(
+        [sys.executable, "-c", PARSERS[parser], *args], cwd=root, env=tool_env(), capture_output=True, text=True
+    )
     seconds = time.perf_counter() - start
     if done.returncode != 0:
         raise SystemExit(f"dvc {' '.join(args)} ({parser} parser) failed in {root}:\n{done.stderr[-2000:]}")
@@ -69,7 +75,6 @@ def dvc(root: Path, parser: str, *args: str) -> float:
 
 def make_workspace(root: Path) -> int:
     """The repository at root with the tests' one-learner params, run once; its number of stages."""
-    sys.path.insert(0, str(REPO / "tests"))
     from workspaces import DATA_PATH, commit_all, write_params
 
     copy_repository(root)

@@ -164,6 +164,17 @@ def write_result(name: str, record: dict[str, Any], measured_on: dict[str, Any])
     return path
 
 
+def save_and_report(name: str, record: dict[str, Any], measured_on: dict[str, Any]) -> Path:
+    """write_result, then print where it went, the record's load note if it has one, and its
+    headline last (the line a reader and docs/benchmarks.md look for); the path written."""
+    path = write_result(name, record, measured_on)
+    print(f"wrote {path}")
+    if record.get("load_note"):
+        print(record["load_note"])
+    print(f"HEADLINE: {record['headline']}")
+    return path
+
+
 def copy_repository(root: Path) -> None:
     """The repository's source files (as a fresh clone has them, plus uncommitted changes) in a new
     git repository at root, for a run that starts from nothing: the tests' own copy (tests/workspaces.py)."""

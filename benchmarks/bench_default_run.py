@@ -18,7 +18,7 @@ import resource
 import tempfile
 from pathlib import Path
 
-from _bench_common import ISA_CAP, capped_environment, copy_repository, load_note, machine, write_result
+from _bench_common import ISA_CAP, capped_environment, copy_repository, load_note, machine, save_and_report
 from _pipeline_run import timed_repro
 
 
@@ -57,13 +57,9 @@ def main() -> None:
         "load_note": note,
         "headline": headline,
     }
-    path = write_result(name, record, measured_on)
     for stage, seconds in sorted(stages.items(), key=lambda item: -item[1]):
         print(f"  {stage:32s} {seconds:7.1f} s")
-    print(f"wrote {path}")
-    if note:
-        print(note)
-    print(f"HEADLINE: {headline}")
+    save_and_report(name, record, measured_on)
 
 
 if __name__ == "__main__":

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import yaml
 
-from _bench_common import REPO, copy_repository, load_note, machine, write_result
+from _bench_common import REPO, copy_repository, load_note, machine, save_and_report
 
 # DVC's command line with ruamel.yaml's C classes cleared first: YAML(typ="safe") then picks the
 # pure-Python parser and emitter, as when ruamel.yaml.clib is not installed
@@ -142,11 +142,7 @@ def main() -> None:
         "load_note": note,
         "headline": headline,
     }
-    path = write_result("bench_dvc_yaml", record, measured_on)
-    print(f"wrote {path}")
-    if note:
-        print(note)
-    print(f"HEADLINE: {headline}")
+    save_and_report("bench_dvc_yaml", record, measured_on)
     if not identical:
         raise SystemExit("the restored dvc.lock differs between the two parsers")
 

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from _bench_common import load_note, machine, timed, training_images, write_result
+from _bench_common import load_note, machine, save_and_report, timed, training_images
 from seasonloop.models.core.ica_stationarity import amari_distance, relative_gradient
 from seasonloop.models.registry import get_learner
 
@@ -325,11 +325,7 @@ def main() -> None:
         "load_note": note,
         "headline": " | ".join(lines),
     }
-    path = write_result("bench_ica", record, measured_on)
-    print(f"wrote {path}")
-    if note:
-        print(note)
-    print(f"HEADLINE: {record['headline']}")
+    save_and_report("bench_ica", record, measured_on)
 
 
 if __name__ == "__main__":

@@ -16,7 +16,7 @@ import argparse
 
 import numpy as np
 
-from _bench_common import load_note, machine, timed, write_result
+from _bench_common import load_note, machine, save_and_report, timed
 from seasonloop.evaluation.matching import METRICS, best_matches, distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
 
@@ -103,11 +103,7 @@ def main() -> None:
         f"(distances + best matches + evaluation), {loop_total / vectorised_seconds:.1f}x faster than a per-query "
         f"loop; best matches identical: {identical}"
     )
-    path = write_result("bench_matching", record, measured_on)
-    print(f"wrote {path}")
-    if note:
-        print(note)
-    print(f"HEADLINE: {record['headline']}")
+    save_and_report("bench_matching", record, measured_on)
     if not identical:
         raise SystemExit("best matches differ between the vectorised and the loop implementation")
 

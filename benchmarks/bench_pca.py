@@ -19,7 +19,7 @@ import yaml
 from scipy.linalg import subspace_angles
 from sklearn.decomposition import PCA
 
-from _bench_common import load_note, machine, timed, training_images, write_result
+from _bench_common import load_note, machine, save_and_report, timed, training_images
 from seasonloop.models.core.learner import to_float
 from seasonloop.models.core.projection import SVD_SOLVERS
 from seasonloop.models.pca import PCALearner
@@ -166,11 +166,7 @@ def main() -> None:
             f"{agreements['ours']['max_principal_angle_deg']:.2f} deg"
         )
     record["headline"] = headline
-    path = write_result("bench_pca", record, measured_on)
-    print(f"wrote {path}")
-    if note:
-        print(note)
-    print(f"HEADLINE: {headline}")
+    save_and_report("bench_pca", record, measured_on)
 
 
 if __name__ == "__main__":

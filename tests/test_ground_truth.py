@@ -443,6 +443,16 @@ def test_vpr_bench_ground_truth_reads_as_the_reference_by_query_matrix(tmp_path)
     forward, _, _ = pair_matrix(tmp_path, "ref", "query", 30, 3, "x", vpr_bench=("ref", "query"))
     backward, _, _ = pair_matrix(tmp_path, "query", "ref", 3, 30, "x", vpr_bench=("ref", "query"))
     assert np.array_equal(forward, hard) and np.array_equal(backward, hard.T)
+    # a row with an empty reference list: a query without a correct place
+    empty = rows.copy()
+    empty[1, 1] = []
+    np.save(tmp_path / "empty.npy", empty, allow_pickle=True)
+    assert read_vpr_bench(tmp_path / "empty.npy", 30, 3).sum(axis=0).tolist() == [2, 0, 3]
+    # a reference list that is not indices: one line naming the file and row
+    empty[1, 1] = ["a", "b"]
+    np.save(tmp_path / "names.npy", empty, allow_pickle=True)
+    with pytest.raises(ValueError, match=r"names.npy: row 1: reference indices \['a', 'b'\] are not integers"):
+        read_vpr_bench(tmp_path / "names.npy", 30, 3)
     with pytest.raises(
         ValueError, match=r"ground_truth_new.npy: row 2: reference indices .* beyond the 20 reference places"
     ):

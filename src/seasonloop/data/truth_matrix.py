@@ -54,8 +54,8 @@ def read_matrix(path: Path, n_database: int, n_query: int) -> tuple[np.ndarray, 
 def read_vpr_bench(path: Path, n_reference: int, n_query: int) -> np.ndarray:
     """VPR-Bench's ground truth (an object array of rows [query index, array of correct reference
     indices], indices into each folder's images in order) as the hard (reference places, query
-    places) matrix; a query without a row has no correct place. Anything else is one line naming
-    the file. The format is a pickled object array: read only files you trust."""
+    places) matrix; a query without a row, or whose row lists no reference, has no correct place.
+    Anything else is one line naming the file and row. The format is a pickled object array: read only files you trust."""
     if not Path(path).is_file():
         raise FileNotFoundError(f"{path}: VPR-Bench ground truth not found (data.ground_truth_dir)")
     try:
@@ -70,16 +70,17 @@ def read_vpr_bench(path: Path, n_reference: int, n_query: int) -> np.ndarray:
         references = np.atleast_1d(np.asarray(references))
         if not (np.issubdtype(np.asarray(query).dtype, np.integer) and 0 <= query < n_query):
             raise ValueError(f"{path}: row {row}: query index {query!r} is not one of the {n_query} query places")
-        if references.size and (
-            not np.issubdtype(references.dtype, np.integer) or references.min() < 0 or references.max() >= n_reference
-        ):
+        if references.size and not np.issubdtype(references.dtype, np.integer):
+            raise ValueError(f"{path}: row {row}: reference indices {references.tolist()} are not integers")
+        if references.size and (references.min() < 0 or references.max() >= n_reference):
             raise ValueError(
                 f"{path}: row {row}: reference indices {references.tolist()} beyond the {n_reference} reference places"
             )
         if seen[query]:
             raise ValueError(f"{path}: query {query} on two rows")
         seen[query] = True
-        hard[references, query] = True
+        if references.size:  # an empty list (read as float64): the query has no correct place
+            hard[references, query] = True
     return hard
 
 

@@ -507,20 +507,172 @@ def _whole(path: Path) -> str:
 CLAIMS = ROOT / "docs" / "claims.yaml"
 
 
-def _check_block_length(path: Path) -> str:
-    """Autocorrelation of the per-query outcomes by lag, interval width by block length."""
+# the calibration targets of docs/statistics.md: a 95% interval covers 94-96.5%, a test at 5% errs
+# at most 5.5% of the time; a cell outside them is marked
+COVERAGE_TARGET, FALSE_POSITIVE_TARGET = (0.94, 0.965), 0.055
+
+
+def _monte_carlo_error(cell: dict, nominal: float) -> float:
+    return (nominal * (1 - nominal) / cell["replicates"]) ** 0.5
+
+
+def _coverage_off(cell: dict) -> bool:
+    """Outside COVERAGE_TARGET by more than two Monte Carlo standard errors."""
+    margin = 2 * _monte_carlo_error(cell, 0.95)
+    return not COVERAGE_TARGET[0] - margin <= cell["rate"] <= COVERAGE_TARGET[1] + margin
+
+
+def _false_positives_off(cell: dict) -> bool:
+    """Above FALSE_POSITIVE_TARGET by more than two Monte Carlo standard errors."""
+    return cell["rate"] > FALSE_POSITIVE_TARGET + 2 * _monte_carlo_error(cell, 0.05)
+
+
+def _rate_cell(cell: dict, off: Callable[[dict], bool] = lambda cell: False) -> str:
+    if cell["rate"] is None:
+        return "refused"
+    return f"{cell['rate']:.3f}" + (" †" if off(cell) else "")
+
+
+def _calibration_rows(path: Path, run: str = "params") -> tuple[dict, list[dict]]:
     record = json.loads(path.read_text())
-    rows = record["by_matcher"]
-    # JSON keys come back sorted as text
-    lags = sorted(next(iter(rows.values()))["autocorrelation"], key=int)
-    lengths = sorted(next(iter(rows.values()))["interval_width_points"], key=int)
-    header = ["matcher", "evaluations", *(f"autocorr. lag {lag}" for lag in lags)]
-    header += [*(f"width, blocks of {length}" for length in lengths), "width, Wilson"]
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    for matcher, row in sorted(rows.items(), key=lambda item: item[0] == "+seq"):
-        cells = [matcher, str(row["evaluations"]), *(f"{row['autocorrelation'][lag]:.2f}" for lag in lags)]
-        cells += [f"{row['interval_width_points'][length]:.1f}" for length in lengths]
-        lines.append("| " + " | ".join([*cells, f"{row['wilson_width_points']:.1f}"]) + " |")
+    return record, record["runs"][run]["rows"]
+
+
+def _calibration_legend(record: dict, run: str = "params") -> str:
+    statistics, replicates = record["runs"][run]["statistics"], record["replicates"]
+    error = (0.95 * 0.05 / replicates) ** 0.5
+    return (
+        f"{replicates} simulated routes a cell (Monte Carlo standard error {100 * error:.1f} points at 95% "
+        f"or 5%); degrees_scale {statistics['degrees_scale']}; "
+        f"refused: fewer than {record['runs'][run]['min_queries']} queries a route (the pipeline writes "
+        '"not enough queries"); † outside the target by more than two Monte Carlo standard errors.'
+    )
+
+
+def _calibration_coverage(path: Path) -> str:
+    """Coverage of the 95% interval along the route (Wilson's in brackets) per dependence, n and p."""
+    record, rows = _calibration_rows(path)
+    ps = record["grid"]["p"]
+    lines = ["| dependence | n | " + " | ".join(f"p = {p}" for p in ps) + " |", "|---|---|" + "---|" * len(ps)]
+    cells: dict[tuple[str, int], dict[float, str]] = {}
+    for row in rows:
+        if "coverage" not in row:
+            continue
+        route = _rate_cell(row["coverage"]["route"], _coverage_off)
+        wilson = row["coverage"]["wilson"]["rate"]
+        cells.setdefault((row["dependence"], row["n"]), {})[row["p"]] = f"{route} ({wilson:.3f})"
+    for (dependence, n), by_p in cells.items():
+        lines.append(f"| {dependence} | {n} | " + " | ".join(by_p[p] for p in ps) + " |")
+    return "\n".join(lines) + "\n\n" + _calibration_legend(record) + " In brackets: Wilson's interval.\n"
+
+
+def _calibration_false_positives(path: Path) -> str:
+    """Equal learners called different: per comparison / per table (Holm), per dependence, n, routes and p."""
+    record, rows = _calibration_rows(path)
+    ps = record["grid"]["p"]
+    lines = [
+        "| dependence | n | routes | " + " | ".join(f"p = {p}" for p in ps) + " |",
+        "|---|---|---|" + "---|" * len(ps),
+    ]
+    cells: dict[tuple[str, int, int], dict[float, str]] = {}
+    for row in rows:
+        fp = row["false_positive"]
+        cell = f"{_rate_cell(fp['per_comparison'], _false_positives_off)} / "
+        cell += _rate_cell(fp["per_table"], _false_positives_off)
+        cells.setdefault((row["dependence"], row["n"], row["routes"]), {})[row["p"]] = cell
+    for (dependence, n, routes), by_p in cells.items():
+        lines.append(f"| {dependence} | {n} | {routes} | " + " | ".join(by_p.get(p, "") for p in ps) + " |")
+    size = record["grid"]["table_learners"]
+    return (
+        "\n".join(lines)
+        + f"\n\nCells: per comparison / per table ({size} learners of equal laws, {size * (size - 1) // 2} "
+        "comparisons, Holm). routes > 1: that many independent routes pooled (p = 0.5 only). "
+        + _calibration_legend(record)
+        + "\n"
+    )
+
+
+def _calibration_power(path: Path) -> str:
+    """How often the paired test finds a difference of 3, 5 and 10 points (and the difference's interval coverage)."""
+    record, rows = _calibration_rows(path)
+    differences = sorted(next(iter(rows))["power"], key=float)
+    header = [f"power at {100 * float(d):.0f} points" for d in differences]
+    header += [f"interval coverage at {100 * float(d):.0f}" for d in differences]
+    lines = ["| dependence | n | routes | p | " + " | ".join(header) + " |", "|---|---|---|---|" + "---|" * len(header)]
+    for row in rows:
+        if row["p"] != 0.5:
+            continue
+        power = [_rate_cell(row["power"][d]["power"]) for d in differences]
+        coverage = [_rate_cell(row["power"][d]["interval_coverage"], _coverage_off) for d in differences]
+        lines.append(
+            f"| {row['dependence']} | {row['n']} | {row['routes']} | {row['p']} | "
+            + " | ".join(power + coverage)
+            + " |"
+        )
+    return (
+        "\n".join(lines)
+        + "\n\nPower: the share of routes on which the paired test (one comparison, at alpha) finds the difference, in its direction. "
+        + _calibration_legend(record)
+        + "\n"
+    )
+
+
+def _calibration_llsw(path: Path) -> str:
+    """The params' degrees_scale beside LLSW's 0.4: worst coverage and worst false-positive rate per dependence and n."""
+    record = json.loads(path.read_text())
+    runs = {name: record["runs"][name] for name in ("params", "llsw")}  # JSON keys come back sorted
+    scales = {name: run["statistics"]["degrees_scale"] for name, run in runs.items()}
+    lines = [
+        "| dependence | n | "
+        + " | ".join(f"scale {scales[name]}: coverage, lowest / highest" for name in runs)
+        + " | "
+        + " | ".join(f"scale {scales[name]}: false positives, highest" for name in runs)
+        + " |",
+        "|---|---|" + "---|" * (2 * len(runs)),
+    ]
+    keys = sorted(
+        {(row["dependence"], row["n"]) for row in runs["llsw"]["rows"]},
+        key=lambda key: (list(record["grid"]["n"]).index(key[1]), key[0]),
+    )
+    for dependence, n in keys:
+        coverage, false_positive = [], []
+        for run in runs.values():
+            rows = [row for row in run["rows"] if (row["dependence"], row["n"], row["routes"]) == (dependence, n, 1)]
+            rates = [row["coverage"]["route"]["rate"] for row in rows if row["coverage"]["route"]["rate"] is not None]
+            fps = [
+                row["false_positive"]["per_comparison"]["rate"]
+                for row in rows
+                if row["false_positive"]["per_comparison"]["rate"] is not None
+            ]
+            coverage.append(f"{min(rates):.3f} / {max(rates):.3f}" if rates else "refused")
+            false_positive.append(f"{max(fps):.3f}" if fps else "refused")
+        lines.append(f"| {dependence} | {n} | " + " | ".join(coverage + false_positive) + " |")
+    return (
+        "\n".join(lines)
+        + f"\n\nOver p in {list(record['grid']['p'])}, one route; {record['replicates']} simulated routes a cell.\n"
+    )
+
+
+def _calibration_fit(path: Path) -> str:
+    """The dependence the simulation was given: fitted to the run's per-query outcomes."""
+    record = json.loads(path.read_text())
+    lags = ("1", "2", "5", "10")
+    lines = [
+        "| outcomes | evaluations | a | phi | share | "
+        + " | ".join(f"autocorr. lag {lag}: run / fitted" for lag in lags)
+        + " | learners' correlation |",
+        "|---|---|---|---|---|" + "---|" * (len(lags) + 1),
+    ]
+    for kind, fit in record["fitted"].items():
+        d = fit["dependence"]
+        cells = [
+            f"{fit['autocorrelation_measured'][lag]:.2f} / {fit['autocorrelation_fitted'][lag]:.2f}" for lag in lags
+        ]
+        lines.append(
+            f"| {kind} | {fit['evaluations']} | {d['a']:.2f} | {d['phi']:.2f} | {d['share']:.2f} | "
+            + " | ".join(cells)
+            + f" | {fit['learner_correlation_measured']:.2f} |"
+        )
     return "\n".join(lines) + "\n"
 
 
@@ -651,11 +803,17 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     # paired comparisons (docs/results.md: how sure): every table, and the claims the prose cites
     "comparisons": ("plots/comparisons.md", "comparisons.md", _whole),
     "claims": ("metrics/comparisons.json", "comparisons.json", _claims_of("default")),
-    "check_block_length": (
-        "benchmarks/results/check_block_length.json",
-        "check_block_length.json",
-        _check_block_length,
-    ),
+    # the statistics' real coverage and error rates on simulated routes (docs/statistics.md)
+    **{
+        name: ("benchmarks/results/check_calibration.json", "check_calibration.json", writer)
+        for name, writer in (
+            ("calibration_fit", _calibration_fit),
+            ("calibration_coverage", _calibration_coverage),
+            ("calibration_false_positives", _calibration_false_positives),
+            ("calibration_power", _calibration_power),
+            ("calibration_llsw", _calibration_llsw),
+        )
+    },
     "runtime": ("plots/summary/runtime.md", "runtime.md", _fraction_correct),
     "autoencoder_training": ("metrics/autoencoder_training.json", "autoencoder_training.json", _autoencoder_training),
     "cae_widths": ("metrics/cae_widths.json", "cae_widths_sweep.json", _cae_widths),

@@ -2,8 +2,8 @@
 
 For every season pair of evaluate.pairs in data.seasons: every two learners under each evaluation,
 each learner's +seq against its single-image matching, each extra metric against evaluate.metric;
-the difference in fraction correct with its paired block-bootstrap interval, McNemar's exact test
-and Holm's correction per table (seasonloop.significance.tables), from the evaluate stages' per-query
+the difference in fraction correct with its interval, its p-value along the route and Holm's
+correction per table (seasonloop.significance.tables), from the evaluate stages' per-query
 outcomes (data/outcomes/<learner>/). Writes metrics/comparisons.json (not a declared DVC metric:
 thousands of numbers; `dvc exp show` keeps to metrics/mean_fraction_correct.json) and
 plots/comparisons.md, its tables (seasonloop.reporting.comparisons) for docs/results.md.

@@ -7,7 +7,7 @@ shows only patch filters), fig13_visual_words.png, fig19_autoencoder_descriptors
 output vs patch-normalised output, single-image fraction correct), fig19b_autoencoder_reconstructions.png
 (test inputs of every season beside the FAE's and CAE's reconstructions) and
 fig19c_autoencoder_loss.png (training and validation loss per epoch) and metrics/autoencoder_descriptors.json
-(per auto-encoder and descriptor: fraction correct per pair with its 95% block-bootstrap interval).
+(per auto-encoder and descriptor: fraction correct per pair with its 95% interval along the route).
 A figure whose learner is not in `learners` is left out, with a line saying so (seasonloop.reporting.figures).
 """
 

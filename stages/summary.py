@@ -6,7 +6,7 @@ that `dvc exp show` and `dvc metrics diff` compare a compact, stable set in shor
 "pca+seq"); metrics/summary.json holds the same per pair and metrics/eval/ every metric of every
 pair (`dvc metrics show metrics/summary.json`, `dvc metrics show metrics/eval/pca`).
 
-Each fraction correct in metrics/summary.json carries its 95% block-bootstrap interval: a pair's
+Each fraction correct in metrics/summary.json carries its 95% interval along the route: a pair's
 from its evaluate stage, the mean over the pairs' from the per-query outcomes (data/outcomes/,
 seasonloop.significance.means; statistics section). metrics/mean_fraction_correct.json keeps the
 point values alone: DVC shows each key as a column, and three per label would bury the comparison.

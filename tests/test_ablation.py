@@ -106,7 +106,7 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
     MeanLearner.fitted_on, MeanLearner.places = [], []
     fits: dict = {}
     intervals: dict = {}
-    statistics = StatisticsConfig(level=0.95, block_length=3, resamples=200, seed=0, alpha=0.05)
+    statistics = StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05)
     fraction_correct = run_ablation(
         plan,
         {"mean": new_learner},
@@ -134,7 +134,11 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
     assert fraction_correct["mean"]["summer"] == 1.0
     # each fraction correct with its interval: every query right, so [1, 1]
     assert list(intervals) == ["mean", "mean@cityblock"]
-    assert intervals["mean"]["summer"] == {"low": 1.0, "high": 1.0}
+    assert intervals["mean"]["summer"] == {
+        "low": None,
+        "high": None,
+        "reason": "not enough queries (6 on a route, fewer than 49)",
+    }
     write_ablation(plan, fraction_correct, tmp_path / "record.json", tmp_path / "figure.png", intervals)
     record = json.loads((tmp_path / "record.json").read_text())
     assert record == {

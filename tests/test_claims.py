@@ -170,3 +170,26 @@ def test_counts_over_the_routes_are_the_replicate_records(document):
             assert max(totals["better"], totals["worse"]) == (CELLS_IN_ALL if said == "all" else int(said)), (
                 f"{document.name}: {sentence}"
             )
+
+
+def significant_counts(record: dict) -> tuple[int, int]:
+    """(significant, compared) over every table and pair of a comparisons record."""
+    rows = [row for tables in record["pairs"].values() for table in tables.values() for row in table]
+    return sum(row["verdict"] in ("better", "worse") for row in rows), len(rows)
+
+
+# "On this run 368 of the 672 comparisons are significant", "584 of this run's 672 comparisons are significant"
+COMPARISONS_COUNTED = re.compile(r"(\d[\d,]*) of (?:the|this run's) (\d[\d,]*) comparisons are significant")
+
+
+@pytest.mark.parametrize("run", list(RUNS))
+def test_counts_of_significant_comparisons_are_the_runs(run):
+    record_path, document = RUNS[run]
+    said = [
+        (int(significant.replace(",", "")), int(compared.replace(",", "")))
+        for sentence in sentences(document.read_text())
+        for significant, compared in COMPARISONS_COUNTED.findall(sentence)
+    ]
+    assert said, f"{document.name}: no sentence counts the run's significant comparisons"
+    expected = significant_counts(json.loads(record_path.read_text()))
+    assert all(pair == expected for pair in said), f"{document.name}: says {said}, the record has {expected}"

@@ -13,7 +13,7 @@ def row(first, second, difference, verdict):
 
 
 RECORD = {
-    "statistics": {"level": 0.95, "block_length": 20, "resamples": 2000, "seed": 0, "alpha": 0.05},
+    "statistics": {"level": 0.95, "degrees_scale": 0.15, "alpha": 0.05},
     "order": {"pairs": ["summer-fall"], "tables": ["learners", "matchers+seq"]},
     "pairs": {
         "summer-fall": {
@@ -45,7 +45,8 @@ def test_a_claim_is_found_in_either_order_or_refused():
 
 def test_the_markdown_names_its_settings_and_every_table():
     markdown = comparisons_markdown(RECORD, ["pca", "ica", "cae"])
-    assert "95% intervals, blocks of 20 queries, 2000 resamples, alpha 0.05" in markdown
+    assert "95% intervals along the route (degrees of freedom 0.15 n^(2/3)), alpha 0.05" in markdown
+    assert "no difference shown at 5% (a t test" in markdown
     assert "**summer-fall: learner against learner, evaluate.metric, single images**" in markdown
     assert "| pca+seq vs pca | +10.0 ▲ |" in markdown
     assert "| matchers+seq | 2 / 3 |" in markdown

@@ -66,7 +66,7 @@ def test_draw_figures_without_their_learners_draws_nothing(tmp_path):
         8,
         EVALUATE,
         SEQUENCE,
-        StatisticsConfig(level=0.95, block_length=4, resamples=100, seed=0, alpha=0.05),
+        StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05),
     )
     assert records.notes == [
         "pca is not in learners: no Figure 2",

@@ -26,7 +26,7 @@ VARIANTS = [("cosine", "single", ""), ("cosine", "sequence", "+seq"), ("citybloc
 def fake_intervals(fraction: float) -> dict:
     """An evaluate stage's intervals around `fraction` (fake numbers, each bound in [0, 1])."""
     bounds = {"low": max(0.0, fraction - 0.05), "high": min(1.0, fraction + 0.05)}
-    interval = {"block_bootstrap": bounds, "wilson": bounds}
+    interval = {"route": bounds, "wilson": bounds}
     return {"fraction_correct": interval, "recall_at_1": interval}
 
 

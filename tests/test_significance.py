@@ -1,33 +1,33 @@
 """Intervals and paired tests (seasonloop.significance) on cases with a known answer, and the
-per-query outcomes they are computed from (seasonloop.evaluation.outcomes)."""
+per-query outcomes they are computed from (seasonloop.evaluation.outcomes). Their real coverage and
+error rates on simulated routes: tests/test_calibration.py."""
 
 from __future__ import annotations
 
-import copy
-from pathlib import Path
+import math
 
 import numpy as np
 import pytest
-import yaml
+from scipy.fft import dct
 from scipy.stats import binomtest
+from scipy.stats import t as student
 
 from seasonloop.evaluation.outcomes import QueryOutcomes
-from seasonloop.params.schema import check_whole
 from seasonloop.params.settings import StatisticsConfig
 from seasonloop.significance.intervals import (
-    block_interval,
-    block_resampling,
+    cosine_degrees,
+    cosine_variance,
     fraction_interval,
-    percentile_interval,
-    resampled_ratios,
-    stratified_resampling,
+    mean_variance,
+    min_queries,
+    route_interval,
     wilson_interval,
 )
 from seasonloop.significance.means import mean_interval
-from seasonloop.significance.paired import holm, mcnemar_exact, paired_difference, with_verdicts
+from seasonloop.significance.paired import holm, paired_difference, with_verdicts
 from seasonloop.significance.tables import comparison_tables, pair_comparisons
 
-SETTINGS = StatisticsConfig(level=0.95, block_length=20, resamples=2000, seed=0, alpha=0.05)
+SETTINGS = StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05)
 
 
 @pytest.mark.parametrize(
@@ -38,84 +38,81 @@ def test_wilson_interval_is_scipys(successes, trials, level):
     assert wilson_interval(successes, trials, level) == pytest.approx((expected.low, expected.high), abs=1e-12)
 
 
-def test_block_resampling_is_seeded_and_inside_the_route():
-    resampling = block_resampling(158, SETTINGS)
-    starts = resampling.starts
-    assert starts.shape == (2000, 8)  # ceil(158 / 20) blocks
-    assert list(resampling.lengths) == [20] * 7 + [18] and resampling.n_queries == 158
-    assert starts.min() >= 0 and starts.max() <= 158 - 20
-    assert np.array_equal(starts, block_resampling(158, SETTINGS).starts)
-    other = StatisticsConfig(level=0.95, block_length=20, resamples=2000, seed=1, alpha=0.05)
-    assert not np.array_equal(starts, block_resampling(158, other).starts)
-    # a block longer than the route is the whole route
-    assert np.array_equal(block_resampling(5, SETTINGS).starts, np.zeros((2000, 1), np.int64))
+def test_degrees_grow_as_n_to_the_two_thirds():
+    assert [cosine_degrees(n, SETTINGS) for n in (20, 49, 158, 3259, 27592)] == [1, 2, 4, 32, 136]
+    assert min_queries(SETTINGS) == 49  # the first n with two cosine terms
+    assert min_queries(StatisticsConfig(level=0.95, degrees_scale=0.4, alpha=0.05)) == 12
 
 
-def test_resampled_ratios_are_the_means_of_the_resampled_queries():
-    rng = np.random.default_rng(3)
-    values, counted = rng.random(53), rng.random(53) < 0.8
-    settings = StatisticsConfig(level=0.95, block_length=7, resamples=50, seed=2, alpha=0.05)
-    resampling = block_resampling(53, settings)
-    # the resample written out: 8 blocks of 7 consecutive queries, cut to 53
-    indices = (resampling.starts[:, :, None] + np.arange(7)).reshape(50, -1)[:, :53]
-    expected = (values * counted)[indices].sum(axis=1) / counted[indices].sum(axis=1)
-    assert np.allclose(resampled_ratios(values * counted, counted, resampling), expected)
-    with pytest.raises(ValueError, match="52 queries, resamples of 53"):
-        resampled_ratios(values[:52], counted[:52], resampling)
+def test_cosine_variance_is_the_mean_square_of_the_low_cosine_terms():
+    values = np.random.default_rng(0).random(50)
+    n, t = len(values), np.arange(50)
+    written_out = [math.sqrt(2 / n) * np.sum(values * np.cos(np.pi * j * (t + 0.5) / n)) for j in (1, 2, 3)]
+    assert cosine_variance(values, 3) == pytest.approx(np.mean(np.square(written_out)))
+    assert cosine_variance(values + 7.0, 3) == pytest.approx(cosine_variance(values, 3))  # the mean is left out
+    with pytest.raises(ValueError, match="50 cosine terms of a series of 50"):
+        cosine_variance(values, 50)
 
 
-def test_stratified_resampling_keeps_each_routes_blocks_inside_it():
-    settings = StatisticsConfig(level=0.95, block_length=7, resamples=300, seed=2, alpha=0.05)
-    resampling = stratified_resampling([(4, 30), (1, 45), (9, 5)], settings)
-    assert resampling.n_queries == 80 and resampling.starts.shape == (300, 5 + 7 + 1)
-    # every block starts and ends inside one route, and a resample has each route's count of queries
-    bounds = np.array([0, 30, 75, 80])
-    route_of_start = np.searchsorted(bounds, resampling.starts, side="right") - 1
-    route_of_end = np.searchsorted(bounds, resampling.starts + resampling.lengths - 1, side="right") - 1
-    assert np.array_equal(route_of_start, route_of_end)
-    assert [int(resampling.lengths[route_of_start[0] == route].sum()) for route in range(3)] == [30, 45, 5]
-    # a route's resamples are its own generator's, whichever routes come before or after it
-    alone = block_resampling(45, settings, seed=[settings.seed, 1])
-    assert np.array_equal(resampling.starts[:, 5:12] - 30, alone.starts)
-    swapped = stratified_resampling([(1, 45), (4, 30), (9, 5)], settings)
-    assert np.array_equal(swapped.starts[:, :7], alone.starts)
-    with pytest.raises(ValueError, match="repeat"):
-        stratified_resampling([(1, 10), (1, 20)], settings)
+def test_cosine_variance_estimates_an_ar1_long_run_variance():
+    # AR(1) with coefficient 0.6 and unit innovations: long-run variance 1 / (1 - 0.6)^2 = 6.25
+    rng = np.random.default_rng(1)
+    noise = rng.standard_normal((400, 3000))
+    series = np.zeros_like(noise)
+    for i in range(1, 3000):
+        series[:, i] = 0.6 * series[:, i - 1] + noise[:, i]
+    assert np.mean(cosine_variance(series[:, 1000:], 20)) == pytest.approx(6.25, rel=0.05)
 
 
-def test_an_interval_of_a_constant_is_that_constant():
-    starts = block_resampling(100, SETTINGS)
-    interval = fraction_interval(np.ones(100, bool), np.ones(100, bool), starts, SETTINGS)
-    assert interval["block_bootstrap"] == {"low": 1.0, "high": 1.0}
-    assert percentile_interval(np.array([np.nan, np.nan]), 0.95) != percentile_interval(np.array([0.5]), 0.95)
+def test_an_interval_of_a_constant_counts_its_queries_as_independent():
+    interval = route_interval(np.ones(100), SETTINGS)
+    degrees = cosine_degrees(100, SETTINGS)
+    q2 = student.ppf(0.975, degrees) ** 2
+    assert interval["effective_queries"] == 100 and interval["high"] == 1.0
+    assert interval["low"] == pytest.approx(100 / (100 + q2))
 
 
-def test_runs_of_outcomes_widen_the_block_interval_beyond_wilsons():
+def test_runs_of_outcomes_widen_the_interval_beyond_wilsons():
     # 160 queries in runs of 20 (a stretch matched, a stretch missed): 8 independent pieces, not 160
     runs = np.repeat(np.array([1, 0, 1, 1, 0, 1, 0, 1], bool), 20)
-    interval = fraction_interval(runs, np.ones(160, bool), block_resampling(160, SETTINGS), SETTINGS)
-    block = interval["block_bootstrap"]["high"] - interval["block_bootstrap"]["low"]
+    interval = fraction_interval(runs, np.ones(160, bool), SETTINGS)
+    route = interval["route"]["high"] - interval["route"]["low"]
     wilson = interval["wilson"]["high"] - interval["wilson"]["low"]
-    assert block > 1.5 * wilson
-    # independent queries: the two agree (within the bootstrap's own noise)
+    assert route > 2 * wilson and interval["route"]["effective_queries"] < 60
+    # independent queries: the two agree (the route's t quantile a little wider than the normal's)
     independent = np.random.default_rng(0).random(2000) < 0.6
-    interval = fraction_interval(independent, np.ones(2000, bool), block_resampling(2000, SETTINGS), SETTINGS)
-    block = interval["block_bootstrap"]["high"] - interval["block_bootstrap"]["low"]
+    interval = fraction_interval(independent, np.ones(2000, bool), SETTINGS)
+    route = interval["route"]["high"] - interval["route"]["low"]
     wilson = interval["wilson"]["high"] - interval["wilson"]["low"]
-    assert block == pytest.approx(wilson, rel=0.2)
+    assert route == pytest.approx(wilson, rel=0.25)
+
+
+def test_a_route_too_short_says_so_instead_of_a_number():
+    interval = fraction_interval(np.arange(20) % 3 == 0, np.ones(20, bool), SETTINGS)
+    assert interval["route"] == {
+        "low": None,
+        "high": None,
+        "reason": "not enough queries (20 on a route, fewer than 49)",
+    }
+    assert interval["wilson"]["low"] < 1 / 3 < interval["wilson"]["high"]
+    comparison = paired_difference(np.arange(20) % 2 == 0, np.zeros(20, bool), SETTINGS)
+    assert comparison["p_value"] is None and comparison["low"] is None and comparison["difference"] == 0.5
+    tested = paired_difference(np.arange(100) % 2 == 0, np.zeros(100, bool), SETTINGS)
+    judged = with_verdicts([comparison, tested], 0.05)
+    assert [row["verdict"] for row in judged] == ["not enough queries", "better"]
+    assert judged[0]["p_holm"] is None and judged[1]["p_holm"] == tested["p_value"]  # a family of one tested
 
 
 def test_recall_counts_only_the_queries_that_have_a_match():
-    hits = np.array([1, 0, 1, 1, 0, 0], bool)
-    counted = np.array([1, 1, 1, 1, 0, 0], bool)
-    interval = fraction_interval(hits, counted, block_resampling(6, SETTINGS), SETTINGS)
-    assert interval["wilson"]["low"] == pytest.approx(binomtest(3, 4).proportion_ci(method="wilson").low)
+    hits = np.array([1, 0, 1, 1, 0, 0] * 20, bool)
+    counted = np.array([1, 1, 1, 1, 0, 0] * 20, bool)
+    interval = fraction_interval(hits, counted, SETTINGS)
+    assert interval["wilson"]["low"] == pytest.approx(binomtest(60, 80).proportion_ci(method="wilson").low)
+    assert interval["route"] == route_interval(hits[counted], SETTINGS)
 
 
-def test_mcnemar_exact_known_values():
-    assert mcnemar_exact(0, 0) == 1.0
-    assert mcnemar_exact(0, 6) == pytest.approx(2 * 0.5**6)
-    assert mcnemar_exact(3, 3) == 1.0
+def test_no_counted_query_has_no_interval():
+    assert fraction_interval(np.zeros(6, bool), np.zeros(6, bool), SETTINGS) == {"route": None, "wilson": None}
 
 
 def test_holm_known_values():
@@ -126,7 +123,7 @@ def test_holm_known_values():
 
 def test_identical_learners_make_no_difference():
     correct = np.random.default_rng(1).random(158) < 0.7
-    comparison = paired_difference(correct, correct, block_resampling(158, SETTINGS), SETTINGS)
+    comparison = paired_difference(correct, correct, SETTINGS)
     assert comparison["difference"] == 0.0
     assert (comparison["low"], comparison["high"]) == (0.0, 0.0)
     assert comparison["p_value"] == 1.0
@@ -134,36 +131,65 @@ def test_identical_learners_make_no_difference():
     assert judged["verdict"] == "no difference"
 
 
+def test_the_paired_test_is_a_t_test_of_the_differences():
+    rng = np.random.default_rng(7)
+    first, second = rng.random(300) < 0.6, rng.random(300) < 0.5
+    comparison = paired_difference(first, second, SETTINGS)
+    change = first.astype(float) - second.astype(float)
+    degrees = cosine_degrees(300, SETTINGS)
+    error = math.sqrt(np.mean(dct(change, type=2, norm="ortho")[1 : degrees + 1] ** 2) / 300)
+    assert comparison["degrees"] == degrees
+    assert comparison["p_value"] == pytest.approx(2 * student.sf(abs(change.mean()) / error, degrees))
+    half = student.ppf(0.975, degrees) * error
+    assert (comparison["low"], comparison["high"]) == pytest.approx((change.mean() - half, change.mean() + half))
+
+
 def test_one_learner_right_on_every_discordant_query_is_significantly_better():
     rng = np.random.default_rng(2)
     second = rng.random(2000) < 0.5
     first = second | (rng.random(2000) < 0.3)  # right wherever second is, and on ~300 more
-    comparison = paired_difference(first, second, block_resampling(2000, SETTINGS), SETTINGS)
+    comparison = paired_difference(first, second, SETTINGS)
     assert comparison["second_only"] == 0 and comparison["first_only"] > 200
     assert comparison["low"] > 0
-    judged = with_verdicts(
-        [comparison, paired_difference(second, first, block_resampling(2000, SETTINGS), SETTINGS)], 0.05
-    )
+    judged = with_verdicts([comparison, paired_difference(second, first, SETTINGS)], 0.05)
     assert [entry["verdict"] for entry in judged] == ["better", "worse"]
 
 
-def test_a_significant_mcnemar_on_one_run_is_not_enough():
-    # 400 queries alike but for one run of 20 the first side alone gets right: McNemar counts 20
-    # independent wins (p ~ 2e-6); the blocks see one stretch of route, missed by ~12% of resamples
+def test_one_run_of_wins_is_not_a_difference_along_the_route():
+    # 400 queries alike but for one run of 20 the first side alone gets right: McNemar would count
+    # 20 independent wins (p ~ 2e-6); along the route it is one stretch
     second = np.random.default_rng(4).random(400) < 0.5
     first = second.copy()
     first[200:220] = True
     second[200:220] = False
-    comparison = paired_difference(first, second, block_resampling(400, SETTINGS), SETTINGS)
-    assert comparison["p_value"] < 1e-5
-    assert comparison["low"] == 0.0
+    comparison = paired_difference(first, second, SETTINGS)
+    assert comparison["first_only"] == 20 and comparison["second_only"] == 0
+    assert comparison["p_value"] > 0.05 and comparison["low"] < 0
     [judged] = with_verdicts([comparison], 0.05)
     assert judged["verdict"] == "no difference"
 
 
 def test_paired_comparison_refuses_different_queries():
     with pytest.raises(ValueError, match="not the same queries"):
-        paired_difference(np.ones(5, bool), np.ones(6, bool), block_resampling(5, SETTINGS), SETTINGS)
+        paired_difference(np.ones(5, bool), np.ones(6, bool), SETTINGS)
+
+
+def test_routes_pooled_keep_their_own_variances():
+    rng = np.random.default_rng(8)
+    routes = [np.repeat(rng.random(n // 10) < 0.5, 10).astype(float) for n in (200, 100, 300)]
+    pooled = mean_variance(np.concatenate(routes), SETTINGS, [200, 100, 300])
+    parts = [mean_variance(route, SETTINGS) for route in routes]
+    weights = [200 / 600, 100 / 600, 300 / 600]
+    assert pooled.variance == pytest.approx(sum(w * w * part.variance for w, part in zip(weights, parts)))
+    squares = sum((w * w * part.variance) ** 2 / part.degrees for w, part in zip(weights, parts))
+    assert pooled.degrees == pytest.approx(pooled.variance**2 / squares)  # Satterthwaite
+    # the order the routes are joined in changes nothing
+    swapped = mean_variance(np.concatenate(routes[::-1]), SETTINGS, [300, 100, 200])
+    assert (swapped.variance, swapped.degrees) == pytest.approx((pooled.variance, pooled.degrees))
+    # a route too short for its own variance: the pooled one says so
+    assert "not enough queries" in mean_variance(np.ones(230), SETTINGS, [200, 30]).reason
+    with pytest.raises(ValueError, match="routes of 250 queries for a series of 230"):
+        mean_variance(np.ones(230), SETTINGS, [200, 50])
 
 
 def test_outcomes_round_trip(tmp_path):
@@ -181,21 +207,6 @@ def test_outcomes_round_trip(tmp_path):
     (tmp_path / "bad.csv").write_text("query_place,correct\n1,1\n")
     with pytest.raises(ValueError, match=r"bad\.csv: per-query outcomes lack column\(s\) confidence"):
         QueryOutcomes.read_csv(tmp_path / "bad.csv")
-
-
-def test_a_block_shorter_than_the_sequence_is_refused():
-    params = yaml.safe_load(Path("params.yaml").read_text())
-    short = copy.deepcopy(params)
-    short["statistics"]["block_length"] = params["sequence"]["length"] - 1
-    with pytest.raises(ValueError, match="statistics.block_length"):
-        check_whole(short)
-    short["evaluate"]["matchers"] = ["single"]
-    check_whole(short)
-
-
-def test_no_counted_query_has_no_interval():
-    interval = fraction_interval(np.zeros(6, bool), np.zeros(6, bool), block_resampling(6, SETTINGS), SETTINGS)
-    assert interval == {"block_bootstrap": None, "wilson": None}
 
 
 def test_comparison_tables_of_a_run():
@@ -227,13 +238,13 @@ def test_comparison_tables_of_a_run():
     assert list(comparison_tables(["pca", "ica"], variants[:1])) == ["learners"]
 
 
-def test_pair_comparisons_use_one_set_of_blocks_and_refuse_other_queries():
+def test_pair_comparisons_test_every_row_and_refuse_other_queries():
     rng = np.random.default_rng(6)
     correct = {label: rng.random(60) < 0.6 for label in ("a", "b", "c")}
     tables = {"learners": [("a", "b"), ("a", "c"), ("b", "c")]}
     found = pair_comparisons(lambda label: (np.arange(60), correct[label]), tables, SETTINGS)
     [first, *_] = found["learners"]
-    expected = paired_difference(correct["a"], correct["b"], block_resampling(60, SETTINGS), SETTINGS)
+    expected = paired_difference(correct["a"], correct["b"], SETTINGS)
     assert {key: first[key] for key in expected} == expected
     assert [row["p_holm"] >= row["p_value"] for row in found["learners"]] == [True] * 3
     shifted = {"a": np.arange(60), "b": np.arange(1, 61), "c": np.arange(60)}
@@ -243,26 +254,33 @@ def test_pair_comparisons_use_one_set_of_blocks_and_refuse_other_queries():
 
 def test_the_mean_of_one_pair_is_that_pairs_interval():
     correct = np.random.default_rng(3).random(158) < 0.6
-    one = fraction_interval(correct, np.ones(158, bool), block_resampling(158, SETTINGS), SETTINGS)
-    assert mean_interval([correct], SETTINGS) == pytest.approx(one["block_bootstrap"])
+    one = fraction_interval(correct, np.ones(158, bool), SETTINGS)
+    assert mean_interval([correct], [np.arange(158)], SETTINGS) == pytest.approx(one["route"])
 
 
-def test_the_mean_resamples_the_same_places_in_every_pair():
+def test_the_mean_over_pairs_of_the_same_places_keeps_their_correlation():
     correct = np.repeat(np.random.default_rng(4).random(16) < 0.5, 10)  # runs of 10 along the route
-    alone = mean_interval([correct], SETTINGS)
-    # the same outcomes in two pairs: a resample draws the same places in both, so their mean is
-    # as uncertain as one pair (two pairs resampled on their own would give a narrower interval)
-    assert mean_interval([correct, correct], SETTINGS) == pytest.approx(alone)
-    # one pair right exactly where the other is wrong: every resample's mean is one half
-    assert mean_interval([correct, ~correct], SETTINGS) == pytest.approx({"low": 0.5, "high": 0.5})
+    places = np.arange(160)
+    alone = mean_interval([correct], [places], SETTINGS)
+    # the same outcomes in two pairs: their mean is as uncertain as one pair (two pairs taken as
+    # independent would give a narrower interval)
+    assert mean_interval([correct, correct], [places, places], SETTINGS) == pytest.approx(alone)
+    # one pair right exactly where the other is wrong: the mean is one half at every query
+    half = mean_interval([correct, ~correct], [places, places], SETTINGS)
+    assert half["low"] < 0.5 < half["high"] and half["high"] - half["low"] < alone["high"] - alone["low"]
+
+
+def test_the_mean_over_pairs_of_other_places_is_bounded_by_their_errors():
+    rng = np.random.default_rng(9)
+    first, second = rng.random(200) < 0.6, rng.random(300) < 0.4
+    found = mean_interval([first, second], [np.arange(200), np.arange(300)], SETTINGS)
+    errors = [math.sqrt(mean_variance(c.astype(float), SETTINGS).variance) for c in (first, second)]
+    degrees = min(cosine_degrees(n, SETTINGS) for n in (200, 300))
+    half = student.ppf(0.975, degrees) * np.mean(errors)
+    mean = (first.mean() + second.mean()) / 2
+    assert (found["low"], found["high"]) == pytest.approx((mean - half, mean + half))
 
 
 def test_a_mean_over_no_pair_is_refused():
     with pytest.raises(ValueError, match="no season pair"):
-        mean_interval([], SETTINGS)
-
-
-def test_block_interval_is_the_evaluate_stages_interval():
-    correct = np.repeat(np.random.default_rng(5).random(16) < 0.7, 10)
-    drawn = fraction_interval(correct, np.ones(len(correct), bool), block_resampling(len(correct), SETTINGS), SETTINGS)
-    assert block_interval(correct, SETTINGS) == drawn["block_bootstrap"]
+        mean_interval([], [], SETTINGS)

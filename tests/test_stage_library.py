@@ -97,7 +97,7 @@ def test_evaluate_learner_writes_every_pair_metric_and_matcher(tmp_path):
         matchers=("single", "sequence"),
     )
     sequence = SequenceConfig(length=3, v_min=1.0, v_max=1.0, v_steps=1, window=4, window_at_breaks="clip")
-    statistics = StatisticsConfig(level=0.95, block_length=5, resamples=200, seed=0, alpha=0.05)
+    statistics = StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05)
     dirs = [tmp_path / name for name in ("metrics", "pr", "similarity", "outcomes")]
     for folder in dirs:
         folder.mkdir()
@@ -112,7 +112,9 @@ def test_evaluate_learner_writes_every_pair_metric_and_matcher(tmp_path):
     assert sorted(p.stem for p in dirs[3].iterdir()) == sorted(names)
     metrics = json.loads((dirs[0] / "summer-fall.json").read_text())
     assert metrics["fraction_correct"] == 1.0
-    assert metrics["intervals"]["fraction_correct"]["block_bootstrap"] == {"low": 1.0, "high": 1.0}
+    # 15 queries: too few for an interval along the route (it says so), Wilson's beside it
+    assert metrics["intervals"]["fraction_correct"]["route"]["low"] is None
+    assert "not enough queries" in metrics["intervals"]["fraction_correct"]["route"]["reason"]
     assert metrics["intervals"]["recall_at_1"]["wilson"]["high"] == 1.0
     outcomes = pd.read_csv(dirs[3] / "summer-fall+seq.csv")
     assert list(outcomes["query_place"]) == list(range(15))

@@ -22,7 +22,7 @@ from seasonloop.reporting.summary_files import (
 )
 from seasonloop.significance.means import mean_interval
 
-SETTINGS = StatisticsConfig(level=0.95, block_length=10, resamples=500, seed=0, alpha=0.05)
+SETTINGS = StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05)
 
 RUNTIME = {
     "pca": {"fit_seconds": 1.23456, "n_train_images": 100, "feature_ms_per_image": 0.5, "descriptor_dimension": 16},
@@ -84,7 +84,7 @@ def test_mean_intervals_are_of_the_outcomes_of_every_label(tmp_path):
     intervals = mean_intervals(tmp_path, METHODS, VARIANTS, PAIRS, SETTINGS)
     assert set(intervals) == set(written)
     for label, by_pair in written.items():
-        assert intervals[label] == mean_interval(by_pair, SETTINGS)
+        assert intervals[label] == mean_interval(by_pair, [np.arange(60)] * len(by_pair), SETTINGS)
         assert intervals[label]["low"] <= np.mean([c.mean() for c in by_pair]) <= intervals[label]["high"]
     (tmp_path / METHODS[0] / f"{PAIRS[0]}.csv").unlink()
     with pytest.raises(ValueError, match=f"{PAIRS[0]}.csv"):
@@ -122,7 +122,7 @@ def test_tables_text(tmp_path, results):
     write_tables(tmp_path, results, RUNTIME)
     markdown = (tmp_path / "fraction_correct.md").read_text()
     assert markdown.startswith(
-        "Fraction of correct matches (%), ours with its 95% block-bootstrap interval in square brackets "
+        "Fraction of correct matches (%), ours with its 95% interval along the route in square brackets "
         "(the study's in round brackets where it gives one)\n\n"
         "| method | summer-fall | winter-fall |\n|---|---|---|\n"
     )

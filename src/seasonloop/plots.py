@@ -197,6 +197,14 @@ def plot_series(
     save_figure(figure, path)
 
 
+def percent_bands(intervals: Sequence[Mapping[str, float | None]]) -> tuple[list[float], list[float]]:
+    """plot_series' (lows, highs) in % of intervals {low, high} in fractions; NaN (no bar) where an
+    interval was refused (low None: too few queries)."""
+    lows = [np.nan if interval["low"] is None else 100 * interval["low"] for interval in intervals]
+    highs = [np.nan if interval["high"] is None else 100 * interval["high"] for interval in intervals]
+    return lows, highs
+
+
 def plot_loss_curves(curves: Mapping[str, Mapping[str, Sequence[float]]], path, title: str) -> None:
     """One panel per model, its loss per epoch on a log scale, curves[model][name] (e.g. "train",
     "validation"); the lowest point of a curve named "validation" is marked (the weights kept)."""

@@ -30,7 +30,7 @@ from seasonloop.evaluation.blocks import best_columns
 from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.io import staged_file, write_json
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
-from seasonloop.plots import plot_message, plot_series
+from seasonloop.plots import percent_bands, plot_message, plot_series
 from seasonloop.reporting.figures import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
 from seasonloop.reporting.summary import record_cell
 
@@ -231,9 +231,8 @@ def write_width_sweep(record: Mapping[str, Any], json_path: Path, figure_path: P
         }
     )
     bands = {
-        f"{'output' if descriptor == 'output_patchnorm' else descriptor} {pair}": (
-            [100 * record["widths"][label][descriptor]["interval"][pair]["low"] for label in labels],
-            [100 * record["widths"][label][descriptor]["interval"][pair]["high"] for label in labels],
+        f"{'output' if descriptor == 'output_patchnorm' else descriptor} {pair}": percent_bands(
+            [record["widths"][label][descriptor]["interval"][pair] for label in labels]
         )
         for descriptor in DESCRIPTORS
         for pair in record["pairs"]

@@ -36,7 +36,7 @@ from seasonloop.fit_ending import how_fit_ended
 from seasonloop.io import read_json, write_json
 from seasonloop.params.schema import SEASONS, check_seasons, pair_name, pair_present, parse_pair
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
-from seasonloop.significance.intervals import block_interval
+from seasonloop.significance.intervals import route_interval
 
 
 @dataclass(frozen=True)
@@ -123,7 +123,7 @@ def run_ablation(
     features stage's batches). skip[method] names a label that is not fitted (a reused one).
     fits, when given, is filled with fits[method][label] = how that fit ended (how_fit_ended);
     intervals = (settings, found), when given, fills found[series][label] with the fraction
-    correct's block-bootstrap interval {low, high} (seasonloop.significance.intervals)."""
+    correct's interval along the route {low, high} (seasonloop.significance.intervals)."""
     assert plan.pair is not None and plan.labels is not None and plan.season_sets is not None, "a skipped plan"
     database, query = plan.pair
     fraction_correct: dict[str, dict[str, float]] = {}
@@ -149,7 +149,7 @@ def run_ablation(
                 )
                 fraction_correct[series][label] = evaluation.metrics["fraction_correct"]
                 if intervals is not None:
-                    intervals[1].setdefault(series, {})[label] = block_interval(
+                    intervals[1].setdefault(series, {})[label] = route_interval(
                         evaluation.outcomes.correct, intervals[0]
                     )
     return fraction_correct
@@ -165,7 +165,7 @@ def write_ablation(
     """The ablation's JSON record and its figure (study Fig. 18), each fraction correct with its
     interval (intervals[series][label] = {low, high}) where given; for a skipped plan, both say why."""
     # imported here: matplotlib is ~0.25 s of every training_seasons_fit process, which draws nothing
-    from seasonloop.plots import plot_message, plot_series
+    from seasonloop.plots import percent_bands, plot_message, plot_series
 
     if plan.skipped:
         write_json(record, {"skipped": plan.skipped})
@@ -196,13 +196,7 @@ def write_ablation(
         else f"Training-season effect on {pair}",
         xlabel="training seasons",
         ylabel="fraction correct (%)",
-        bands={
-            series: (
-                [100 * bounds[label]["low"] for label in plan.labels],
-                [100 * bounds[label]["high"] for label in plan.labels],
-            )
-            for series, bounds in intervals.items()
-        },
+        bands={series: percent_bands([bounds[label] for label in plan.labels]) for series, bounds in intervals.items()},
     )
 
 
@@ -274,7 +268,7 @@ def read_learner_intervals(
             for label in record.get("reused_from_pipeline", []):
                 intervals[name][label] = reused_metrics(name, pair_name(*plan.pair), eval_dir)["intervals"][
                     "fraction_correct"
-                ]["block_bootstrap"]
+                ]["route"]
             if set(intervals[name]) != set(plan.labels):
                 raise ValueError(f"{folder / method}.json: no interval for every season list (rerun its stage)")
     return intervals

@@ -24,7 +24,7 @@ from seasonloop.evaluation.pair_truths import truth_file
 from seasonloop.io import load_array, save_array, write_json
 from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
-from seasonloop.significance.intervals import Resampling, block_resampling, fraction_interval
+from seasonloop.significance.intervals import fraction_interval
 
 
 def evaluate_learner(
@@ -48,14 +48,12 @@ def evaluate_learner(
         descriptors = [load_array(features / f"{season}.npy") for season in (database, query)]
         truth = PairTruth.load(truth_file(truths, database, query))
         check_rows(descriptors, truth, features, (database, query))
-        # the same resampled blocks for every learner and evaluation of the pair: paired differences
-        resampling = block_resampling(len(truth.query_places), statistics)
         for metric in dict.fromkeys(metric for metric, _, _ in variants):
             distance_rows = pair_distances(descriptors[0], descriptors[1], metric)
             for _, matcher, suffix in (variant for variant in variants if variant[0] == metric):
                 name = pair_name(database, query) + suffix
                 evaluation = evaluate_in_blocks(distance_rows, len(descriptors[0]), truth, matcher, evaluate, sequence)
-                intervals = metric_intervals(evaluation.outcomes, resampling, statistics)
+                intervals = metric_intervals(evaluation.outcomes, statistics)
                 write_json(metrics_dir / f"{name}.json", {**evaluation.metrics, "intervals": intervals})
                 evaluation.pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
                 save_array(similarity_dir / f"{name}.npy", evaluation.thumbnail)
@@ -72,11 +70,11 @@ def check_rows(descriptors: Sequence[np.ndarray], truth: PairTruth, features: Pa
             )
 
 
-def metric_intervals(outcomes: QueryOutcomes, resampling: Resampling, statistics: StatisticsConfig) -> dict[str, Any]:
+def metric_intervals(outcomes: QueryOutcomes, statistics: StatisticsConfig) -> dict[str, Any]:
     """The intervals of a pair's fraction_correct (every query counted) and recall_at_1 (the queries
     that have a correct place), under the keys of the metrics they belong to."""
     every = np.ones_like(outcomes.correct)
     return {
-        "fraction_correct": fraction_interval(outcomes.correct, every, resampling, statistics),
-        "recall_at_1": fraction_interval(outcomes.hit_at_1, outcomes.has_match, resampling, statistics),
+        "fraction_correct": fraction_interval(outcomes.correct, every, statistics),
+        "recall_at_1": fraction_interval(outcomes.hit_at_1, outcomes.has_match, statistics),
     }

@@ -12,7 +12,6 @@ def check_across(params: Mapping[str, Any]) -> None:
     """Every check of this module on a whole, section-checked params.yaml."""
     check_whole_route(params)
     check_sampled_sequences(params)
-    check_bootstrap_blocks(params)
 
 
 def check_whole_route(params: Mapping[str, Any]) -> None:
@@ -50,15 +49,4 @@ def check_sampled_sequences(params: Mapping[str, Any]) -> None:
         season, k = next(iter(sampled.items()))
         raise ValueError(
             f"split.test_every.{season}: every {k}th place leaves no sequence to match; set evaluate.matchers: [single]"
-        )
-
-
-def check_bootstrap_blocks(params: Mapping[str, Any]) -> None:
-    """A +seq outcome at one query depends on sequence.length neighbouring queries: a bootstrap
-    block shorter than that would cut the correlation it is there to keep."""
-    block, length = params["statistics"]["block_length"], params["sequence"]["length"]
-    if "sequence" in params["evaluate"]["matchers"] and block < length:
-        raise ValueError(
-            f"statistics.block_length: {block} queries is shorter than sequence.length {length}, "
-            "the span a sequence match depends on"
         )

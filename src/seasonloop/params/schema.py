@@ -176,9 +176,7 @@ SCHEMA: dict[str, dict[str, Check]] = {
     },
     "statistics": {
         "level": number(0, 1, low_open=True, high_open=True),
-        "block_length": integer(1),  # and at least sequence.length (seasonloop.params.across)
-        "resamples": integer(100),
-        "seed": integer(0),
+        "degrees_scale": number(0, None, low_open=True),
         "alpha": number(0, 1, low_open=True, high_open=True),
     },
     "ablation": {"methods": list_of(one_of(*LEARNER_SECTIONS)), "pair": pair, "training_seasons": list_of(seasons)},

@@ -165,9 +165,7 @@ class EvaluateConfig(Section):
 class StatisticsConfig(Section):
     NAME = "statistics"
     level: float  # of every interval
-    block_length: int  # consecutive queries per bootstrap block
-    resamples: int
-    seed: int
+    degrees_scale: float  # a route of n queries has floor(degrees_scale * n^(2/3)) degrees of freedom
     alpha: float  # of the paired tests, after Holm's correction
 
 

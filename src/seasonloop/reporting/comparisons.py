@@ -5,7 +5,8 @@ sequence matching and the extra distance change; the same tables for the report 
 
 A cell reads "+5.1 ▲": the row's fraction correct minus the column's (or the variant's minus the
 reference's) in percentage points, ▲ significantly better, ▼ significantly worse, · no difference
-shown (Holm-corrected McNemar below alpha and the paired block-bootstrap interval away from 0).
+shown (the paired test along the route, Holm-corrected across its table, below alpha:
+seasonloop.significance.paired).
 """
 
 from __future__ import annotations
@@ -22,16 +23,21 @@ from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.settings import StatisticsConfig
 from seasonloop.reporting.html import Section, Table, Text
 from seasonloop.reporting.summary import markdown_table
-from seasonloop.significance.intervals import Resampling
 from seasonloop.significance.tables import Variant, comparison_tables, pair_comparisons
 
-SYMBOLS = {"better": "▲", "worse": "▼", "no difference": "·"}
+SYMBOLS = {"better": "▲", "worse": "▼", "no difference": "·", "not enough queries": "(too few queries)"}
 FLIPPED = {"better": "worse", "worse": "better", "no difference": "no difference"}
-LEGEND = (
-    "Cells: the row's fraction correct minus the column's, percentage points, on the same queries; "
-    "▲ significantly better, ▼ significantly worse, · no difference shown at 5% (McNemar's exact test "
-    "Holm-corrected across the table, and the paired 95% block-bootstrap interval excluding 0: both)."
-)
+FLIPPED["not enough queries"] = "not enough queries"  # a comparison too short to test, either way round
+
+
+def legend(settings: Mapping[str, Any]) -> str:
+    """What a cell says, at the record's statistics settings."""
+    return (
+        "Cells: the row's fraction correct minus the column's, percentage points, on the same queries; "
+        f"▲ significantly better, ▼ significantly worse, · no difference shown at {100 * settings['alpha']:g}% "
+        "(a t test of the per-query differences that allows for runs along the route, Holm-corrected across "
+        "the table; its real error rates: docs/statistics.md)."
+    )
 
 
 Reader = Callable[[str, str, str], tuple[np.ndarray, np.ndarray]]  # (method, pair, suffix) -> (places, correct)
@@ -65,11 +71,11 @@ def comparisons_of(
     variants: Sequence[Variant],
     pairs: Sequence[str],
     settings: StatisticsConfig,
-    resampling_of: Callable[[str], Resampling] | None = None,
+    segments_of: Callable[[str], Sequence[int]] | None = None,
 ) -> dict[str, Any]:
     """run_comparisons' record from any reader of per-query outcomes (one run's, or several runs'
-    one after another: seasonloop.reporting.replicates, whose resampling_of(pair) resamples each
-    run's queries on their own; by default a pair's queries are one route's)."""
+    one after another: seasonloop.reporting.replicates, whose segments_of(pair) gives each run's
+    number of queries, independent routes; by default a pair's queries are one route's)."""
     tables = comparison_tables(methods, variants)
     source = {method + suffix: (method, suffix) for method in methods for _, _, suffix in variants}
 
@@ -85,7 +91,7 @@ def comparisons_of(
         # JSON objects come back with sorted keys: the run's order of pairs and tables
         "order": {"pairs": list(pairs), "tables": list(tables)},
         "pairs": {
-            pair: pair_comparisons(reader(pair), tables, settings, resampling_of(pair) if resampling_of else None)
+            pair: pair_comparisons(reader(pair), tables, settings, segments_of(pair) if segments_of else None)
             for pair in pairs
         },
     }
@@ -132,7 +138,7 @@ def verdict_counts(pairs: Mapping[str, Mapping[str, Sequence[Mapping[str, Any]]]
     return pd.DataFrame(
         {
             pair: {
-                name: f"{sum(entry['verdict'] != 'no difference' for entry in tables[name])} / {len(tables[name])}"
+                name: f"{sum(entry['verdict'] in ('better', 'worse') for entry in tables[name])} / {len(tables[name])}"
                 for name in names
             }
             for pair, tables in pairs.items()
@@ -167,8 +173,8 @@ def comparisons_markdown(record: Mapping[str, Any], methods: Sequence[str]) -> s
     """Every table of comparison_frames as markdown, with the settings and the legend."""
     settings = record["statistics"]
     lines = [
-        f"Paired comparisons, {100 * settings['level']:.0f}% intervals, blocks of {settings['block_length']} "
-        f"queries, {settings['resamples']} resamples, alpha {settings['alpha']}. " + LEGEND,
+        f"Paired comparisons, {100 * settings['level']:.0f}% intervals along the route (degrees of freedom "
+        f"{settings['degrees_scale']:g} n^(2/3)), alpha {settings['alpha']}. " + legend(settings),
         "",
     ]
     for caption, frame in comparison_frames(record, methods):
@@ -181,8 +187,8 @@ def comparisons_section(record: Mapping[str, Any], methods: Sequence[str]) -> Se
     settings = record["statistics"]
     intro = (
         f"Is a difference real? Each pair's queries are compared paired, learner against learner on the same "
-        f"queries; intervals are {100 * settings['level']:.0f}% moving-block bootstraps over blocks of "
-        f"{settings['block_length']} consecutive queries (successes come in runs along a route). " + LEGEND
+        f"queries; intervals are {100 * settings['level']:.0f}% and allow for successes coming in runs along "
+        "a route (a long-run variance from the per-query differences' low-frequency cosine terms). " + legend(settings)
     )
     return Section(
         "Paired comparisons",
@@ -240,4 +246,6 @@ def claims_markdown(record: Mapping[str, Any], claims: Mapping[str, Mapping[str,
     for name, claim in claims.items():
         cells = claim_cells(record, claim)
         lines.append(f"| {name} | {claim['says']} | " + " | ".join(cells[pair] for pair in pairs) + " |")
-    return "\n".join(lines) + "\n\n" + LEGEND + " Whole tables: significant differences each way.\n"
+    return (
+        "\n".join(lines) + "\n\n" + legend(record["statistics"]) + " Whole tables: significant differences each way.\n"
+    )

@@ -22,7 +22,7 @@ from seasonloop.params.learners import AE_DESCRIPTORS
 from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
-from seasonloop.significance.intervals import block_interval
+from seasonloop.significance.intervals import route_interval
 
 AUTOENCODERS = ("fae", "cae")
 # the learners whose models draw_figures loads (dvc.yaml's figures stage depends on their modules)
@@ -137,12 +137,12 @@ def descriptor_evaluations(
 
 def fraction_correct_record(evaluations: Mapping[str, PairEvaluation], statistics: StatisticsConfig) -> dict[str, Any]:
     """{fraction_correct: {pair: value}, interval: {pair: {low, high}}} of one descriptor's
-    evaluations (pair -> PairEvaluation): the fraction correct with its 95% block-bootstrap
-    interval (seasonloop.significance.intervals), as the evaluate stage draws it."""
+    evaluations (pair -> PairEvaluation): the fraction correct with its 95% interval along
+    the route (seasonloop.significance.intervals), as the evaluate stage draws it."""
     return {
         "fraction_correct": {pair: evaluation.metrics["fraction_correct"] for pair, evaluation in evaluations.items()},
         "interval": {
-            pair: block_interval(evaluation.outcomes.correct, statistics) for pair, evaluation in evaluations.items()
+            pair: route_interval(evaluation.outcomes.correct, statistics) for pair, evaluation in evaluations.items()
         },
     }
 

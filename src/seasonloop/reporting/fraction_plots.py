@@ -1,5 +1,5 @@
 """The fraction-correct figure of the summary (the study's Figures 10, 11, 16, 17): a panel per
-pair, a bar per learner and matcher, each bar's 95% block-bootstrap interval as an error bar and the
+pair, a bar per learner and matcher, each bar's 95% interval along the route as an error bar and the
 study's numbers as diamonds."""
 
 from __future__ import annotations
@@ -71,7 +71,7 @@ def plot_fraction_correct(
         for v in variants
     ]
     if intervals is not None:
-        handles.append(Line2D([], [], marker="|", color="black", label="95% interval (block bootstrap)"))
+        handles.append(Line2D([], [], marker="|", color="black", label="95% interval (along the route)"))
     if reference is not None:
         handles.append(Line2D([], [], marker="D", linestyle="", markerfacecolor="none", color="black", label="study"))
     figure.suptitle(title)

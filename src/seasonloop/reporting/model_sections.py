@@ -114,8 +114,8 @@ def figures_section(
         table.index.names = ["method", "descriptor"]
         blocks.append(
             Table(
-                "Auto-encoder descriptors (study Fig. 19): fraction correct (%) with its 95% block-bootstrap "
-                "interval, single-image matching",
+                "Auto-encoder descriptors (study Fig. 19): fraction correct (%) with its 95% interval along the route, "
+                "single-image matching",
                 table,
             )
         )

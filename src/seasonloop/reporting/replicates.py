@@ -9,16 +9,14 @@ Three answers per route set:
   largest training set is above its smallest;
 - for each claim of docs/claims.yaml (one comparison, or a whole table), on each pair: in how many
   routes it points each way and is significant each way (each route's own paired tests);
-- the pooled verdict: every route's queries of a pair taken together, as one long route, with the
-  same McNemar test and Holm correction as a single run (seasonloop.significance.tables) and a
-  stratified block bootstrap: each route's queries resampled on their own, with as many queries and
-  the block length of a single run, from a generator seeded by the route's key (its synthetic.seed;
-  seasonloop.significance.intervals.stratified_resampling). So no block joins the end of one route
-  to the start of another, and the verdicts depend neither on the order the routes are read in nor
-  on which other routes are there (a first version joined the routes into one and resampled that:
-  reading the five routes of docs/results.md in another order turned one of its 672 comparisons).
-  A sign test over routes would be the other way to combine them, but with 5 routes even 5 of 5 in
-  one direction gives p = 0.0625: it cannot reach 5%.
+- the pooled verdict: every route's queries of a pair taken together, with the same paired test
+  and Holm correction as a single run (seasonloop.significance.tables), each route's long-run
+  variance its own (the routes are independent; no route's runs join another's) and the pooled
+  difference's variance their weighted sum (seasonloop.significance.intervals.mean_variance). It
+  does not depend on the order the routes are read in. What it generalises over: the queries of
+  these routes, not routes in general: a route-to-route spread of the true difference is not in
+  its variance (with five routes a test over routes would have 4 degrees of freedom; the spread
+  and the per-route tallies above show how much the routes differ).
 """
 
 from __future__ import annotations
@@ -32,7 +30,6 @@ import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
 from seasonloop.reporting.comparisons import claim_cell, claim_cells, claim_values, comparisons_of, csv_reader
-from seasonloop.significance.intervals import Resampling, stratified_resampling
 from seasonloop.significance.tables import Variant
 
 
@@ -76,11 +73,11 @@ def pooled_comparisons(
     settings: StatisticsConfig,
 ) -> dict[str, Any]:
     """The comparisons record (as metrics/comparisons.json) of every route's queries together:
-    outcomes_dirs[key] is the data/outcomes folder of the route whose resamples are seeded by key
-    (its synthetic.seed)."""
-    readers = {key: csv_reader(folder) for key, folder in outcomes_dirs.items()}
+    outcomes_dirs[key] is the data/outcomes folder of the route keyed by its synthetic.seed."""
+    # in key order: the pooled sums then do not depend on the order the routes are given in
+    readers = {key: csv_reader(folder) for key, folder in sorted(outcomes_dirs.items())}
 
-    # read once: resampling_of reads the first evaluation of a pair, which pooled reads again
+    # read once: segments_of reads the first evaluation of a pair, which pooled reads again
     @functools.cache
     def routes_of(method: str, pair: str, suffix: str) -> list[tuple[np.ndarray, np.ndarray]]:
         return [reader(method, pair, suffix) for reader in readers.values()]
@@ -92,12 +89,11 @@ def pooled_comparisons(
         places = np.concatenate([route * span + places for route, (places, _) in enumerate(read)])
         return places, np.concatenate([correct for _, correct in read])
 
-    def resampling_of(pair: str) -> Resampling:
+    def segments_of(pair: str) -> list[int]:
         # a pair's evaluations share their queries (pair_comparisons checks): the first one's count
-        read = routes_of(methods[0], pair, variants[0][2])
-        return stratified_resampling([(key, len(places)) for key, (places, _) in zip(readers, read)], settings)
+        return [len(places) for places, _ in routes_of(methods[0], pair, variants[0][2])]
 
-    return comparisons_of(pooled, methods, variants, pairs, settings, resampling_of)
+    return comparisons_of(pooled, methods, variants, pairs, settings, segments_of)
 
 
 def claims_in(

@@ -83,7 +83,7 @@ def _beside_study(
     ours: pd.DataFrame, study: pd.DataFrame, intervals: tuple[pd.DataFrame, pd.DataFrame]
 ) -> pd.DataFrame:
     """Columns (pair, ours) and (pair, study) side by side; a pair the study gives no number for has ours only.
-    Ours carries its 95% block-bootstrap interval, intervals = (low, high) in %, to whole percent.
+    Ours carries its 95% interval along the route, intervals = (low, high) in %, to whole percent.
 
     The study's numbers are whole percentages, so they are shown without decimals.
     """
@@ -100,7 +100,7 @@ def _beside_study(
 
 _FRACTION_CORRECT_INTRO = (
     "Fraction of correct matches: correct best matches / queries, in %, with its 95% interval in "
-    "square brackets (a moving-block bootstrap over consecutive queries: section Paired comparisons). "
+    "square brackets (allowing for runs of successes along the route: section Paired comparisons). "
     "Pairs are database-queries; "
     "(S) marks the study's numbers, given for single-image matching on three pairs only. "
     "Rows named learner@metric use that distance (evaluate.extra_metrics) instead of the main one "
@@ -175,7 +175,7 @@ def fraction_correct_section(
     )
     blocks.append(
         Image(
-            "Fraction of correct matches per pair; bars: 95% block-bootstrap intervals; diamonds: the study's numbers",
+            "Fraction of correct matches per pair; bars: 95% intervals along the route; diamonds: the study's numbers",
             figure,
         )
     )

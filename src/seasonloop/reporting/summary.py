@@ -31,12 +31,14 @@ def interval_tables(
     results: Mapping[str, Mapping[str, Mapping[str, Any]]], pairs: Sequence[str]
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """(low, high) DataFrames like fraction_correct_table's, in %: each fraction correct's 95%
-    block-bootstrap interval (seasonloop.significance.intervals; NaN where a pair has no metrics)."""
+    interval along the route (seasonloop.significance.intervals; NaN where a pair has no metrics or
+    too few queries for an interval)."""
 
     def bound(label: str, pair: str, side: str) -> float:
         if pair not in results[label]:
             return np.nan
-        return 100 * results[label][pair]["intervals"]["fraction_correct"]["block_bootstrap"][side]
+        value = results[label][pair]["intervals"]["fraction_correct"]["route"][side]
+        return np.nan if value is None else 100 * value
 
     low, high = (
         pd.DataFrame({pair: [bound(label, pair, side) for label in results] for pair in pairs}, index=list(results))
@@ -60,20 +62,30 @@ def markdown_table(table: pd.DataFrame, index_name: str) -> str:
     return "\n".join(lines) + "\n"
 
 
+# where a route is too short for an interval (seasonloop.significance.intervals.MIN_DEGREES)
+NO_INTERVAL = "[not enough queries]"
+
+
 def with_interval(percent: float, low: float | None = None, high: float | None = None) -> str:
     """'81.0 [69, 94]': a fraction correct in % with its interval's ends (in %, whole percent: they
-    are not known to a tenth) where it has one (low None or NaN: the value alone)."""
-    if low is None or high is None or not np.isfinite(low):
+    are not known to a tenth) where it has one; low None: the value alone (no interval asked for);
+    low NaN: the value and NO_INTERVAL (too few queries for one)."""
+    if low is None or high is None:
         return f"{percent:.1f}"
+    if not np.isfinite(low):
+        return f"{percent:.1f} {NO_INTERVAL}"
     return f"{percent:.1f} [{low:.0f}, {high:.0f}]"
 
 
-def percent_cell(value: float, interval: Mapping[str, float] | None = None) -> str:
-    """with_interval's cell of a fraction (not %) and its interval {low, high} (fractions) where
-    it has one."""
+def percent_cell(value: float, interval: Mapping[str, float | None] | None = None) -> str:
+    """with_interval's cell of a fraction (not %) and its interval {low, high} (fractions; low None
+    where the route was too short for one) where it has one."""
     if not interval:
         return with_interval(100 * value)
-    return with_interval(100 * value, 100 * interval["low"], 100 * interval["high"])
+    low, high = interval["low"], interval["high"]
+    if low is None or high is None:
+        return with_interval(100 * value, np.nan, np.nan)
+    return with_interval(100 * value, 100 * low, 100 * high)
 
 
 def record_cell(record: Mapping[str, Any], pair: str) -> str:

@@ -40,20 +40,21 @@ def mean_intervals(
     pairs: Sequence[str],
     settings: StatisticsConfig,
 ) -> dict[str, dict[str, float]]:
-    """label -> {low, high}: the block-bootstrap interval of the fraction correct averaged over
-    `pairs` (seasonloop.significance.means), from the evaluate stages' per-query outcomes
+    """label -> {low, high, ...}: the interval of the fraction correct averaged over `pairs`
+    (seasonloop.significance.means), from the evaluate stages' per-query outcomes
     outcomes_dir/<method>/<pair><suffix>.csv of every learner and (metric, matcher, suffix) of `variants`."""
-    return {
-        method + suffix: mean_interval(
-            [QueryOutcomes.read_csv(outcomes_dir / method / f"{pair}{suffix}.csv").correct for pair in pairs], settings
-        )
-        for _, _, suffix in variants
-        for method in methods
-    }
+    intervals = {}
+    for _, _, suffix in variants:
+        for method in methods:
+            outcomes = [QueryOutcomes.read_csv(outcomes_dir / method / f"{pair}{suffix}.csv") for pair in pairs]
+            intervals[method + suffix] = mean_interval(
+                [o.correct for o in outcomes], [o.query_place for o in outcomes], settings
+            )
+    return intervals
 
 
 def summary_record(results: EvaluationResults, mean_interval_of: Mapping[str, Mapping[str, float]]) -> dict[str, Any]:
-    """Fraction correct per label and pair with its 95% block-bootstrap interval, its mean per label
+    """Fraction correct per label and pair with its 95% interval along the route, its mean per label
     with the mean's interval (mean_interval_of[label], as mean_intervals gives it), and the study's
     PR landmarks beside ours."""
     labels, pairs, metrics = results.labels, results.pairs, results.metrics
@@ -62,7 +63,7 @@ def summary_record(results: EvaluationResults, mean_interval_of: Mapping[str, Ma
             label: {pair: metrics[label][pair]["fraction_correct"] for pair in pairs} for label in labels
         },
         "fraction_correct_interval": {
-            label: {pair: metrics[label][pair]["intervals"]["fraction_correct"]["block_bootstrap"] for pair in pairs}
+            label: {pair: metrics[label][pair]["intervals"]["fraction_correct"]["route"] for pair in pairs}
             for label in labels
         },
         "mean_fraction_correct": {
@@ -89,7 +90,7 @@ def write_tables(out: Path, results: EvaluationResults, runtime: Mapping[str, Ma
     ours = fraction_correct_table(results.metrics, results.pairs)
     study = study_table(results.labels, results.pairs)
     (out / "fraction_correct.md").write_text(
-        "Fraction of correct matches (%), ours with its 95% block-bootstrap interval in square brackets "
+        "Fraction of correct matches (%), ours with its 95% interval along the route in square brackets "
         "(the study's in round brackets where it gives one)\n\n"
         + side_by_side_markdown(ours, study, interval_tables(results.metrics, results.pairs))
     )

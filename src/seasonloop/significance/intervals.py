@@ -2,16 +2,30 @@
 
 The queries of a pair are consecutive places along a route, so their successes come in runs (a
 stretch of forest matched, a stretch of snow missed; a sequence matcher's outcome at one query
-depends on its neighbours' images): an interval that treats them as independent, as the
-binomial's, is too narrow. The moving block bootstrap (Kuensch 1989) resamples blocks of
-`block_length` consecutive queries, so the runs inside a block stay whole; its percentile interval
-is the one the tables use, the Wilson interval of the binomial beside it for comparison.
+depends on its neighbours' images): the variance of their mean is the series' long-run variance
+(the sum of its autocovariances) over n, larger than the binomial's when runs are long.
 
-A resample is a set of blocks (block_resampling), the same for every learner of a pair (they
-depend only on the number of queries and the settings), so a paired difference between two
-learners is resampled on the same queries (seasonloop.significance.paired). Several independent
-routes' queries joined into one (replicate routes) are resampled route by route
-(stratified_resampling).
+The long-run variance is estimated from the series' first ν cosine-transform coefficients, the
+equal-weighted cosine (EWC) estimator of Lazarus, Lewis, Stock and Watson ("HAR inference:
+recommendations for practice", J. Business & Economic Statistics 36(4), 2018): each coefficient
+(scipy.fft.dct, type II, orthonormal, terms 1..ν) carries the series' variance at a low frequency,
+and their mean square estimates it with ν degrees of freedom, so a mean divided by its standard
+error follows Student's t with ν degrees of freedom. No resampling, no seed, no block length: ν
+grows with the route, ν = floor(statistics.degrees_scale * n^(2/3)). LLSW's rule has scale 0.4;
+benchmarks/check_calibration.py measured it too liberal at this project's n and dependence, and
+the scale in params.yaml is the one that covers 95% there (docs/statistics.md).
+
+The fraction's interval is Wilson's score interval with the route's effective number of queries
+(n times the binomial's variance over the long-run one) and the t quantile in place of the
+normal's: the score form keeps it inside [0, 1] and its coverage near the ends (fractions near
+0 or 1), where the symmetric interval undercovers. Several independent routes joined one after
+another (replicate routes pooled) are `segments`: each route's long-run variance is its own,
+and their sum, weighted by the routes' shares of the queries, is the pooled mean's, with
+Satterthwaite's degrees of freedom: a statement about these routes' queries, not about routes
+in general.
+
+Below MIN_DEGREES (a route too short for its own variance) no interval is given: it says "not
+enough queries" instead of a number.
 """
 
 from __future__ import annotations
@@ -26,120 +40,140 @@ import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
 
+# one cosine term leaves a variance estimate with one degree of freedom: a t_1 (Cauchy) interval
+# 12.7 standard errors wide each side at 95%, and no check that the route's spectrum is flat
+MIN_DEGREES = 2
+
+
+def cosine_degrees(n_queries: int, settings: StatisticsConfig) -> int:
+    """ν, the cosine terms (degrees of freedom) of a route of n_queries: floor(scale * n^(2/3))."""
+    return int(math.floor(settings.degrees_scale * n_queries ** (2.0 / 3.0)))
+
+
+def min_queries(settings: StatisticsConfig) -> int:
+    """The fewest queries a route needs for an interval or a test (MIN_DEGREES cosine terms)."""
+    n = 1
+    while cosine_degrees(n, settings) < MIN_DEGREES:
+        n += 1
+    return n
+
+
+def cosine_variance(values: np.ndarray, degrees: int) -> np.ndarray:
+    """The EWC long-run variance of each series along the last axis: the mean square of its
+    cosine-transform coefficients 1..degrees (coefficient 0 is the mean, left out, so a constant
+    added to a series changes nothing)."""
+    from scipy.fft import dct  # ~0.1 s to import; the report stage, which only reads, never needs it
+
+    values = np.asarray(values, np.float64)
+    if not 1 <= degrees < values.shape[-1]:
+        raise ValueError(f"cosine_variance: {degrees} cosine terms of a series of {values.shape[-1]}")
+    coefficients = dct(values, type=2, norm="ortho", axis=-1)[..., 1 : degrees + 1]
+    return np.mean(coefficients * coefficients, axis=-1)
+
 
 @dataclass(frozen=True)
-class Resampling:
-    """Block resamples of a run of queries: starts (resamples, blocks), the first query of each block
-    of each resample; lengths (blocks,), each block column's number of queries. A resample's queries
-    are its blocks' queries, block after block."""
+class MeanVariance:
+    """The variance of a series' mean (variance, along the route) and its degrees of freedom, or
+    why there is none (reason)."""
 
-    starts: np.ndarray
-    lengths: np.ndarray
-
-    @property
-    def n_queries(self) -> int:
-        return int(self.lengths.sum())
+    variance: float
+    degrees: float
+    reason: str | None = None
 
 
-def block_resampling(n_queries: int, settings: StatisticsConfig, seed: Sequence[int] | int | None = None) -> Resampling:
-    """The moving block bootstrap of one route's queries: ceil(n / length) blocks a resample, each
-    first query uniform over the n - length + 1 possible starts, the last block cut so that a resample
-    has n queries. A block never wraps around: the route's two ends are not neighbours. Drawn from
-    settings.seed, or from `seed` where given (a route among several: stratified_resampling)."""
-    if n_queries < 1:
-        raise ValueError(f"block_resampling: no query to resample (n_queries {n_queries})")
-    length = min(settings.block_length, n_queries)
-    blocks = math.ceil(n_queries / length)
-    rng = np.random.default_rng(settings.seed if seed is None else seed)
-    starts = rng.integers(0, n_queries - length + 1, size=(settings.resamples, blocks), dtype=np.int64)
-    lengths = np.full(blocks, length, np.int64)
-    lengths[-1] = n_queries - (blocks - 1) * length
-    return Resampling(starts, lengths)
+def mean_variance(
+    values: np.ndarray, settings: StatisticsConfig, segments: Sequence[int] | None = None
+) -> MeanVariance:
+    """The variance of values.mean() along the route(s): one route (segments None), or independent
+    routes of segments[i] queries one after another (their weighted sum, Satterthwaite's degrees)."""
+    values = np.asarray(values, np.float64)
+    lengths = [len(values)] if segments is None else [int(length) for length in segments]
+    if sum(lengths) != len(values):
+        raise ValueError(f"mean_variance: routes of {sum(lengths)} queries for a series of {len(values)}")
+    least = min_queries(settings)
+    if min(lengths) < least:
+        return MeanVariance(math.nan, math.nan, f"not enough queries ({min(lengths)} on a route, fewer than {least})")
+    total, parts, ends = len(values), [], np.cumsum(lengths)
+    for length, end in zip(lengths, ends):
+        route_degrees = cosine_degrees(length, settings)
+        route_variance = float(cosine_variance(values[end - length : end], route_degrees)) * length / total**2
+        parts.append((route_variance, route_degrees))
+    variance = sum(part for part, _ in parts)
+    squares = sum(part * part / route_degrees for part, route_degrees in parts)
+    # Satterthwaite: one route keeps its own; routes without variance add nothing (none: infinite)
+    pooled = float(parts[0][1]) if len(parts) == 1 else (variance * variance / squares if squares > 0 else math.inf)
+    return MeanVariance(variance, pooled)
 
 
-def stratified_resampling(routes: Sequence[tuple[int, int]], settings: StatisticsConfig) -> Resampling:
-    """Several independent routes' queries one after another, routes[i] = (key, n_queries) in that
-    order: each route resampled on its own (its blocks inside it, as many queries as it has), from a
-    generator seeded by (settings.seed, key). A route's resamples then depend neither on the order the
-    routes are joined in nor on which other routes are there, and no block joins two routes."""
-    if not routes:
-        raise ValueError("stratified_resampling: no route to resample")
-    keys = [key for key, _ in routes]
-    if len(set(keys)) != len(keys):
-        raise ValueError(f"stratified_resampling: route keys {keys} repeat (each route needs its own generator)")
-    strata, offset = [], 0
-    for key, n_queries in routes:
-        route = block_resampling(n_queries, settings, seed=[settings.seed, key])
-        strata.append(Resampling(route.starts + offset, route.lengths))
-        offset += n_queries
-    return Resampling(
-        np.concatenate([stratum.starts for stratum in strata], axis=1),
-        np.concatenate([stratum.lengths for stratum in strata]),
-    )
+def t_quantile(level: float, degrees: float) -> float:
+    """The two-sided `level` quantile of Student's t (the normal's at infinite degrees)."""
+    if math.isinf(degrees):
+        return NormalDist().inv_cdf(0.5 + level / 2.0)
+    from scipy.special import stdtrit  # imported where used: the report stage only reads intervals
+
+    return float(stdtrit(degrees, 0.5 + level / 2.0))
 
 
-def resampled_ratios(numerator: np.ndarray, denominator: np.ndarray, resampling: Resampling) -> np.ndarray:
-    """(resamples,) sum(numerator) / sum(denominator) over each resample's queries (NaN where a
-    resample holds no denominator). With a denominator of ones, the resampled means."""
-    numerator, denominator = np.asarray(numerator, np.float64), np.asarray(denominator, np.float64)
-    if len(numerator) != resampling.n_queries:
-        raise ValueError(f"resampled_ratios: {len(numerator)} queries, resamples of {resampling.n_queries}")
-    ends = resampling.starts + resampling.lengths
-
-    def sums(values: np.ndarray) -> np.ndarray:
-        cumulative = np.concatenate(([0.0], np.cumsum(values)))
-        return (cumulative[ends] - cumulative[resampling.starts]).sum(axis=1)
-
-    below = sums(denominator)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(below > 0, sums(numerator) / np.where(below > 0, below, 1.0), np.nan)
-
-
-def percentile_interval(resampled: np.ndarray, level: float) -> tuple[float, float]:
-    """The central `level` interval of the resampled values (NaN resamples left out)."""
-    finite = resampled[np.isfinite(resampled)]
-    if finite.size == 0:
-        return math.nan, math.nan
-    tail = (1.0 - level) / 2.0
-    low, high = np.quantile(finite, [tail, 1.0 - tail])
-    return float(low), float(high)
+def score_interval(share: float, effective: float, quantile: float) -> tuple[float, float]:
+    """Wilson's score interval of a fraction `share` of `effective` independent trials, quantile
+    in place of the normal's (exactly 0 or 1 at a bound the data reach: the formula leaves a
+    rounding error there)."""
+    q2 = quantile * quantile
+    centre = share + q2 / (2 * effective)
+    spread = quantile * math.sqrt(share * (1 - share) / effective + q2 / (4 * effective * effective))
+    scale = 1 + q2 / effective
+    low = 0.0 if share == 0 else (centre - spread) / scale
+    high = 1.0 if share == 1 else (centre + spread) / scale
+    return low, high
 
 
 def wilson_interval(successes: int, trials: int, level: float) -> tuple[float, float]:
     """The binomial's Wilson score interval (as scipy.stats.binomtest(...).proportion_ci(method=
-    "wilson"); written out because importing scipy.stats takes ~2 s at every evaluate stage's start)."""
+    "wilson")): every query independent, beside the route's interval for comparison."""
     if trials < 1:
         return math.nan, math.nan
-    z = NormalDist().inv_cdf(0.5 + level / 2.0)
-    share = successes / trials
-    centre = share + z * z / (2 * trials)
-    spread = z * math.sqrt(share * (1 - share) / trials + z * z / (4 * trials * trials))
-    scale = 1 + z * z / trials
-    # at 0 or every success the bound is 0 (1) exactly; the formula leaves a rounding error
-    low = 0.0 if successes == 0 else (centre - spread) / scale
-    high = 1.0 if successes == trials else (centre + spread) / scale
-    return low, high
+    return score_interval(successes / trials, trials, NormalDist().inv_cdf(0.5 + level / 2.0))
+
+
+def route_interval(
+    values: np.ndarray, settings: StatisticsConfig, segments: Sequence[int] | None = None
+) -> dict[str, Any]:
+    """{low, high, effective_queries, degrees} of the mean of `values` (each in [0, 1], in route
+    order), or {low: None, high: None, reason} when the route is too short. The score interval
+    with n_eff = mean (1 - mean) / var(mean): for 0/1 outcomes the binomial's trials that would
+    be as informative; a route whose values are all equal has no variance to estimate and counts
+    its queries as independent (n_eff = n)."""
+    values = np.asarray(values, np.float64)
+    spread = mean_variance(values, settings, segments)
+    if spread.reason is not None:
+        return {"low": None, "high": None, "reason": spread.reason}
+    share = float(values.mean())
+    binomial = share * (1 - share)
+    effective = binomial / spread.variance if binomial > 0 and spread.variance > 0 else float(len(values))
+    low, high = score_interval(share, effective, t_quantile(settings.level, spread.degrees))
+    return {"low": low, "high": high, "effective_queries": effective, "degrees": spread.degrees}
+
+
+def counted_segments(counted: np.ndarray, segments: Sequence[int] | None) -> list[int] | None:
+    """The routes' lengths once only the counted queries are kept."""
+    if segments is None:
+        return None
+    starts = np.concatenate(([0], np.cumsum(segments)[:-1])).astype(np.int64)
+    return [int(n) for n in np.add.reduceat(counted.astype(np.int64), starts)] if len(counted) else []
 
 
 def fraction_interval(
-    successes: np.ndarray, counted: np.ndarray, resampling: Resampling, settings: StatisticsConfig
+    successes: np.ndarray, counted: np.ndarray, settings: StatisticsConfig, segments: Sequence[int] | None = None
 ) -> dict[str, Any]:
-    """The block-bootstrap and Wilson intervals of the fraction of the counted queries that succeed
-    (fraction correct: every query counted; recall@1: the queries that have a correct place)."""
+    """The route's interval (route_interval) and Wilson's (independent queries) of the fraction of
+    the counted queries that succeed (fraction correct: every query counted; recall@1: the queries
+    that have a correct place, in route order with the others left out)."""
     successes, counted = np.asarray(successes, bool), np.asarray(counted, bool)
     hits, trials = int((successes & counted).sum()), int(counted.sum())
     if trials == 0:  # e.g. recall@1 of a pair where no query has a correct place (JSON has no NaN)
-        return {"block_bootstrap": None, "wilson": None}
-    resampled = resampled_ratios(successes & counted, counted, resampling)
-    low, high = percentile_interval(resampled, settings.level)
+        return {"route": None, "wilson": None}
     wilson_low, wilson_high = wilson_interval(hits, trials, settings.level)
-    return {"block_bootstrap": {"low": low, "high": high}, "wilson": {"low": wilson_low, "high": wilson_high}}
-
-
-def block_interval(correct: np.ndarray, settings: StatisticsConfig) -> dict[str, float]:
-    """{low, high}: the block-bootstrap interval of the fraction of `correct` queries (in query order),
-    as the evaluate stage draws it for a pair of that many queries (an ablation's evaluation)."""
-    correct = np.asarray(correct, np.float64)
-    resampling = block_resampling(len(correct), settings)
-    low, high = percentile_interval(resampled_ratios(correct, np.ones_like(correct), resampling), settings.level)
-    return {"low": low, "high": high}
+    return {
+        "route": route_interval(successes[counted], settings, counted_segments(counted, segments)),
+        "wilson": {"low": wilson_low, "high": wilson_high},
+    }

@@ -1,34 +1,43 @@
 """The interval of a fraction correct averaged over a run's season pairs.
 
-Each pair's fraction is resampled as its own interval is (seasonloop.significance.intervals: the
-moving block bootstrap over its queries in route order) and a resample's mean is the mean of the
-pairs' resampled fractions. The blocks depend only on a pair's number of queries and the
-settings, so pairs with as many queries get the same blocks: on a frame-aligned route, where every
-pair's queries are the same test places in the same order, a resample draws the same stretches of
-route in every pair. A place that is hard in every pair (a tunnel mouth, a snowed-over cutting) is
-then drawn or left out in all of them together, the correlation across pairs that the mean's
-interval has to keep; resampling each pair on its own would average it away and make it too narrow.
+On a frame-aligned route every pair's queries are the same test places in the same order, and a
+place that is hard in every pair (a tunnel mouth, a snowed-over cutting) fails in all of them
+together: the mean over pairs is then the mean of one series, each query's fraction of pairs
+correct, and its interval is that series' route interval (seasonloop.significance.intervals),
+which keeps the correlation across pairs. Pairs whose queries differ have no such series; their
+mean's standard error is at most the mean of their standard errors (whatever the correlation
+between pairs), the bound the interval uses there, with the fewest degrees of freedom of any pair.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.significance.intervals import block_resampling, percentile_interval, resampled_ratios
+from seasonloop.significance.intervals import mean_variance, route_interval, t_quantile
 
 
-def mean_interval(correct_by_pair: Sequence[np.ndarray], settings: StatisticsConfig) -> dict[str, float]:
-    """{low, high}: the block-bootstrap interval of the mean over pairs of each pair's fraction of
-    correct queries (correct_by_pair: one bool array per pair, in its query order)."""
+def mean_interval(
+    correct_by_pair: Sequence[np.ndarray], places_by_pair: Sequence[np.ndarray], settings: StatisticsConfig
+) -> dict[str, Any]:
+    """{low, high, ...} of the mean over pairs of each pair's fraction of correct queries
+    (correct_by_pair: one bool array per pair in its query order; places_by_pair: its query
+    places), or {low: None, high: None, reason} where a pair has too few queries."""
     if not correct_by_pair:
         raise ValueError("mean_interval: no season pair to average over")
-    resampled = []
-    for correct in correct_by_pair:
-        correct = np.asarray(correct, np.float64)
-        resampling = block_resampling(len(correct), settings)
-        resampled.append(resampled_ratios(correct, np.ones_like(correct), resampling))
-    low, high = percentile_interval(np.mean(resampled, axis=0), settings.level)
-    return {"low": low, "high": high}
+    first = np.asarray(places_by_pair[0])
+    if all(np.array_equal(first, places) for places in places_by_pair[1:]):
+        return route_interval(np.mean([np.asarray(c, np.float64) for c in correct_by_pair], axis=0), settings)
+    spreads = [mean_variance(np.asarray(correct, np.float64), settings) for correct in correct_by_pair]
+    reasons = [spread.reason for spread in spreads if spread.reason is not None]
+    if reasons:
+        return {"low": None, "high": None, "reason": reasons[0]}
+    mean = float(np.mean([np.mean(correct) for correct in correct_by_pair]))
+    error = float(np.mean([math.sqrt(spread.variance) for spread in spreads]))
+    degrees = min(spread.degrees for spread in spreads)
+    half = t_quantile(settings.level, degrees) * error
+    return {"low": max(0.0, mean - half), "high": min(1.0, mean + half), "degrees": degrees}

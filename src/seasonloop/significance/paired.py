@@ -1,41 +1,40 @@
 """Paired comparisons of two evaluations on the same queries: learner A against learner B on one
 pair, a learner single against +seq, cosine against L1.
 
-Each comparison gives the difference in fraction correct with its paired block-bootstrap interval
-(the same resampled blocks for both sides: seasonloop.significance.intervals) and McNemar's exact
-test on the discordant queries (those one side gets right and the other wrong; under no difference
-either side is as likely to be the right one: a two-sided binomial test at 1/2). The p-values of
-one table (a family of comparisons) are corrected together by Holm's step-down method.
-
-McNemar's test counts the discordant queries as independent, which along a route they are not, so
-its p-value alone is too small; a difference is called significant only when both agree: the
-Holm-corrected McNemar p-value is below alpha and the paired block-bootstrap interval excludes 0.
+Each comparison is one test on the per-query differences (first correct minus second correct, in
+route order): their mean is the difference in fraction correct, its standard error the route's
+(seasonloop.significance.intervals: runs of successes and failures allowed for), and the mean over
+its standard error follows Student's t with the route's degrees of freedom under no difference.
+The interval is the mean plus or minus the t quantile times the standard error; the p-value the
+t's two-sided tail. The p-values of one table (a family of comparisons) are corrected together
+by Holm's step-down method, and a difference is significant when its Holm p-value is below alpha
+(an interval that excludes 0 follows: Holm only raises p-values). The discordant counts (queries
+one side gets right and the other wrong) are kept for the reader; McNemar's test on them, which
+counts them as independent, is not used: along a route it calls equal learners different 5-10
+times as often as it says (benchmarks/check_calibration.py).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.significance.intervals import Resampling, percentile_interval, resampled_ratios
+from seasonloop.significance.intervals import mean_variance, t_quantile
 
-VERDICTS = ("better", "worse", "no difference")
+VERDICTS = ("better", "worse", "no difference", "not enough queries")
 
 
-def mcnemar_exact(first_only: int, second_only: int) -> float:
-    """Two-sided p-value of McNemar's exact test: first_only of the discordant queries went to the
-    first side, second_only to the second (1.0 when none is discordant)."""
-    discordant = first_only + second_only
-    if discordant == 0:
-        return 1.0
-    # imported here: scipy.stats takes ~0.5 s to import, and the report stage, which imports this
-    # module for the tables, never tests
-    from scipy.stats import binomtest
+def t_p_value(statistic: float, degrees: float) -> float:
+    """Two-sided p-value of a t statistic with `degrees` degrees of freedom."""
+    from scipy.special import stdtr  # imported where used: the report stage only reads verdicts
 
-    return float(binomtest(first_only, discordant, 0.5, alternative="two-sided").pvalue)
+    if math.isinf(degrees):
+        return math.erfc(abs(statistic) / math.sqrt(2.0))
+    return float(2.0 * stdtr(degrees, -abs(statistic)))
 
 
 def holm(p_values: Sequence[float]) -> np.ndarray:
@@ -52,37 +51,50 @@ def holm(p_values: Sequence[float]) -> np.ndarray:
 
 
 def paired_difference(
-    first: np.ndarray, second: np.ndarray, resampling: Resampling, settings: StatisticsConfig
+    first: np.ndarray, second: np.ndarray, settings: StatisticsConfig, segments: Sequence[int] | None = None
 ) -> dict[str, Any]:
-    """first's fraction correct minus second's on the same queries (bool arrays in query order),
-    its paired block-bootstrap interval, the discordant counts and McNemar's exact p-value."""
+    """first's fraction correct minus second's on the same queries (bool arrays in route order;
+    segments: the lengths of independent routes joined one after another), its interval, the
+    discordant counts and the p-value (None, with the reason, where a route is too short)."""
     first, second = np.asarray(first, bool), np.asarray(second, bool)
     if first.shape != second.shape:
         raise ValueError(f"paired comparison: {first.shape[0]} queries against {second.shape[0]}: not the same queries")
     change = first.astype(np.float64) - second.astype(np.float64)
-    low, high = percentile_interval(resampled_ratios(change, np.ones_like(change), resampling), settings.level)
-    first_only, second_only = int((first & ~second).sum()), int((~first & second).sum())
+    difference = float(change.mean())
+    counts = {"first_only": int((first & ~second).sum()), "second_only": int((~first & second).sum())}
+    spread = mean_variance(change, settings, segments)
+    if spread.reason is not None:
+        return {"difference": difference, "low": None, "high": None, **counts, "p_value": None, "reason": spread.reason}
+    error = math.sqrt(spread.variance)
+    half = t_quantile(settings.level, spread.degrees) * error
+    if error > 0:
+        p_value = t_p_value(difference / error, spread.degrees)
+    else:  # every query differs the same way (or none differs): nothing varies along the route
+        p_value = 1.0 if difference == 0 else 0.0
     return {
-        "difference": float(change.mean()),
-        "low": low,
-        "high": high,
-        "first_only": first_only,
-        "second_only": second_only,
-        "p_value": mcnemar_exact(first_only, second_only),
+        "difference": difference,
+        "low": difference - half,
+        "high": difference + half,
+        **counts,
+        "degrees": spread.degrees,
+        "p_value": p_value,
     }
 
 
 def with_verdicts(comparisons: Sequence[dict[str, Any]], alpha: float) -> list[dict[str, Any]]:
-    """The comparisons of one table with p_holm (Holm across the table) and verdict: "better" or
-    "worse" (the first side against the second) when p_holm < alpha and the interval excludes 0,
-    else "no difference"."""
-    adjusted = holm([comparison["p_value"] for comparison in comparisons])
+    """The comparisons of one table with p_holm (Holm across the table's tested comparisons) and
+    verdict: "better" or "worse" (the first side against the second) when p_holm < alpha, else
+    "no difference"; "not enough queries" where no test could be made (it takes no share of alpha)."""
+    tested = [i for i, comparison in enumerate(comparisons) if comparison["p_value"] is not None]
+    adjusted = dict(zip(tested, holm([comparisons[i]["p_value"] for i in tested])))
     judged = []
-    for comparison, p_holm in zip(comparisons, adjusted):
+    for i, comparison in enumerate(comparisons):
+        if i not in adjusted:
+            judged.append({**comparison, "p_holm": None, "verdict": "not enough queries"})
+            continue
+        p_holm = float(adjusted[i])
         verdict = "no difference"
-        if p_holm < alpha and comparison["low"] > 0:
-            verdict = "better"
-        elif p_holm < alpha and comparison["high"] < 0:
-            verdict = "worse"
-        judged.append({**comparison, "p_holm": float(p_holm), "verdict": verdict})
+        if p_holm < alpha:
+            verdict = "better" if comparison["difference"] > 0 else "worse"
+        judged.append({**comparison, "p_holm": p_holm, "verdict": verdict})
     return judged

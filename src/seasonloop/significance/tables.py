@@ -21,7 +21,6 @@ from typing import Any
 import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.significance.intervals import Resampling, block_resampling
 from seasonloop.significance.paired import paired_difference, with_verdicts
 
 Variant = tuple[str, str, str]  # (metric, matcher, suffix): seasonloop.evaluation.matchers.evaluations
@@ -52,13 +51,13 @@ def pair_comparisons(
     outcome_of: Callable[[str], tuple[np.ndarray, np.ndarray]],
     tables: Mapping[str, Sequence[tuple[str, str]]],
     settings: StatisticsConfig,
-    resampling: Resampling | None = None,
+    segments: Sequence[int] | None = None,
 ) -> dict[str, list[dict[str, Any]]]:
     """Every table of one season pair: each comparison's difference in fraction correct (first -
-    second), paired interval, discordant counts, McNemar and Holm p-values and verdict.
+    second), interval, discordant counts, p-value, Holm p-value and verdict.
     outcome_of(label): that evaluation's (query places, correct) on the pair, in query order (read
-    once per label). The paired intervals resample the queries as `resampling` does, by default one
-    route's blocks (block_resampling), as the evaluate stage's intervals."""
+    once per label). The queries are one route, or independent routes of segments[i] queries one
+    after another (replicate routes pooled)."""
     loaded: dict[str, tuple[np.ndarray, np.ndarray]] = {}
 
     def correct(label: str) -> np.ndarray:
@@ -73,10 +72,7 @@ def pair_comparisons(
     for name, comparisons in tables.items():
         rows = []
         for first, second in comparisons:
-            first_correct, second_correct = correct(first), correct(second)
-            if resampling is None:
-                resampling = block_resampling(len(first_correct), settings)
-            difference = paired_difference(first_correct, second_correct, resampling, settings)
+            difference = paired_difference(correct(first), correct(second), settings, segments)
             rows.append({"first": first, "second": second, **difference})
         judged[name] = with_verdicts(rows, settings.alpha)
     return judged

@@ -1,0 +1,380 @@
+"""Do the intervals cover what they say, and does "significant" err as often as alpha says?
+
+    python benchmarks/check_calibration.py [--workspace DIR] [--replicates R] [--small]
+
+Simulates per-query outcomes with a known answer and the dependence of a run's own outcomes, and
+runs the project's statistics on them (seasonloop.significance, the code every stage uses):
+- the dependence: each run's correct/wrong series (WORKSPACE/data/outcomes/<learner>/<pair><suffix>.csv,
+  single images and `+seq` apart) is fitted by a thresholded Gaussian process: a query is correct
+  when a latent z_t is below the fraction's quantile, z_t = sqrt(a) y_t + sqrt(1 - a) e_t, y an
+  AR(1) of coefficient phi, e white noise (a nugget): (a, phi) chosen so that the series'
+  autocorrelation at lags 1-10 is the run's mean. Learners of one pair share a part `share` of
+  their latent (a place hard for one is hard for the others), fitted to the run's mean correlation
+  between two learners' outcomes on the same queries;
+- on a grid of n (queries a route), fraction p, dependence and routes (1, or 5 pooled), R routes
+  each: the real coverage of the 95% interval of a fraction (the evaluate stage's), with Wilson's
+  (independent queries) beside it; the real false-positive rate of the paired test (two learners
+  with equal laws) per comparison, and per table (7 equal learners, 21 comparisons, Holm: the
+  family the legend names); its power at differences of 3, 5 and 10 points, and the coverage of
+  the difference's interval there;
+- every statistic at the params' statistics settings, and at LLSW's published degrees_scale 0.4
+  beside them (the rule the project's scale departs from).
+Monte Carlo error: a rate c measured on R routes has standard error sqrt(c (1 - c) / R) (0.49
+points at c = 0.95, R = 2000). Seeded (--seed); the same arguments give the same record.
+
+Writes benchmarks/results/check_calibration.json; docs/write_tables.py renders it into
+docs/statistics.md. --small: the grid the tests run (seconds).
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+import time
+from collections.abc import Sequence
+from itertools import combinations
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+from scipy import optimize, signal
+from scipy.special import ndtri
+
+from seasonloop.evaluation.outcomes import QueryOutcomes
+from seasonloop.params.settings import StatisticsConfig
+from seasonloop.significance.intervals import fraction_interval, min_queries
+from seasonloop.significance.paired import paired_difference, with_verdicts
+
+LAGS = tuple(range(1, 11))
+FULL_GRID = {
+    "n": (20, 50, 100, 158, 400, 1000, 3259, 27592),
+    "p": (0.05, 0.2, 0.5, 0.8, 0.95),
+    "differences": (0.03, 0.05, 0.10),
+    "table_learners": 7,
+    "pooled_routes": 5,
+    "pooled_n": (158, 1000),
+}
+SMALL_GRID = {
+    "n": (20, 158),
+    "p": (0.2, 0.5),
+    "differences": (0.10,),
+    "table_learners": 4,
+    "pooled_routes": 3,
+    "pooled_n": (158,),
+}
+LLSW_SCALE = 0.4  # Lazarus, Lewis, Stock and Watson (2018)'s rule: nu = 0.4 n^(2/3)
+# LLSW's rule beside the params' on the n where the two differ most (it is there for comparison)
+LLSW_N = (100, 158, 400, 1000)
+
+
+@dataclasses.dataclass(frozen=True)
+class Dependence:
+    """The latent process of a learner's outcomes along a route (module doc)."""
+
+    a: float  # the AR(1) part's share of the latent variance
+    phi: float  # its lag-1 coefficient
+    share: float  # the latent part two learners of one pair have in common
+
+
+INDEPENDENT = Dependence(0.0, 0.0, 0.0)
+
+
+def autocorrelation(series: np.ndarray, lag: int) -> float | None:
+    """Lag-`lag` autocorrelation of a 0/1 series (None when it is constant or too short)."""
+    values = series.astype(np.float64) - series.mean()
+    variance = float(np.mean(values * values))
+    if variance == 0 or lag >= len(values):
+        return None
+    return float(np.mean(values[:-lag] * values[lag:]) / variance)
+
+
+def binary_correlation(latent: np.ndarray, p: float) -> np.ndarray:
+    """The correlation of two outcomes 1[z < Phi^-1(p)] whose latents z correlate `latent`:
+    (P(both) - p^2) / (p (1 - p)), P(both) from the bivariate normal's density integrated over the
+    correlation (Gauss-Legendre, exact to ~1e-10 here)."""
+    c = float(ndtri(p))
+    nodes, weights = np.polynomial.legendre.leggauss(64)
+    latent = np.atleast_1d(np.asarray(latent, np.float64))
+    t = (nodes[None, :] + 1) / 2 * latent[:, None]  # (k, nodes) in [0, latent]
+    density = np.exp(-c * c / (1 + t)) / (2 * np.pi * np.sqrt(1 - t * t))
+    return (density * weights).sum(axis=1) * latent / 2 / (p * (1 - p))
+
+
+def fit_dependence(series: Sequence[np.ndarray], pairs_of_learners: Sequence[tuple[np.ndarray, np.ndarray]]) -> dict:
+    """Dependence (a, phi, share) whose outcomes have the series' mean autocorrelation at LAGS and the
+    learner pairs' mean correlation, at the series' mean fraction correct."""
+    kept = [s for s in series if 0 < s.mean() < 1]
+    measured = np.array([np.mean([autocorrelation(s, lag) for s in kept]) for lag in LAGS])
+    p = float(np.clip(np.mean([s.mean() for s in kept]), 0.02, 0.98))
+
+    def misfit(x: np.ndarray) -> float:
+        a, phi = x
+        return float(np.sum((binary_correlation(a * phi ** np.array(LAGS), p) - measured) ** 2))
+
+    fitted = optimize.minimize(misfit, x0=[0.5, 0.7], bounds=[(0.0, 0.999), (0.0, 0.995)], method="L-BFGS-B")
+    a, phi = (float(v) for v in fitted.x)
+    between = [
+        float(np.corrcoef(first, second)[0, 1])
+        for first, second in pairs_of_learners
+        if 0 < first.mean() < 1 and 0 < second.mean() < 1
+    ]
+    cross = float(np.mean(between)) if between else 0.0
+    share = 0.0
+    if cross > 0:
+        share = float(optimize.brentq(lambda s: binary_correlation(s, p)[0] - cross, 0.0, 0.999))
+    return {
+        "dependence": dataclasses.asdict(Dependence(a, phi, share)),
+        "evaluations": len(kept),
+        "mean_fraction_correct": p,
+        "autocorrelation_measured": dict(zip(map(str, LAGS), measured.round(4).tolist())),
+        "autocorrelation_fitted": dict(
+            zip(map(str, LAGS), binary_correlation(a * phi ** np.array(LAGS), p).round(4).tolist())
+        ),
+        "learner_correlation_measured": cross,
+    }
+
+
+def measure_dependence(workspace: Path) -> dict[str, dict]:
+    """fit_dependence of a workspace's per-query outcomes, single images and +seq apart."""
+    folder = workspace / "data" / "outcomes"
+    by_kind: dict[str, dict[str, dict[str, np.ndarray]]] = {"single": {}, "+seq": {}}
+    for path in sorted(folder.glob("*/*.csv")):
+        kind = "+seq" if path.stem.endswith("+seq") else "single"
+        by_kind[kind].setdefault(path.stem, {})[path.parent.name] = QueryOutcomes.read_csv(path).correct
+    if not by_kind["single"]:
+        raise SystemExit(f"{folder}: no per-query outcomes (run `dvc repro` there first)")
+    fits = {}
+    for kind, evaluations in by_kind.items():
+        if not evaluations:
+            continue
+        series = [correct for learners in evaluations.values() for correct in learners.values()]
+        pairs = [pair for learners in evaluations.values() for pair in combinations(learners.values(), 2)]
+        fits[kind] = fit_dependence(series, pairs)
+    return fits
+
+
+def latent(rng: np.random.Generator, replicates: int, n: int, dependence: Dependence) -> np.ndarray:
+    """(replicates, n) unit-variance latents: sqrt(a) AR(1) + sqrt(1 - a) noise, the AR started stationary."""
+    noise = rng.standard_normal((replicates, n))
+    if dependence.a == 0:
+        return noise
+    phi = dependence.phi
+    innovations = rng.standard_normal((replicates, n)) * math.sqrt(1 - phi * phi)
+    innovations[:, 0] = rng.standard_normal(replicates)  # y_0 ~ N(0, 1): stationary from the start
+    ar = signal.lfilter([1.0], [1.0, -phi], innovations, axis=1)
+    return math.sqrt(dependence.a) * ar + math.sqrt(1 - dependence.a) * noise
+
+
+def learners(
+    rng: np.random.Generator, replicates: int, n: int, fractions: Sequence[float], dependence: Dependence
+) -> list[np.ndarray]:
+    """One (replicates, n) bool outcome array per fraction: learners of one pair, sharing `share` of their latent."""
+    common = latent(rng, replicates, n, dependence)
+    share = dependence.share
+    return [
+        (math.sqrt(share) * common + math.sqrt(1 - share) * latent(rng, replicates, n, dependence)) < ndtri(p)
+        for p in fractions
+    ]
+
+
+def covers(interval: dict[str, Any] | None, value: float) -> bool | None:
+    """Whether an interval holds value (None: the interval was refused)."""
+    if interval is None or interval.get("low") is None:
+        return None
+    return bool(interval["low"] <= value <= interval["high"])
+
+
+def rate(outcomes: Sequence[bool | None]) -> dict[str, Any]:
+    """{rate, replicates, refused}: the share of True among the answered replicates."""
+    answered = [o for o in outcomes if o is not None]
+    return {
+        "rate": float(np.mean(answered)) if answered else None,
+        "replicates": len(answered),
+        "refused": len(outcomes) - len(answered),
+    }
+
+
+def route_lengths(routes: int, n: int) -> list[int] | None:
+    return None if routes == 1 else [n] * routes
+
+
+def chunks(replicates: int, queries: int) -> list[int]:
+    """Replicates drawn at a time, so that a draw holds at most ~2 million queries a learner."""
+    size = max(1, min(replicates, 2_000_000 // queries))
+    return [min(size, replicates - start) for start in range(0, replicates, size)]
+
+
+def drawn(rng, replicates: int, n: int, fractions: Sequence[float], dependence: Dependence, routes: int = 1):
+    """learners() of `routes` independent routes joined, chunk by chunk: yields one list of
+    (chunk, routes * n) outcome arrays per chunk."""
+    for chunk in chunks(replicates, routes * n):
+        per_route = [learners(rng, chunk, n, fractions, dependence) for _ in range(routes)]
+        yield [np.concatenate([route[k] for route in per_route], axis=1) for k in range(len(fractions))]
+
+
+def coverage_cell(rng, settings, n, p, dependence, replicates) -> dict[str, Any]:
+    """Coverage of the fraction's interval along the route and of Wilson's, one route of n queries."""
+    every = np.ones(n, bool)
+    route, wilson = [], []
+    for (outcomes,) in drawn(rng, replicates, n, [p], dependence):
+        for correct in outcomes:
+            interval = fraction_interval(correct, every, settings)
+            route.append(covers(interval["route"], p))
+            wilson.append(covers(interval["wilson"], p))
+    return {"route": rate(route), "wilson": rate(wilson)}
+
+
+def table_cell(rng, settings, n, p, dependence, replicates, size, routes=1) -> dict[str, Any]:
+    """Two-or-more learners of equal laws: the share of comparisons called significant (first
+    comparison of each table), and of tables with any significant comparison (Holm over the table)."""
+    first, any_in_table = [], []
+    segments = route_lengths(routes, n)
+    # routes pooled: each route's learners drawn independently of the other routes'
+    for outcomes in drawn(rng, replicates, n, [p] * size, dependence, routes):
+        for r in range(len(outcomes[0])):
+            rows = [
+                paired_difference(outcomes[i][r], outcomes[j][r], settings, segments)
+                for i, j in combinations(range(size), 2)
+            ]
+            if rows[0]["p_value"] is None:
+                first.append(None)
+                any_in_table.append(None)
+                continue
+            judged = with_verdicts(rows, settings.alpha)
+            first.append(judged[0]["p_value"] < settings.alpha)
+            any_in_table.append(any(row["verdict"] in ("better", "worse") for row in judged))
+    return {
+        "per_comparison": rate(first),
+        "per_table": rate(any_in_table),
+        "comparisons_per_table": size * (size - 1) // 2,
+    }
+
+
+def power_cell(rng, settings, n, p, difference, dependence, replicates, routes=1) -> dict[str, Any]:
+    """Two learners whose fractions differ by `difference` (the second ahead; behind where p + d > 1):
+    how often the paired test finds it (single comparison at alpha), and its interval's coverage."""
+    second = p + difference if p + difference <= 0.99 else p - difference
+    true = second - p
+    segments = route_lengths(routes, n)
+    found, covered = [], []
+    for first_out, second_out in drawn(rng, replicates, n, [p, second], dependence, routes):
+        for r in range(len(first_out)):
+            row = paired_difference(second_out[r], first_out[r], settings, segments)
+            if row["p_value"] is None:
+                found.append(None)
+                covered.append(None)
+                continue
+            found.append(bool(row["p_value"] < settings.alpha and np.sign(row["difference"]) == np.sign(true)))
+            covered.append(bool(row["low"] <= true <= row["high"]))
+    return {"second_fraction": second, "power": rate(found), "interval_coverage": rate(covered)}
+
+
+def run_grid(
+    settings: StatisticsConfig, dependences: dict[str, Dependence], grid: dict, replicates: int, seed: int
+) -> list[dict]:
+    """Every cell of the grid, one row each (module doc)."""
+    rows = []
+    for kind, dependence in dependences.items():
+        for n in grid["n"]:
+            for p in grid["p"]:
+                # a seed per cell: a cell's numbers do not depend on which other cells run
+                rng = np.random.default_rng([seed, int(1000 * p), n, list(dependences).index(kind)])
+                started = time.perf_counter()
+                row: dict[str, Any] = {"dependence": kind, "n": n, "p": p, "routes": 1}
+                row["coverage"] = coverage_cell(rng, settings, n, p, dependence, replicates)
+                row["false_positive"] = table_cell(rng, settings, n, p, dependence, replicates, grid["table_learners"])
+                row["power"] = {
+                    f"{difference:.2f}": power_cell(rng, settings, n, p, difference, dependence, replicates // 2)
+                    for difference in grid["differences"]
+                }
+                row["seconds"] = round(time.perf_counter() - started, 1)
+                rows.append(row)
+                print(summary_line(row), flush=True)
+        for n in grid["pooled_n"]:
+            p = 0.5
+            rng = np.random.default_rng([seed, 7, n, list(dependences).index(kind)])
+            routes = grid["pooled_routes"]
+            row = {"dependence": kind, "n": n, "p": p, "routes": routes}
+            row["false_positive"] = table_cell(
+                rng, settings, n, p, dependence, replicates, grid["table_learners"], routes
+            )
+            row["power"] = {
+                f"{difference:.2f}": power_cell(rng, settings, n, p, difference, dependence, replicates // 2, routes)
+                for difference in grid["differences"]
+            }
+            rows.append(row)
+            print(summary_line(row), flush=True)
+    return rows
+
+
+def summary_line(row: dict) -> str:
+    def fmt(cell: dict) -> str:
+        return "refused" if cell["rate"] is None else f"{cell['rate']:.3f}"
+
+    parts = [f"{row['dependence']:>6} n={row['n']:>5} p={row['p']:.2f} routes={row['routes']}"]
+    if "coverage" in row:
+        parts.append(f"coverage {fmt(row['coverage']['route'])} (Wilson {fmt(row['coverage']['wilson'])})")
+    fp = row["false_positive"]
+    parts.append(f"false positives {fmt(fp['per_comparison'])} per comparison, {fmt(fp['per_table'])} per table")
+    parts.append("power " + " ".join(f"{d}: {fmt(c['power'])}" for d, c in row["power"].items()))
+    return "  ".join(parts)
+
+
+def calibrate(
+    settings: StatisticsConfig, dependences: dict[str, Dependence], grid: dict, replicates: int, seed: int
+) -> dict:
+    """The grid at the settings' degrees_scale and at LLSW's, with the settings they ran under."""
+    record: dict[str, Any] = {"replicates": replicates, "seed": seed, "grid": grid, "runs": {}}
+    llsw_grid = {**grid, "n": tuple(n for n in grid["n"] if n in LLSW_N) or grid["n"], "pooled_n": ()}
+    for name, scale, cells in (("params", settings.degrees_scale, grid), ("llsw", LLSW_SCALE, llsw_grid)):
+        scaled = dataclasses.replace(settings, degrees_scale=scale)
+        print(f"statistics: {dataclasses.asdict(scaled)} (min queries a route: {min_queries(scaled)})")
+        record["runs"][name] = {
+            "statistics": dataclasses.asdict(scaled),
+            "min_queries": min_queries(scaled),
+            "rows": run_grid(scaled, dependences, cells, replicates, seed),
+        }
+    return record
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--workspace", type=Path, default=Path("."), help="a run's folder (after `dvc repro`)")
+    parser.add_argument("--replicates", type=int, default=2000)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--small", action="store_true", help="the tests' small grid")
+    args = parser.parse_args()
+    from _bench_common import machine, save_and_report
+
+    params = yaml.safe_load((args.workspace / "params.yaml").read_text())
+    settings = StatisticsConfig.from_params(params)
+    fits = measure_dependence(args.workspace)
+    for kind, fit in fits.items():
+        print(f"{kind}: {fit}")
+    dependences = {"independent": INDEPENDENT, **{kind: Dependence(**fit["dependence"]) for kind, fit in fits.items()}}
+    record = calibrate(settings, dependences, SMALL_GRID if args.small else FULL_GRID, args.replicates, args.seed)
+    record["fitted"] = fits
+    record["workspace"] = str(args.workspace)
+    record["headline"] = headline(record)
+    save_and_report("check_calibration", record, machine())
+
+
+def worst(rows: list[dict], key: str, subkey: str, low: bool) -> float | None:
+    values = [row[key][subkey]["rate"] for row in rows if key in row and row[key][subkey]["rate"] is not None]
+    return (min(values) if low else max(values)) if values else None
+
+
+def headline(record: dict) -> str:
+    rows = record["runs"]["params"]["rows"]
+    return (
+        f"95% intervals cover {worst(rows, 'coverage', 'route', True):.3f}-{worst(rows, 'coverage', 'route', False):.3f} "
+        f"over the grid; paired test's false positives at most {worst(rows, 'false_positive', 'per_comparison', False):.3f} "
+        f"per comparison and {worst(rows, 'false_positive', 'per_table', False):.3f} per table "
+        f"({record['replicates']} routes a cell)"
+    )
+
+
+if __name__ == "__main__":
+    main()

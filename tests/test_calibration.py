@@ -1,0 +1,88 @@
+"""The calibration benchmark (benchmarks/check_calibration.py) at a small grid: its simulated routes
+have the dependence it is given, and on them the project's intervals and paired test keep their
+stated levels where the binomial's do not. The full grid's table: docs/statistics.md."""
+
+from __future__ import annotations
+
+import sys
+from itertools import combinations
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.stats import multivariate_normal
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+from check_calibration import (  # noqa: E402
+    INDEPENDENT,
+    Dependence,
+    binary_correlation,
+    coverage_cell,
+    fit_dependence,
+    learners,
+    power_cell,
+    table_cell,
+)
+
+from seasonloop.params.settings import StatisticsConfig  # noqa: E402
+
+SETTINGS = StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05)
+# about what the benchmark fits to the default run's single-image outcomes (its record says)
+SINGLE_LIKE = Dependence(a=0.47, phi=0.77, share=0.38)
+REPLICATES = 300  # a rate of 0.95 has a Monte Carlo standard error of 0.013 on 300 routes
+
+
+def test_binary_correlation_is_the_bivariate_normals():
+    p, latent = 0.3, 0.6
+    threshold = multivariate_normal([0, 0], [[1, latent], [latent, 1]]).cdf([-0.5244005127080407] * 2)
+    assert binary_correlation(latent, p)[0] == pytest.approx((threshold - p * p) / (p * (1 - p)), abs=1e-6)
+    assert binary_correlation(0.0, p)[0] == 0.0
+
+
+def test_fit_dependence_recovers_the_process_it_is_given():
+    known = Dependence(a=0.5, phi=0.7, share=0.4)
+    rng = np.random.default_rng(0)
+    series = [learners(rng, 1, 3000, [0.4], known)[0][0] for _ in range(40)]
+    pairs = [(first[0], second[0]) for first, second in (learners(rng, 1, 3000, [0.4, 0.4], known) for _ in range(40))]
+    fitted = fit_dependence(series, pairs)["dependence"]
+    assert fitted == pytest.approx({"a": 0.5, "phi": 0.7, "share": 0.4}, abs=0.08)
+    independent = fit_dependence([rng.random(3000) < 0.4 for _ in range(20)], [])["dependence"]
+    assert independent["a"] * independent["phi"] < 0.05 and independent["share"] == 0.0
+
+
+def test_the_simulated_learners_share_what_they_are_given():
+    rng = np.random.default_rng(1)
+    outcomes = learners(rng, 400, 500, [0.5, 0.5, 0.5], SINGLE_LIKE)
+    between = np.mean([np.corrcoef(a.ravel(), b.ravel())[0, 1] for a, b in combinations(outcomes, 2)])
+    assert between == pytest.approx(binary_correlation(SINGLE_LIKE.share, 0.5)[0], abs=0.02)
+    assert [o.mean() for o in outcomes] == pytest.approx([0.5] * 3, abs=0.01)
+
+
+def test_the_interval_covers_what_it_says_where_wilsons_does_not():
+    cell = coverage_cell(np.random.default_rng(2), SETTINGS, 158, 0.5, SINGLE_LIKE, REPLICATES)
+    assert cell["route"]["rate"] >= 0.91  # 0.95 less three Monte Carlo standard errors
+    assert cell["wilson"]["rate"] < 0.85  # the runs along the route are there
+    independent = coverage_cell(np.random.default_rng(3), SETTINGS, 158, 0.2, INDEPENDENT, REPLICATES)
+    assert independent["route"]["rate"] >= 0.91
+
+
+def test_equal_learners_are_called_different_about_alpha_of_the_time():
+    cell = table_cell(np.random.default_rng(4), SETTINGS, 158, 0.5, SINGLE_LIKE, REPLICATES, size=4)
+    assert cell["per_comparison"]["rate"] <= 0.09  # 0.05 plus three standard errors (0.013)
+    assert cell["per_table"]["rate"] <= 0.09
+    pooled = table_cell(np.random.default_rng(5), SETTINGS, 158, 0.5, SINGLE_LIKE, REPLICATES, size=3, routes=3)
+    assert pooled["per_comparison"]["rate"] <= 0.09 and pooled["per_table"]["rate"] <= 0.09
+
+
+def test_too_short_a_route_is_refused_not_answered():
+    cell = coverage_cell(np.random.default_rng(6), SETTINGS, 20, 0.5, SINGLE_LIKE, 20)
+    assert cell["route"] == {"rate": None, "replicates": 0, "refused": 20}
+    assert cell["wilson"]["replicates"] == 20
+
+
+def test_power_grows_with_the_queries_pooled():
+    one = power_cell(np.random.default_rng(7), SETTINGS, 158, 0.5, 0.10, SINGLE_LIKE, REPLICATES)
+    three = power_cell(np.random.default_rng(7), SETTINGS, 158, 0.5, 0.10, SINGLE_LIKE, REPLICATES, routes=3)
+    assert three["power"]["rate"] > one["power"]["rate"] + 0.1
+    assert one["interval_coverage"]["rate"] >= 0.91 and three["interval_coverage"]["rate"] >= 0.91

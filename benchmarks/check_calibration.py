@@ -1,6 +1,7 @@
 """Do the intervals cover what they say, and does "significant" err as often as alpha says?
 
     python benchmarks/check_calibration.py [--workspace DIR] [--replicates R] [--small]
+    python benchmarks/check_calibration.py --means [--workspace DIR] [--replicates R]
 
 Simulates per-query outcomes with a known answer and the dependence of a run's own outcomes, and
 runs the project's statistics on them (seasonloop.significance, the code every stage uses):
@@ -22,8 +23,13 @@ runs the project's statistics on them (seasonloop.significance, the code every s
 Monte Carlo error: a rate c measured on R routes has standard error sqrt(c (1 - c) / R) (0.49
 points at c = 0.95, R = 2000). Seeded (--seed); the same arguments give the same record.
 
-Writes benchmarks/results/check_calibration.json; docs/write_tables.py renders it into
-docs/statistics.md. --small: the grid the tests run (seconds).
+--means checks the interval of a fraction averaged over a run's six season pairs instead: six
+series on the same places, each pair's latent sharing a part with the others' (fitted to the run's
+mean correlation between two pairs' outcomes of one learner), fractions as different as the
+default run's or all equal.
+
+Writes benchmarks/results/check_calibration.json (--means: check_calibration_means.json);
+docs/write_tables.py renders them into docs/statistics.md. --small: the grid the tests run (seconds).
 """
 
 from __future__ import annotations
@@ -45,6 +51,7 @@ from scipy.special import ndtri
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.settings import StatisticsConfig
 from seasonloop.significance.intervals import fraction_interval, min_queries
+from seasonloop.significance.means import mean_interval
 from seasonloop.significance.paired import paired_difference, with_verdicts
 
 LAGS = tuple(range(1, 11))
@@ -134,6 +141,59 @@ def fit_dependence(series: Sequence[np.ndarray], pairs_of_learners: Sequence[tup
         ),
         "learner_correlation_measured": cross,
     }
+
+
+def pair_share(workspace: Path, kind: str, p: float) -> dict[str, float]:
+    """The latent share of two season pairs' outcomes of one learner and matcher on the same places
+    (fitted, at fraction p, to their mean correlation in the workspace's outcomes)."""
+    series: dict[tuple[str, str], list[QueryOutcomes]] = {}
+    for path in sorted((workspace / "data" / "outcomes").glob("*/*.csv")):
+        pair, _, suffix = path.stem.partition("@") if "@" in path.stem else path.stem.partition("+")
+        if ("+seq" in path.stem) != (kind == "+seq"):
+            continue
+        series.setdefault((path.parent.name, suffix), []).append(QueryOutcomes.read_csv(path))
+    between = [
+        float(np.corrcoef(a.correct, b.correct)[0, 1])
+        for outcomes in series.values()
+        for a, b in combinations(outcomes, 2)
+        if np.array_equal(a.query_place, b.query_place) and 0 < a.correct.mean() < 1 and 0 < b.correct.mean() < 1
+    ]
+    cross = float(np.mean(between))
+    share = float(optimize.brentq(lambda s: binary_correlation(s, p)[0] - cross, 0.0, 0.999)) if cross > 0 else 0.0
+    return {"pair_correlation_measured": cross, "pair_share": share, "pairs_compared": len(between)}
+
+
+def means_cell(rng, settings, n, fractions, dependence, share, replicates) -> dict[str, Any]:
+    """Coverage of the interval of the mean over len(fractions) pairs on the same n places, each
+    pair's latent sharing `share` with the others' (seasonloop.significance.means)."""
+    truth, places, covered = float(np.mean(fractions)), np.arange(n), []
+    for chunk in chunks(replicates, n * len(fractions)):
+        common = latent(rng, chunk, n, dependence)
+        pairs = [
+            (math.sqrt(share) * common + math.sqrt(1 - share) * latent(rng, chunk, n, dependence)) < ndtri(p)
+            for p in fractions
+        ]
+        for r in range(chunk):
+            interval = mean_interval([pair[r] for pair in pairs], [places] * len(pairs), settings)
+            covered.append(covers(interval, truth))
+    return rate(covered)
+
+
+MEANS_N = (158, 3259)
+# the default run's ica row, single images, roughly; and six pairs alike
+MEANS_FRACTIONS = {"like the default run": (0.9, 0.9, 0.85, 0.35, 0.25, 0.1), "all 0.5": (0.5,) * 6}
+
+
+def calibrate_means(settings, dependences, shares, replicates, seed) -> list[dict]:
+    rows = []
+    for k, (kind, dependence) in enumerate(dependences.items()):
+        for n in MEANS_N:
+            for name, fractions in MEANS_FRACTIONS.items():
+                rng = np.random.default_rng([seed, 11, n, k, len(rows)])
+                cell = means_cell(rng, settings, n, fractions, dependence, shares[kind]["pair_share"], replicates)
+                rows.append({"dependence": kind, "n": n, "fractions": name, "coverage": cell})
+                print(f"{kind:>6} n={n:>5} {name}: coverage {cell['rate']:.3f}", flush=True)
+    return rows
 
 
 def measure_dependence(workspace: Path) -> dict[str, dict]:
@@ -345,6 +405,7 @@ def main() -> None:
     parser.add_argument("--replicates", type=int, default=2000)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--small", action="store_true", help="the tests' small grid")
+    parser.add_argument("--means", action="store_true", help="the interval of the mean over six pairs")
     args = parser.parse_args()
     from _bench_common import machine, save_and_report
 
@@ -353,6 +414,23 @@ def main() -> None:
     fits = measure_dependence(args.workspace)
     for kind, fit in fits.items():
         print(f"{kind}: {fit}")
+    if args.means:
+        dependences = {kind: Dependence(**fit["dependence"]) for kind, fit in fits.items()}
+        shares = {kind: pair_share(args.workspace, kind, fit["mean_fraction_correct"]) for kind, fit in fits.items()}
+        rows = calibrate_means(settings, dependences, shares, args.replicates, args.seed)
+        low, high = min(row["coverage"]["rate"] for row in rows), max(row["coverage"]["rate"] for row in rows)
+        record = {
+            "replicates": args.replicates,
+            "seed": args.seed,
+            "statistics": dataclasses.asdict(settings),
+            "fractions": MEANS_FRACTIONS,
+            "fitted": {kind: {**fits[kind], **shares[kind]} for kind in fits},
+            "rows": rows,
+            "headline": f"the 95% interval of the mean over six pairs covers {low:.3f}-{high:.3f} "
+            f"({args.replicates} simulated runs a cell)",
+        }
+        save_and_report("check_calibration_means", record, machine())
+        return
     dependences = {"independent": INDEPENDENT, **{kind: Dependence(**fit["dependence"]) for kind, fit in fits.items()}}
     record = calibrate(settings, dependences, SMALL_GRID if args.small else FULL_GRID, args.replicates, args.seed)
     record["fitted"] = fits

@@ -653,6 +653,35 @@ def _calibration_llsw(path: Path) -> str:
     )
 
 
+def _calibration_means(path: Path) -> str:
+    """Coverage of the 95% interval of the mean over six pairs, per dependence, n and fractions."""
+    record = json.loads(path.read_text())
+    names = list(record["fractions"])
+    lines = [
+        "| dependence | n | " + " | ".join(f"pairs {name}" for name in names) + " |",
+        "|---|---|" + "---|" * len(names),
+    ]
+    cells: dict[tuple[str, int], dict[str, str]] = {}
+    for row in record["rows"]:
+        cells.setdefault((row["dependence"], row["n"]), {})[row["fractions"]] = _rate_cell(
+            row["coverage"], _coverage_off
+        )
+    for (dependence, n), by_name in cells.items():
+        lines.append(f"| {dependence} | {n} | " + " | ".join(by_name[name] for name in names) + " |")
+    shares = ", ".join(
+        f"{kind} {fit['pair_share']:.2f} (outcomes' correlation {fit['pair_correlation_measured']:.2f})"
+        for kind, fit in record["fitted"].items()
+    )
+    fractions = "; ".join(f"{name}: {list(values)}" for name, values in record["fractions"].items())
+    error = (0.95 * 0.05 / record["replicates"]) ** 0.5
+    return (
+        "\n".join(lines)
+        + f"\n\nFractions of the six pairs: {fractions}. Latent share between two pairs, fitted: {shares}. "
+        f"{record['replicates']} simulated runs a cell (Monte Carlo standard error {100 * error:.1f} points); "
+        "† outside 94-96.5% by more than two standard errors.\n"
+    )
+
+
 def _calibration_fit(path: Path) -> str:
     """The dependence the simulation was given: fitted to the run's per-query outcomes."""
     record = json.loads(path.read_text())
@@ -814,6 +843,11 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
             ("calibration_llsw", _calibration_llsw),
         )
     },
+    "calibration_means": (
+        "benchmarks/results/check_calibration_means.json",
+        "check_calibration_means.json",
+        _calibration_means,
+    ),
     "runtime": ("plots/summary/runtime.md", "runtime.md", _fraction_correct),
     "autoencoder_training": ("metrics/autoencoder_training.json", "autoencoder_training.json", _autoencoder_training),
     "cae_widths": ("metrics/cae_widths.json", "cae_widths_sweep.json", _cae_widths),

@@ -21,6 +21,7 @@ from check_calibration import (  # noqa: E402
     coverage_cell,
     fit_dependence,
     learners,
+    means_cell,
     power_cell,
     table_cell,
 )
@@ -86,3 +87,9 @@ def test_power_grows_with_the_queries_pooled():
     three = power_cell(np.random.default_rng(7), SETTINGS, 158, 0.5, 0.10, SINGLE_LIKE, REPLICATES, routes=3)
     assert three["power"]["rate"] > one["power"]["rate"] + 0.1
     assert one["interval_coverage"]["rate"] >= 0.91 and three["interval_coverage"]["rate"] >= 0.91
+
+
+def test_the_mean_over_pairs_covers_what_it_says():
+    fractions = (0.9, 0.85, 0.3, 0.1)
+    cell = means_cell(np.random.default_rng(8), SETTINGS, 158, fractions, SINGLE_LIKE, 0.25, REPLICATES)
+    assert cell["rate"] >= 0.91 and cell["refused"] == 0

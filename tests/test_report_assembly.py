@@ -178,3 +178,16 @@ def test_study_report_needs_the_figures_folder(tmp_path):
     images = {season: np.zeros((5, 4, 8)) for season in SEASONS}
     with pytest.raises(FileNotFoundError, match="run the figures stage first"):
         study_report(files, results, METHODS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, TRUTH)
+
+
+def test_a_table_without_the_studys_numbers_keeps_the_learners_names():
+    import pandas as pd
+
+    from seasonloop.reporting.sections import _beside_study
+
+    ours = pd.DataFrame({"winter-fall": [20.9, 22.2]}, index=["raw_patchnorm", "pca"])
+    study = pd.DataFrame({"winter-fall": [np.nan, np.nan]}, index=["raw_patchnorm", "pca"])
+    bounds = (ours - 5, ours + 5)
+    table = _beside_study(ours, study, bounds)
+    assert list(table.index) == ["raw_patchnorm", "pca"]
+    assert table.loc["pca", ("winter-fall", "ours")] == "22.2 [17, 27]"

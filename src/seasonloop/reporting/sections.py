@@ -95,7 +95,8 @@ def _beside_study(
         ]
         if study[pair].notna().any():
             columns[(pair, "study (S)")] = study[pair].map(lambda value: "–" if np.isnan(value) else f"{value:.0f}")
-    return pd.DataFrame(columns)
+    # the index named: a table the study gives no number for has only lists, which pandas numbers 0, 1, ...
+    return pd.DataFrame(columns, index=ours.index)
 
 
 _FRACTION_CORRECT_INTRO = (

@@ -538,8 +538,9 @@ def _calibration_rows(path: Path, run: str = "params") -> tuple[dict, list[dict]
     return record, record["runs"][run]["rows"]
 
 
-def _calibration_legend(record: dict, run: str = "params") -> str:
-    statistics, replicates = record["runs"][run]["statistics"], record["replicates"]
+def _calibration_legend(record: dict, run: str = "params", replicates: int | None = None) -> str:
+    """replicates: the simulated routes a cell of the table has (default: the record's)."""
+    statistics, replicates = record["runs"][run]["statistics"], replicates or record["replicates"]
     error = (0.95 * 0.05 / replicates) ** 0.5
     return (
         f"{replicates} simulated routes a cell (Monte Carlo standard error {100 * error:.1f} points at 95% "
@@ -612,7 +613,40 @@ def _calibration_power(path: Path) -> str:
     return (
         "\n".join(lines)
         + "\n\nPower: the share of routes on which the paired test (one comparison, at alpha) finds the difference, in its direction. "
-        + _calibration_legend(record)
+        + _calibration_legend(record, replicates=_power_replicates(rows))
+        + "\n"
+    )
+
+
+def _power_replicates(rows: list[dict]) -> int:
+    """The simulated routes of a power cell (check_calibration draws half as many as for the others)."""
+    cell = next(iter(rows[-1]["power"].values()))["power"]
+    return cell["replicates"] + cell["refused"]
+
+
+def _calibration_difference_coverage(path: Path) -> str:
+    """The 95% interval of a difference where the difference is real: its lowest coverage over the
+    differences of the grid, per dependence, n and the first learner's fraction (one route)."""
+    record, rows = _calibration_rows(path)
+    ps = record["grid"]["p"]
+    lines = ["| dependence | n | " + " | ".join(f"p = {p}" for p in ps) + " |", "|---|---|" + "---|" * len(ps)]
+    cells: dict[tuple[str, int], dict[float, str]] = {}
+    for row in rows:
+        if row["routes"] != 1:
+            continue
+        answered = [
+            cell["interval_coverage"] for cell in row["power"].values() if cell["interval_coverage"]["rate"] is not None
+        ]
+        lowest = min(answered, key=lambda cell: cell["rate"]) if answered else {"rate": None}
+        cells.setdefault((row["dependence"], row["n"]), {})[row["p"]] = _rate_cell(lowest, _coverage_off)
+    for (dependence, n), by_p in cells.items():
+        lines.append(f"| {dependence} | {n} | " + " | ".join(by_p[p] for p in ps) + " |")
+    differences = ", ".join(f"{100 * float(d):.0f}" for d in sorted(next(iter(rows))["power"], key=float))
+    return (
+        "\n".join(lines)
+        + f"\n\nCells: the lowest coverage over differences of {differences} points (the second learner's fraction p "
+        "plus the difference, minus where that passes 0.99). "
+        + _calibration_legend(record, replicates=_power_replicates(rows))
         + "\n"
     )
 
@@ -840,6 +874,7 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
             ("calibration_coverage", _calibration_coverage),
             ("calibration_false_positives", _calibration_false_positives),
             ("calibration_power", _calibration_power),
+            ("calibration_difference_coverage", _calibration_difference_coverage),
             ("calibration_llsw", _calibration_llsw),
         )
     },

@@ -278,8 +278,13 @@ def _training_seasons(path: Path) -> str:
     """metrics/training_seasons.json: fraction correct (%) of each ablation learner per training-season set."""
     record = json.loads(path.read_text())
     sets = record["season_sets"]
+    # a record from before 36a7aeb has block-bootstrap intervals (no degrees of freedom)
+    along_route = any(
+        "degrees" in interval for by_set in record.get("intervals", {}).values() for interval in by_set.values()
+    )
+    kind = "interval along the route" if along_route else "block-bootstrap interval (the rule before 36a7aeb)"
     lines = [
-        f"Pair {record['pair']}, single image, fraction correct (%) with its 95% block-bootstrap interval; "
+        f"Pair {record['pair']}, single image, fraction correct (%) with its 95% {kind}; "
         "columns: the seasons the learner was trained on.",
         "",
         "| learner | " + " | ".join(sets) + " |",
@@ -851,9 +856,9 @@ def _replicate_claims(path: Path) -> str:
         "Cells: in how many routes the first side's point estimate is ahead, and in how many it is "
         "significantly better (▲) or worse (▼) by that route's own paired test (for a whole table: the "
         "range over the routes of its significant comparisons each way); all pairs: the same counted over "
-        "every route and pair; pooled: every route's queries of the pair together, McNemar and Holm "
-        "as in one run, the paired block bootstrap stratified by route (each route's queries resampled "
-        "on their own; seasonloop.reporting.replicates)."
+        "every route and pair; pooled: every route's queries of the pair together, the same paired test "
+        "and Holm correction as in one run, each route's variance along it its own "
+        "(seasonloop.reporting.replicates; a statement about these routes' queries)."
     )
     return "\n".join(lines) + "\n\n" + legend + "\n"
 

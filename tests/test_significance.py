@@ -284,3 +284,12 @@ def test_the_mean_over_pairs_of_other_places_is_bounded_by_their_errors():
 def test_a_mean_over_no_pair_is_refused():
     with pytest.raises(ValueError, match="no season pair"):
         mean_interval([], [], SETTINGS)
+
+
+def test_a_difference_near_0_or_100_percent_on_a_short_route_says_its_interval_may_be_short():
+    rng = np.random.default_rng(10)
+    high, middle = rng.random(158) < 0.97, rng.random(158) < 0.6
+    assert "may cover less than 95%" in paired_difference(high, middle, SETTINGS)["interval_note"]
+    assert "interval_note" not in paired_difference(middle, rng.random(158) < 0.5, SETTINGS)
+    long_high, long_middle = rng.random(400) < 0.97, rng.random(400) < 0.6
+    assert "interval_note" not in paired_difference(long_high, long_middle, SETTINGS)

@@ -26,6 +26,12 @@ from seasonloop.params.settings import StatisticsConfig
 from seasonloop.significance.intervals import mean_variance, t_quantile
 
 VERDICTS = ("better", "worse", "no difference", "not enough queries")
+# benchmarks/check_calibration.py (docs/statistics.md, table calibration_difference_coverage): the
+# difference's interval covers 93-96% except where a side's fraction is near 0 or 1 on a short
+# route (down to 83% at 50 queries, 91% at 158); there a comparison says so beside its interval
+NEAR_BOUNDARY = 0.1  # a side's fraction below it, or above 1 minus it
+NEAR_BOUNDARY_QUERIES = 400  # on fewer queries than this
+NEAR_BOUNDARY_NOTE = "interval may cover less than 95%: a side near 0% or 100% on a short route (docs/statistics.md)"
 
 
 def t_p_value(statistic: float, degrees: float) -> float:
@@ -71,7 +77,7 @@ def paired_difference(
         p_value = t_p_value(difference / error, spread.degrees)
     else:  # every query differs the same way (or none differs): nothing varies along the route
         p_value = 1.0 if difference == 0 else 0.0
-    return {
+    compared: dict[str, Any] = {
         "difference": difference,
         "low": difference - half,
         "high": difference + half,
@@ -79,6 +85,10 @@ def paired_difference(
         "degrees": spread.degrees,
         "p_value": p_value,
     }
+    shares = (float(first.mean()), float(second.mean()))
+    if len(first) < NEAR_BOUNDARY_QUERIES and any(not NEAR_BOUNDARY <= share <= 1 - NEAR_BOUNDARY for share in shares):
+        compared["interval_note"] = NEAR_BOUNDARY_NOTE
+    return compared
 
 
 def with_verdicts(comparisons: Sequence[dict[str, Any]], alpha: float) -> list[dict[str, Any]]:

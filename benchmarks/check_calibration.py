@@ -109,6 +109,13 @@ def binary_correlation(latent: np.ndarray, p: float) -> np.ndarray:
     return (density * weights).sum(axis=1) * latent / 2 / (p * (1 - p))
 
 
+def latent_share(correlation: float, p: float) -> float:
+    """The latent correlation whose outcomes at fraction p correlate `correlation` (0 for none or less)."""
+    if correlation <= 0:
+        return 0.0
+    return float(optimize.brentq(lambda s: binary_correlation(s, p)[0] - correlation, 0.0, 0.999))
+
+
 def fit_dependence(series: Sequence[np.ndarray], pairs_of_learners: Sequence[tuple[np.ndarray, np.ndarray]]) -> dict:
     """Dependence (a, phi, share) whose outcomes have the series' mean autocorrelation at LAGS and the
     learner pairs' mean correlation, at the series' mean fraction correct."""
@@ -128,9 +135,7 @@ def fit_dependence(series: Sequence[np.ndarray], pairs_of_learners: Sequence[tup
         if 0 < first.mean() < 1 and 0 < second.mean() < 1
     ]
     cross = float(np.mean(between)) if between else 0.0
-    share = 0.0
-    if cross > 0:
-        share = float(optimize.brentq(lambda s: binary_correlation(s, p)[0] - cross, 0.0, 0.999))
+    share = latent_share(cross, p)
     return {
         "dependence": dataclasses.asdict(Dependence(a, phi, share)),
         "evaluations": len(kept),
@@ -143,15 +148,36 @@ def fit_dependence(series: Sequence[np.ndarray], pairs_of_learners: Sequence[tup
     }
 
 
-def pair_share(workspace: Path, kind: str, p: float) -> dict[str, float]:
+Evaluation = tuple[str, str, QueryOutcomes]  # (learner, result name <pair><suffix>, its outcomes)
+
+
+def read_evaluations(workspace: Path) -> list[Evaluation]:
+    """Every evaluation's per-query outcomes in WORKSPACE/data/outcomes/<learner>/<name>.csv."""
+    folder = workspace / "data" / "outcomes"
+    read = [(path.parent.name, path.stem, QueryOutcomes.read_csv(path)) for path in sorted(folder.glob("*/*.csv"))]
+    if not read:
+        raise SystemExit(f"{folder}: no per-query outcomes (run `dvc repro` there first)")
+    return read
+
+
+def kind_of(name: str) -> str:
+    """ "+seq" for a sequence matcher's result name, else "single"."""
+    return "+seq" if name.endswith("+seq") else "single"
+
+
+def suffix_of(name: str) -> str:
+    """A result name's suffix ("", "+seq", "@cityblock", ...): a pair's name has neither @ nor +."""
+    pair = name.split("@")[0].split("+")[0]
+    return name[len(pair) :]
+
+
+def pair_share(evaluations: Sequence[Evaluation], kind: str, p: float) -> dict[str, float]:
     """The latent share of two season pairs' outcomes of one learner and matcher on the same places
-    (fitted, at fraction p, to their mean correlation in the workspace's outcomes)."""
+    (fitted, at fraction p, to their mean correlation in the evaluations)."""
     series: dict[tuple[str, str], list[QueryOutcomes]] = {}
-    for path in sorted((workspace / "data" / "outcomes").glob("*/*.csv")):
-        pair, _, suffix = path.stem.partition("@") if "@" in path.stem else path.stem.partition("+")
-        if ("+seq" in path.stem) != (kind == "+seq"):
-            continue
-        series.setdefault((path.parent.name, suffix), []).append(QueryOutcomes.read_csv(path))
+    for learner, name, outcomes in evaluations:
+        if kind_of(name) == kind:
+            series.setdefault((learner, suffix_of(name)), []).append(outcomes)
     between = [
         float(np.corrcoef(a.correct, b.correct)[0, 1])
         for outcomes in series.values()
@@ -159,8 +185,7 @@ def pair_share(workspace: Path, kind: str, p: float) -> dict[str, float]:
         if np.array_equal(a.query_place, b.query_place) and 0 < a.correct.mean() < 1 and 0 < b.correct.mean() < 1
     ]
     cross = float(np.mean(between))
-    share = float(optimize.brentq(lambda s: binary_correlation(s, p)[0] - cross, 0.0, 0.999)) if cross > 0 else 0.0
-    return {"pair_correlation_measured": cross, "pair_share": share, "pairs_compared": len(between)}
+    return {"pair_correlation_measured": cross, "pair_share": latent_share(cross, p), "pairs_compared": len(between)}
 
 
 def means_cell(rng, settings, n, fractions, dependence, share, replicates) -> dict[str, Any]:
@@ -196,15 +221,12 @@ def calibrate_means(settings, dependences, shares, replicates, seed) -> list[dic
     return rows
 
 
-def measure_dependence(workspace: Path) -> dict[str, dict]:
-    """fit_dependence of a workspace's per-query outcomes, single images and +seq apart."""
-    folder = workspace / "data" / "outcomes"
+def measure_dependence(evaluations: Sequence[Evaluation]) -> dict[str, dict]:
+    """fit_dependence of a run's evaluations, single images and +seq apart (learners compared on
+    the same result name: the same pair, metric and matcher)."""
     by_kind: dict[str, dict[str, dict[str, np.ndarray]]] = {"single": {}, "+seq": {}}
-    for path in sorted(folder.glob("*/*.csv")):
-        kind = "+seq" if path.stem.endswith("+seq") else "single"
-        by_kind[kind].setdefault(path.stem, {})[path.parent.name] = QueryOutcomes.read_csv(path).correct
-    if not by_kind["single"]:
-        raise SystemExit(f"{folder}: no per-query outcomes (run `dvc repro` there first)")
+    for learner, name, outcomes in evaluations:
+        by_kind[kind_of(name)].setdefault(name, {})[learner] = outcomes.correct
     fits = {}
     for kind, evaluations in by_kind.items():
         if not evaluations:
@@ -411,12 +433,13 @@ def main() -> None:
 
     params = yaml.safe_load((args.workspace / "params.yaml").read_text())
     settings = StatisticsConfig.from_params(params)
-    fits = measure_dependence(args.workspace)
+    evaluations = read_evaluations(args.workspace)
+    fits = measure_dependence(evaluations)
     for kind, fit in fits.items():
         print(f"{kind}: {fit}")
     if args.means:
         dependences = {kind: Dependence(**fit["dependence"]) for kind, fit in fits.items()}
-        shares = {kind: pair_share(args.workspace, kind, fit["mean_fraction_correct"]) for kind, fit in fits.items()}
+        shares = {kind: pair_share(evaluations, kind, fit["mean_fraction_correct"]) for kind, fit in fits.items()}
         rows = calibrate_means(settings, dependences, shares, args.replicates, args.seed)
         low, high = min(row["coverage"]["rate"] for row in rows), max(row["coverage"]["rate"] for row in rows)
         record = {

@@ -555,42 +555,45 @@ def _calibration_legend(record: dict, run: str = "params", replicates: int | Non
     )
 
 
+def _by_fraction(rows: list[dict], ps: list[float], keys: tuple[str, ...], cell: Callable[[dict], str | None]) -> str:
+    """A table of the grid: a line per value of `keys` (e.g. dependence and n), a column per fraction p,
+    cell(row) the text of a row of the record (None: the row is not in this table)."""
+    cells: dict[tuple, dict[float, str]] = {}
+    for row in rows:
+        text = cell(row)
+        if text is not None:
+            cells.setdefault(tuple(row[key] for key in keys), {})[row["p"]] = text
+    lines = ["| " + " | ".join(keys) + " | " + " | ".join(f"p = {p}" for p in ps) + " |"]
+    lines.append("|" + "---|" * (len(keys) + len(ps)))
+    for key, by_p in cells.items():
+        lines.append("| " + " | ".join(map(str, key)) + " | " + " | ".join(by_p.get(p, "") for p in ps) + " |")
+    return "\n".join(lines)
+
+
 def _calibration_coverage(path: Path) -> str:
     """Coverage of the 95% interval along the route (Wilson's in brackets) per dependence, n and p."""
     record, rows = _calibration_rows(path)
-    ps = record["grid"]["p"]
-    lines = ["| dependence | n | " + " | ".join(f"p = {p}" for p in ps) + " |", "|---|---|" + "---|" * len(ps)]
-    cells: dict[tuple[str, int], dict[float, str]] = {}
-    for row in rows:
+
+    def cell(row: dict) -> str | None:
         if "coverage" not in row:
-            continue
-        route = _rate_cell(row["coverage"]["route"], _coverage_off)
-        wilson = row["coverage"]["wilson"]["rate"]
-        cells.setdefault((row["dependence"], row["n"]), {})[row["p"]] = f"{route} ({wilson:.3f})"
-    for (dependence, n), by_p in cells.items():
-        lines.append(f"| {dependence} | {n} | " + " | ".join(by_p[p] for p in ps) + " |")
-    return "\n".join(lines) + "\n\n" + _calibration_legend(record) + " In brackets: Wilson's interval.\n"
+            return None
+        return f"{_rate_cell(row['coverage']['route'], _coverage_off)} ({row['coverage']['wilson']['rate']:.3f})"
+
+    table = _by_fraction(rows, record["grid"]["p"], ("dependence", "n"), cell)
+    return table + "\n\n" + _calibration_legend(record) + " In brackets: Wilson's interval.\n"
 
 
 def _calibration_false_positives(path: Path) -> str:
     """Equal learners called different: per comparison / per table (Holm), per dependence, n, routes and p."""
     record, rows = _calibration_rows(path)
-    ps = record["grid"]["p"]
-    lines = [
-        "| dependence | n | routes | " + " | ".join(f"p = {p}" for p in ps) + " |",
-        "|---|---|---|" + "---|" * len(ps),
-    ]
-    cells: dict[tuple[str, int, int], dict[float, str]] = {}
-    for row in rows:
-        fp = row["false_positive"]
-        cell = f"{_rate_cell(fp['per_comparison'], _false_positives_off)} / "
-        cell += _rate_cell(fp["per_table"], _false_positives_off)
-        cells.setdefault((row["dependence"], row["n"], row["routes"]), {})[row["p"]] = cell
-    for (dependence, n, routes), by_p in cells.items():
-        lines.append(f"| {dependence} | {n} | {routes} | " + " | ".join(by_p.get(p, "") for p in ps) + " |")
+
+    def cell(row: dict) -> str:
+        rates = row["false_positive"]
+        return " / ".join(_rate_cell(rates[kind], _false_positives_off) for kind in ("per_comparison", "per_table"))
+
     size = record["grid"]["table_learners"]
     return (
-        "\n".join(lines)
+        _by_fraction(rows, record["grid"]["p"], ("dependence", "n", "routes"), cell)
         + f"\n\nCells: per comparison / per table ({size} learners of equal laws, {size * (size - 1) // 2} "
         "comparisons, Holm). routes > 1: that many independent routes pooled (p = 0.5 only). "
         + _calibration_legend(record)
@@ -633,22 +636,19 @@ def _calibration_difference_coverage(path: Path) -> str:
     """The 95% interval of a difference where the difference is real: its lowest coverage over the
     differences of the grid, per dependence, n and the first learner's fraction (one route)."""
     record, rows = _calibration_rows(path)
-    ps = record["grid"]["p"]
-    lines = ["| dependence | n | " + " | ".join(f"p = {p}" for p in ps) + " |", "|---|---|" + "---|" * len(ps)]
-    cells: dict[tuple[str, int], dict[float, str]] = {}
-    for row in rows:
+
+    def cell(row: dict) -> str | None:
         if row["routes"] != 1:
-            continue
+            return None
         answered = [
             cell["interval_coverage"] for cell in row["power"].values() if cell["interval_coverage"]["rate"] is not None
         ]
-        lowest = min(answered, key=lambda cell: cell["rate"]) if answered else {"rate": None}
-        cells.setdefault((row["dependence"], row["n"]), {})[row["p"]] = _rate_cell(lowest, _coverage_off)
-    for (dependence, n), by_p in cells.items():
-        lines.append(f"| {dependence} | {n} | " + " | ".join(by_p[p] for p in ps) + " |")
+        return _rate_cell(min(answered, key=lambda cell: cell["rate"]) if answered else {"rate": None}, _coverage_off)
+
+    table = _by_fraction(rows, record["grid"]["p"], ("dependence", "n"), cell)
     differences = ", ".join(f"{100 * float(d):.0f}" for d in sorted(next(iter(rows))["power"], key=float))
     return (
-        "\n".join(lines)
+        table
         + f"\n\nCells: the lowest coverage over differences of {differences} points (the second learner's fraction p "
         "plus the difference, minus where that passes 0.99). "
         + _calibration_legend(record, replicates=_power_replicates(rows))

@@ -26,25 +26,32 @@ from seasonloop.reporting.summary import markdown_table
 from seasonloop.significance.tables import Variant, comparison_tables, pair_comparisons
 
 SYMBOLS = {"better": "▲", "worse": "▼", "no difference": "·", "not enough queries": "(too few queries)"}
-FLIPPED = {"better": "worse", "worse": "better", "no difference": "no difference"}
-FLIPPED["not enough queries"] = "not enough queries"  # a comparison too short to test, either way round
+# a comparison too short to test is so either way round
+FLIPPED = {
+    "better": "worse",
+    "worse": "better",
+    "no difference": "no difference",
+    "not enough queries": "not enough queries",
+}
 
 
 def legend(settings: Mapping[str, Any]) -> str:
     """What a cell says, at the record's statistics settings (a record written before 36a7aeb, whose
     settings name a bootstrap block length, says so: its verdicts are the old rule's)."""
-    cells = "Cells: the row's fraction correct minus the column's, percentage points, on the same queries; "
     if "block_length" in settings:
-        return cells + (
-            f"▲ significantly better, ▼ significantly worse, · no difference shown at {100 * settings['alpha']:g}% "
+        test = (
             "by the rule before 36a7aeb (McNemar's exact test Holm-corrected across the table, and a paired "
             f"moving-block bootstrap interval, blocks of {settings['block_length']}, excluding 0), which calls "
             "equal learners different more often than it says (docs/statistics.md)."
         )
-    return cells + (
-        f"▲ significantly better, ▼ significantly worse, · no difference shown at {100 * settings['alpha']:g}% "
-        "(a t test of the per-query differences that allows for runs along the route, Holm-corrected across "
-        "the table; its real error rates: docs/statistics.md)."
+    else:
+        test = (
+            "(a t test of the per-query differences that allows for runs along the route, Holm-corrected across "
+            "the table; its real error rates: docs/statistics.md)."
+        )
+    return (
+        "Cells: the row's fraction correct minus the column's, percentage points, on the same queries; "
+        f"▲ significantly better, ▼ significantly worse, · no difference shown at {100 * settings['alpha']:g}% " + test
     )
 
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from _common import data_seasons, load_params, stage_main
+from _common import data_seasons, load_params, param, stage_main
 from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
 from seasonloop.data.positions import RENDERED, PositionFiles
 from seasonloop.io import read_json, staged_dir, write_json
@@ -32,7 +32,7 @@ PREVIEW_PLACES = 6
 
 @stage_main
 def main() -> None:
-    params = load_params("data", "extract")
+    params = load_params("data", "extract", "split.stop_threshold")
     seasons = data_seasons(params)
     sources = read_json(SOURCES)["seasons"]
     check_sources(sources, seasons, SOURCES)
@@ -61,6 +61,7 @@ def main() -> None:
             aligned=data.ground_truth == "aligned",
             positions=positions,
             image_list=Path(data.frames_dir) / data.image_list if data.image_list else None,
+            stop_threshold=float(param(params, "split.stop_threshold")),
         )
         record["ground_truth"] = data.ground_truth
         write_json(out / "frames.json", record)

@@ -91,3 +91,51 @@ def a_queued_experiment_reads_the_frames_by_absolute_path(root: Path, frames: Pa
     assert "Running stage 'extract_frames'" in logs and "frames paired by file name" in logs, logs[-3000:]
     shown = dvc(root, "exp", "show", "--json")
     assert shown.returncode == 0 and '"real"' in shown.stdout
+
+
+# real Nordland frames (summer, winter) beside the repository, as the project's shared folder holds
+# them (../shared/real/README.md: source and citation); a fresh clone without them skips the test
+REAL_FRAMES = Path(__file__).resolve().parents[2] / "shared" / "real" / "nordland_summer_winter"
+# 60 places of the route (every 10th second, names images-NNNNN.png): seconds 5,010 to 5,600, away
+# from the first station's standing start
+REAL_SECONDS = range(5010, 5610, 10)
+
+
+@pytest.mark.e2e
+@pytest.mark.skipif(not REAL_FRAMES.is_dir(), reason=f"no real Nordland frames at {REAL_FRAMES}")
+def test_real_nordland_frames_run_through_the_report(tmp_path):
+    frames = tmp_path / "nordland"
+    for season in ("summer", "winter"):
+        (frames / season).mkdir(parents=True)
+        for second in REAL_SECONDS:
+            name = f"images-{second:05d}.png"
+            (frames / season / name).write_bytes((REAL_FRAMES / season / name).read_bytes())
+    # the data path on real images, with the two learners that train fastest
+    root = make_workspace(tmp_path / "repo", {**DATA_PATH, "learners": ["raw_patchnorm", "pca"]})
+    result = dvc(
+        root,
+        "exp",
+        "run",
+        "-S",
+        "data.source=frames",
+        "-S",
+        f"data.frames_dir={frames}",
+        "-S",
+        "data.seasons=[summer,winter]",
+        "-S",
+        "train.seasons=[summer,winter]",
+    )
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    assert "frames paired by file name (60 names shared by summer, winter)" in result.stdout
+    dataset = json.loads((root / "metrics/dataset.json").read_text())
+    # the real seasons are aligned by name: the alignment check finds them at offset 0
+    assert dataset["alignment"]["summer-winter"]["offset"] == 0, dataset["alignment"]
+    evaluation = json.loads((root / "metrics/eval/raw_patchnorm/winter-summer.json").read_text())
+    queries = evaluation["n_queries"]
+    # far above chance (one correct place among 60), and too few queries for an interval: said so
+    assert evaluation["fraction_correct"] > 3 / len(REAL_SECONDS), evaluation["fraction_correct"]
+    assert queries < 49 and evaluation["intervals"]["fraction_correct"]["route"]["low"] is None
+    comparisons = json.loads((root / "metrics/comparisons.json").read_text())
+    rows = comparisons["pairs"]["winter-summer"]["learners"]
+    assert [row["verdict"] for row in rows] == ["not enough queries"]
+    assert "not enough queries" in (root / "plots/report.html").read_text()

@@ -5,7 +5,11 @@ patch-normalised (condition-robust) small grayscale frames of a season are compa
 the reference season shifted by -max_offset..max_offset places; the offset whose frames match best
 is the measured offset. A season that is off by a whole number of places shows the same best
 offset at most sampled places; a hard pair (winter against summer) scatters its per-place best
-offsets, so it does not trip the check.
+offsets, so it does not trip the check. Places where either season stands (a station stop: its
+frame barely changes from the previous one, the split's stop test) match every offset inside the
+stop about equally well; they are left out of the sample, and with fewer than MIN_SAMPLED moving
+places there is no verdict (real Nordland: a 400-second stop that ends 50 seconds apart in summer
+and winter otherwise reads as a clear offset of 10 places).
 """
 
 from __future__ import annotations
@@ -15,13 +19,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from seasonloop.data.patchnorm import patch_normalise
-from seasonloop.data.preprocess import to_gray
+from seasonloop.data.preprocess import frame_statistics, to_gray
 
 PATCH_SIZE = 4
 # an offset counts as clear when at least this share of sampled places has its best match within
 # one place of it, and it is at least MIN_OFFSET places (one place either way is sampling jitter)
 MIN_AGREEMENT = 0.5
 MIN_OFFSET = 2
+# fewer moving places than this sampled: the share that agrees is too noisy to call an offset clear
+MIN_SAMPLED = 20
 ALIGN_HEIGHT, ALIGN_WIDTH = 16, 32  # small gray frames suffice to see which places match
 
 
@@ -33,7 +39,7 @@ class Alignment:
 
     @property
     def clear(self) -> bool:
-        return abs(self.offset) >= MIN_OFFSET and self.agreement >= MIN_AGREEMENT
+        return abs(self.offset) >= MIN_OFFSET and self.agreement >= MIN_AGREEMENT and self.n_sampled >= MIN_SAMPLED
 
     def to_json(self) -> dict:
         return {
@@ -44,8 +50,11 @@ class Alignment:
         }
 
 
-def measure_offset(reference: np.ndarray, season: np.ndarray, max_offset: int, n_samples: int = 200) -> Alignment:
-    """The offset (see Alignment) of `season` against `reference`, both (N, H, W) gray images."""
+def measure_offset(
+    reference: np.ndarray, season: np.ndarray, max_offset: int, n_samples: int = 200, standing: np.ndarray | None = None
+) -> Alignment:
+    """The offset (see Alignment) of `season` against `reference`, both (N, H, W) gray images;
+    `standing`: a bool per place, True where either season stands (left out of the sample)."""
     if reference.shape[1:] != season.shape[1:] or reference.ndim != 3:
         raise ValueError(
             f"alignment: expected two (N, H, W) arrays of one image size, got {reference.shape} and {season.shape}"
@@ -53,8 +62,13 @@ def measure_offset(reference: np.ndarray, season: np.ndarray, max_offset: int, n
     n = min(len(reference), len(season))
     if max_offset < 1 or n <= 2 * max_offset + 1:
         return Alignment(0, 1.0, 0)
+    candidates = np.arange(max_offset, n - max_offset)
+    if standing is not None:
+        candidates = candidates[~np.asarray(standing, bool)[candidates]]
+    if len(candidates) == 0:
+        return Alignment(0, 0.0, 0)
     places = np.unique(
-        np.linspace(max_offset, n - 1 - max_offset, min(n_samples, n - 2 * max_offset)).round().astype(int)
+        candidates[np.linspace(0, len(candidates) - 1, min(n_samples, len(candidates))).round().astype(int)]
     )
     offsets = np.arange(-max_offset, max_offset + 1)
 
@@ -80,17 +94,22 @@ def apply_offsets(counts: dict[str, int], offsets: dict[str, int]) -> dict[str, 
     return {season: slice(offsets.get(season, 0), offsets.get(season, 0) + length) for season in counts}
 
 
-def check_alignment(stored: dict[str, np.ndarray], max_offset: int) -> dict[str, dict]:
+def check_alignment(stored: dict[str, np.ndarray], max_offset: int, stop_threshold: float) -> dict[str, dict]:
     """Each season's measured offset against the first season, from (N, h, w, 3) BGR frames:
-    {"<first>-<season>": Alignment.to_json()}. A clear non-zero offset is a ValueError, one line
-    naming the seasons, the offset and the data.offsets setting that would shift by it."""
+    {"<first>-<season>": Alignment.to_json()}, places where either stands left out (a mean absolute
+    change from the previous small gray frame below stop_threshold, split.stop_threshold). A clear
+    non-zero offset is a ValueError, one line naming the seasons, the offset and the data.offsets
+    setting that would shift by it."""
     if max_offset == 0:
         return {}
     seasons = list(stored)
     reference = to_gray(stored[seasons[0]], ALIGN_HEIGHT, ALIGN_WIDTH)
+    reference_stands = frame_statistics(reference)[1] < stop_threshold
     result = {}
     for season in seasons[1:]:
-        alignment = measure_offset(reference, to_gray(stored[season], ALIGN_HEIGHT, ALIGN_WIDTH), max_offset)
+        gray = to_gray(stored[season], ALIGN_HEIGHT, ALIGN_WIDTH)
+        standing = reference_stands | (frame_statistics(gray)[1] < stop_threshold)
+        alignment = measure_offset(reference, gray, max_offset, standing=standing)
         if alignment.clear:
             late, by = (season, alignment.offset) if alignment.offset > 0 else (seasons[0], -alignment.offset)
             raise ValueError(

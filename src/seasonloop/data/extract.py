@@ -38,6 +38,7 @@ def extract_seasons(
     aligned: bool = True,
     positions: PositionFiles | None = None,
     image_list: Path | None = None,
+    stop_threshold: float = 0.0,
 ) -> dict[str, Any]:
     """Write out/<season>.npy, (N, h, w, 3) uint8 BGR at the storage size, one season in memory at a
     time (the full-scale route is ~1 GB a season at 72x128), and return the record of frames.json:
@@ -47,7 +48,8 @@ def extract_seasons(
     length and their alignment is measured; otherwise (ground truth from positions or a matrix)
     each season keeps its own frames. positions: where the seasons' positions are; each season's
     kept places' positions (metres) go to out/<season>_positions.npy. image_list: a file naming
-    the frame files to keep (season_files).
+    the frame files to keep (season_files). stop_threshold: places where a season stands are left
+    out of the alignment's sample (split.stop_threshold; seasonloop.data.alignment).
     """
     fps, height, width = float(extract.fps), int(extract.height), int(extract.width)
     paths = {season: (sources[season]["kind"], Path(sources[season]["path"])) for season in seasons}
@@ -84,7 +86,7 @@ def extract_seasons(
         **({"listed_frames": listed_rows} if listed_rows is not None else {}),
         "frame_step": frame_step,
         "pairing": pairing,
-        "alignment": check_alignment(stored, int(extract.max_offset)) if aligned else {},
+        "alignment": check_alignment(stored, int(extract.max_offset), stop_threshold) if aligned else {},
         "offsets": dict(offsets),
         "place": place_description({kind for kind, _ in paths.values()}, fps, frame_step),
     }

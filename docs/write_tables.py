@@ -29,7 +29,8 @@ sys.path.insert(0, str(ROOT / "src"))
 
 from seasonloop.ablations.cae_widths import width_table  # noqa: E402
 from seasonloop.machine import cpu_model  # noqa: E402
-from seasonloop.reporting.comparisons import claims_markdown  # noqa: E402
+from seasonloop.reporting.comparisons import claim_cell, claims_markdown, legend  # noqa: E402
+from seasonloop.reporting.readings import READINGS, claims_beside  # noqa: E402
 from seasonloop.reporting.summary import percent_cell  # noqa: E402
 
 RESULTS = ROOT / "docs" / "results"
@@ -863,6 +864,69 @@ def _replicate_claims(path: Path) -> str:
     return "\n".join(lines) + "\n\n" + legend + "\n"
 
 
+# the synthetic runs a run on other data is read beside (table real_claims): column -> its snapshot
+SYNTHETIC_RUNS = {
+    "default route": "comparisons.json",
+    "five routes, pooled": "replicate_routes.json",
+    "full preset": "full_comparisons.json",
+}
+
+
+EVAL_COLUMNS = {
+    "recall_at_1": "R@1",
+    "recall_at_5": "R@5",
+    "recall_at_10": "R@10",
+    "recall_at_100_precision": "recall at 100% precision",
+    "auc_pr": "AUC-PR",
+    "auc_pr_vpr_tutorial": "AUC-PR (VPR_Tutorial)",
+}
+
+
+def _eval_metrics(path: Path) -> str:
+    """A run's metrics/eval/<learner>/<pair><variant>.json as one table (%): the field's recall@N,
+    recall at 100% precision and both areas under the PR curve, every evaluation of every pair."""
+    learners = yaml.safe_load((ROOT / "params.yaml").read_text())["learners"]
+    folders = sorted(
+        path.iterdir(),
+        key=lambda folder: (learners.index(folder.name) if folder.name in learners else len(learners), folder.name),
+    )
+    lines = ["| evaluation | " + " | ".join(EVAL_COLUMNS.values()) + " |", "|---|" + "---|" * len(EVAL_COLUMNS)]
+    for folder in folders:
+        for file in sorted(folder.glob("*.json"), key=lambda file: (len(file.stem), file.stem)):
+            record = json.loads(file.read_text())
+            cells = " | ".join(f"{100 * record[key]:.1f}" for key in EVAL_COLUMNS)
+            lines.append(f"| {folder.name} {file.stem} | {cells} |")
+    return "\n".join(lines) + "\n"
+
+
+def _claims_beside_runs(path: Path) -> str:
+    """The default run's claims (docs/claims.yaml, no `run`) on a run of real frames (`path`: its
+    comparisons), beside their verdicts on the same pair in the synthetic runs, and how they read
+    (seasonloop.reporting.readings.claims_beside)."""
+    record = json.loads(path.read_text())
+    claims = {name: claim for name, claim in yaml.safe_load(CLAIMS.read_text()).items() if "run" not in claim}
+    synthetic = {column: json.loads((RESULTS / snapshot).read_text()) for column, snapshot in SYNTHETIC_RUNS.items()}
+    columns = [*SYNTHETIC_RUNS, "real frames"]
+    lines = [
+        "| claim | compares | pair | " + " | ".join(columns) + " | on real frames |",
+        "|---|---|---|" + "---|" * (len(columns) + 1),
+    ]
+    beside = claims_beside(record, synthetic, claims)
+    for pair in record["order"]["pairs"]:
+        for name, claim in claims.items():
+            values = beside[name][pair]["values"]
+            cells = " | ".join(claim_cell(values[column]) for column in [*SYNTHETIC_RUNS, "other"])
+            lines.append(f"| {name} | {claim['says']} | {pair} | {cells} | {beside[name][pair]['reading']} |")
+    readings = "; ".join(f"{key}: {meaning}" for key, meaning in READINGS.items())
+    return (
+        "\n".join(lines)
+        + "\n\n"
+        + legend(record["statistics"])
+        + " Whole tables: significant differences each way. Five routes, pooled: every route's queries together "
+        + f"(docs/results.md). On real frames: {readings}.\n"
+    )
+
+
 # table name -> (the output file it is written from, its snapshot in docs/results/, how)
 TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "headline": ("plots/summary/fraction_correct.md", "fraction_correct.md", _headline),
@@ -898,6 +962,15 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     # (docs/other-datasets.md; a run in another clone: --from)
     "rides_dataset": ("metrics/dataset.json", "rides_dataset.json", _dataset_seasons),
     "rides_fraction_correct": ("plots/summary/fraction_correct.md", "rides_fraction_correct.md", _headline),
+    # real Nordland frames, summer and winter (docs/real-data.md; a run in another clone: --from)
+    "real_dataset": ("metrics/dataset.json", "real_dataset.json", _dataset_seasons),
+    "real_headline": ("plots/summary/fraction_correct.md", "real_fraction_correct.md", _headline),
+    "real_fraction_correct": ("plots/summary/fraction_correct.md", "real_fraction_correct.md", _fraction_correct),
+    "real_precision_recall": ("metrics/eval", "real_eval", _eval_metrics),
+    "real_comparisons": ("plots/comparisons.md", "real_comparisons.md", _whole),
+    "real_claims": ("metrics/comparisons.json", "real_comparisons.json", _claims_beside_runs),
+    "real_training_seasons": ("metrics/training_seasons.json", "real_training_seasons.json", _training_seasons),
+    "real_ica_basis": ("metrics/fit/ica.json", "real_ica_fit.json", _ica_fit),
     # three runs of the benchmark (its file is rewritten by each): Table 5's width, the default
     # width, and the default width trained to its plateau in float32 and bfloat16
     "bench_autoencoders_table5": (
@@ -1003,6 +1076,14 @@ OTHER_RUNS = (
     "full_run_stages",
     "rides_dataset",
     "rides_fraction_correct",
+    "real_dataset",
+    "real_headline",
+    "real_fraction_correct",
+    "real_precision_recall",
+    "real_comparisons",
+    "real_claims",
+    "real_training_seasons",
+    "real_ica_basis",
     "full_fraction_correct",
     "full_pr_landmarks",
     "full_autoencoder_training",
@@ -1018,6 +1099,9 @@ FIGURES = {
     "fraction_correct": ("plots/summary/fraction_correct.png", "fraction_correct.png"),
     "ica_basis": ("plots/figures/fig12b_global_ica_basis.png", "ica_basis.png"),
     "full_fraction_correct": ("plots/summary/fraction_correct.png", "full_fraction_correct.png"),
+    "real_fraction_correct": ("plots/summary/fraction_correct.png", "real_fraction_correct.png"),
+    "real_ica_basis": ("plots/figures/fig12b_global_ica_basis.png", "real_ica_basis.png"),
+    "real_precision_recall": ("plots/summary/pr_winter-summer.png", "real_pr_winter-summer.png"),
     "full_cae_widths": ("plots/cae_widths.png", "full_cae_widths_sweep.png"),
     "full_ica_basis": ("plots/figures/fig12b_global_ica_basis.png", "full_ica_basis.png"),
 }
@@ -1085,9 +1169,13 @@ def snapshot(names: list[str], command: str, workspace: Path = ROOT) -> None:
     RESULTS.mkdir(parents=True, exist_ok=True)
     for name in names:
         source, copy, _ = TABLES[name]
-        if not (workspace / source).is_file():
+        if not (workspace / source).exists():
             raise FileNotFoundError(f"{workspace / source}: not found (run the pipeline first)")
-        shutil.copyfile(workspace / source, RESULTS / copy)
+        if (workspace / source).is_dir():  # a folder of small files (metrics/eval): copied whole,
+            shutil.rmtree(RESULTS / copy, ignore_errors=True)  # but DVC's .gitignore, which would hide them
+            shutil.copytree(workspace / source, RESULTS / copy, ignore=shutil.ignore_patterns(".gitignore"))
+        else:
+            shutil.copyfile(workspace / source, RESULTS / copy)
         if name in FIGURES:
             shutil.copyfile(workspace / FIGURES[name][0], RESULTS / FIGURES[name][1])
         provenance[name] = {"commit": commit, "dirty": dirty, "command": command, "cpu": cpu_model()}

@@ -8,10 +8,15 @@ in so many words that it is not tested (a comparison across runs, or a point est
 The default run is one synthetic route; docs/results/replicate_routes.json has every claim on five
 routes (benchmarks/replicate_routes.py). A sentence that cites a claim whose verdict is not the
 same on every route says which route it speaks of (this one, every one, pooled), and the counts a
-sentence gives over the routes ("in 26 of 30 cells", "pooled on five pairs") are the record's."""
+sentence gives over the routes ("in 26 of 30 cells", "pooled on five pairs") are the record's.
+
+Real Nordland frames (docs/real-data.md, table `real_claims`): a sentence that speaks of a claim's
+verdict there cites it as [real: <id>] and says how it reads beside the synthetic runs ("holds",
+"turns", "not shown", ...: seasonloop.reporting.readings.READINGS), as the table computes it."""
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import re
 from pathlib import Path
@@ -20,6 +25,7 @@ import pytest
 import yaml
 
 from seasonloop.reporting.comparisons import claim_cells
+from seasonloop.reporting.readings import READINGS, claims_beside, reading_beside
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCUMENTS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
@@ -29,8 +35,14 @@ CLAIMS = yaml.safe_load((ROOT / "docs" / "claims.yaml").read_text())
 RUNS = {
     "default": (ROOT / "docs" / "results" / "comparisons.json", ROOT / "docs" / "results.md"),
     "full": (ROOT / "docs" / "results" / "full_comparisons.json", ROOT / "docs" / "full-scale.md"),
+    # real Nordland frames: no claim is on this run alone; its verdicts are the [real: <id>] citations
+    "real": (ROOT / "docs" / "results" / "real_comparisons.json", ROOT / "docs" / "real-data.md"),
 }
 
+
+spec = importlib.util.spec_from_file_location("write_tables", ROOT / "docs" / "write_tables.py")
+write_tables = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(write_tables)
 
 REPLICATES = json.loads((ROOT / "docs" / "results" / "replicate_routes.json").read_text())
 
@@ -45,6 +57,7 @@ LEARNER = re.compile(
     re.IGNORECASE,
 )
 CITATION = re.compile(r"\[claim: ([a-z0-9_]+)\]")
+REAL_CITATION = re.compile(r"\[real: ([a-z0-9_]+)\]")
 # a ranking the sentence itself says no test stands behind
 UNTESTED = re.compile(r"\b(not tested|untested)\b", re.IGNORECASE)
 GENERATED = re.compile(r"<!-- table: [a-z0-9_]+ -->.*?<!-- /table -->", re.DOTALL)
@@ -68,7 +81,7 @@ def test_sentences_split_markdown_prose():
 def test_every_ranking_sentence_cites_a_claim(document):
     uncited, unknown = [], []
     for sentence in sentences(document.read_text()):
-        cited = CITATION.findall(sentence)
+        cited = CITATION.findall(sentence) + REAL_CITATION.findall(sentence)
         unknown += [name for name in cited if name not in CLAIMS]
         if RANKING.search(sentence) and LEARNER.search(sentence) and not cited and not UNTESTED.search(sentence):
             uncited.append(sentence)
@@ -200,3 +213,41 @@ def test_counts_of_significant_comparisons_are_the_runs(document):
 def test_the_runs_count_of_significant_comparisons_is_said():
     for _, document in RUNS.values():
         assert any(COMPARISONS_COUNTED.search(sentence) for sentence in sentences(document.read_text())), document.name
+
+
+def real_readings() -> dict[str, set[str]]:
+    """claim -> how its verdict on real frames reads beside the synthetic runs, over the real run's
+    pairs (the table real_claims, from the same snapshots)."""
+    record = json.loads(RUNS["real"][0].read_text())
+    synthetic = {
+        column: json.loads((write_tables.RESULTS / name).read_text())
+        for column, name in write_tables.SYNTHETIC_RUNS.items()
+    }
+    claims = {name: claim for name, claim in CLAIMS.items() if "run" not in claim}
+    return {
+        name: {value["reading"] for value in by_pair.values()}
+        for name, by_pair in claims_beside(record, synthetic, claims).items()
+    }
+
+
+@pytest.mark.parametrize("document", DOCUMENTS, ids=lambda path: path.name)
+def test_a_sentence_on_real_frames_says_how_its_claim_reads_there(document):
+    readings = real_readings()
+    wrong = []
+    for sentence in sentences(document.read_text()):
+        for name in REAL_CITATION.findall(sentence):
+            assert name in readings, f"{document.name}: [real: {name}] is not a claim of the default run"
+            said = {reading for reading in READINGS if re.search(rf"\b{reading}\b", sentence, re.IGNORECASE)}
+            if not said & readings[name] or "real" not in sentence.lower():
+                wrong.append(f"{sentence} (on real frames {name} {' / '.join(sorted(readings[name]))})")
+    assert not wrong, f"{document.name}: real-frame verdicts not as table real_claims reads them:\n" + "\n".join(wrong)
+
+
+def test_readings_beside_the_synthetic_runs():
+    assert reading_beside(["better", "no difference", "better"], "better") == "holds"
+    assert reading_beside(["better", "no difference", "no difference"], "worse") == "turns"
+    assert reading_beside(["no difference", "worse", "no difference"], "no difference") == "not shown"
+    assert reading_beside(["no difference"] * 3, "better") == "new"
+    assert reading_beside(["no difference"] * 3, "no difference") == "shown nowhere"
+    assert reading_beside(["better", "better", "better"], "mixed") == "turns"
+    assert reading_beside(["better"] * 3, "not enough queries") == "too few queries"

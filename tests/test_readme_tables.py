@@ -44,7 +44,7 @@ def test_no_results_table_is_typed_in():
 def test_the_snapshots_say_where_they_came_from():
     record = provenance()
     for name, (_, copy, _) in write_tables.TABLES.items():
-        assert (write_tables.RESULTS / copy).is_file()
+        assert (write_tables.RESULTS / copy).exists()
         assert {"commit", "dirty", "command", "cpu"} <= set(record[name])
 
 

@@ -47,10 +47,8 @@ def extract_seasons(
     aligned: frame i of every season is the same place, so the seasons are paired and cut to one
     length and their alignment is measured; otherwise (ground truth from positions or a matrix)
     each season keeps its own frames. positions: where the seasons' positions are; each season's
-    kept places' positions (metres) go to out/<season>_positions.npy. image_list: a file naming
-    the frame files to keep (season_files). stop_threshold: places where a season stands are left
-    out of the alignment's sample (split.stop_threshold; seasonloop.data.alignment).
-    """
+    kept places' positions (metres) go to out/<season>_positions.npy. image_list: the frame files to
+    keep (season_files). stop_threshold: check_alignment's (split.stop_threshold)."""
     fps, height, width = float(extract.fps), int(extract.height), int(extract.width)
     paths = {season: (sources[season]["kind"], Path(sources[season]["path"])) for season in seasons}
     files, pairing, listed_rows = season_files(paths, aligned, image_list)

@@ -153,3 +153,15 @@ def claims_across_routes(
             for pair, value in claim_values(pooled, claim).items()
         }
     return across
+
+
+def claim_value_in(record: Mapping[str, Any], name: str, claim: Mapping[str, str], pair: str) -> dict[str, Any]:
+    """A claim's numbers on one pair as claim_values gives them ({difference, verdict} or {better,
+    worse, of}): of one run's comparisons record, or pooled, of a replicate routes' record."""
+    if "routes" in record:
+        return {
+            key.removeprefix("pooled_"): value
+            for key, value in record["claims"][name][pair].items()
+            if key.startswith("pooled_")
+        }
+    return claim_values(record, claim)[pair]

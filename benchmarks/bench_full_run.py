@@ -4,7 +4,7 @@ stage (seconds and peak memory), resumable across sessions.
     python benchmarks/bench_full_run.py FOLDER [--preset presets/full.yaml] [--capped]
 
 The first call makes FOLDER a copy of this repository as a fresh clone has it (uncommitted changes
-included) with the preset as its params.yaml, committed once, and records the commit it was made
+included) with the preset applied to its params.yaml (python -m seasonloop.preset), committed once, and records the commit it was made
 from; every later call with the same FOLDER goes on where the last one stopped (DVC restarts at the
 first unfinished stage, and benchmarks/_pipeline_run.py keeps the stages timed before), so the
 whole run is one commit's. When `dvc repro` finishes, writes benchmarks/results/bench_full_run.json
@@ -17,7 +17,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import shutil
 import subprocess
 from pathlib import Path
 from typing import Any
@@ -36,6 +35,7 @@ from _bench_common import (
 )
 from _pipeline_run import timed_repro
 from seasonloop.fit_ending import how_fit_ended
+from seasonloop.preset import apply_preset, composed_params
 
 SOURCE = "bench_source.json"  # in FOLDER: the commit it was made from, and each call's machine
 FULL_SCALE_TABLES = (
@@ -54,19 +54,19 @@ def prepare(folder: Path, preset: Path, overrides: dict[str, Any] | None = None)
         raise SystemExit(f"{folder}: exists and holds no {SOURCE}: not a run of this script (choose a new folder)")
     folder.mkdir(parents=True, exist_ok=True)
     copy_repository(folder)
-    params = yaml.safe_load(preset.read_text())
-    for dotted, value in (overrides or {}).items():
-        *parents, key = dotted.split(".")
-        section = params
-        for name in parents:
-            section = section[name]
-        if key not in section:
-            raise SystemExit(f"{preset}: no key {dotted} to override")
-        section[key] = value
     if overrides:
+        params = composed_params(preset.stem, folder / "params.yaml", preset.parent)
+        for dotted, value in overrides.items():
+            *parents, key = dotted.split(".")
+            section = params
+            for name in parents:
+                section = section[name]
+            if key not in section:
+                raise SystemExit(f"{preset}: no key {dotted} to override")
+            section[key] = value
         (folder / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
-    else:
-        shutil.copyfile(preset, folder / "params.yaml")  # the preset as it is, comments included
+    else:  # the preset applied as a user applies it, params.yaml's comments kept
+        apply_preset(preset.stem, folder / "params.yaml", preset.parent)
     record = {
         "made_from": git_state(),
         "preset": str(preset.relative_to(REPO) if preset.is_relative_to(REPO) else preset),

@@ -20,17 +20,17 @@ import json
 from pathlib import Path
 
 import numpy as np
-import yaml
 
 from _bench_common import REPO, RESULTS_DIR, write_result
 from bench_full_run import run
+from seasonloop.preset import composed_params
 
 PRESET = REPO / "presets" / "full.yaml"
 SUPERLINEAR = 1.15  # a slope this far above 1 over an 8x range is more than timing noise
 
 
 def overrides(fraction: float) -> dict[str, int]:
-    params = yaml.safe_load(PRESET.read_text())
+    params = composed_params(PRESET.stem, REPO / "params.yaml", PRESET.parent)
     return {
         "synthetic.seconds": round(params["synthetic"]["seconds"] * fraction),
         "split.section_length": round(params["split"]["section_length"] * fraction),
@@ -78,7 +78,7 @@ def main() -> None:
     parser.add_argument("--fractions", type=float, nargs="+", default=[0.125, 0.25, 0.5])
     parser.add_argument("--capped", action="store_true", help="an AVX2-only CPU's kernels (ISA_CAP)")
     args = parser.parse_args()
-    full_places = yaml.safe_load(PRESET.read_text())["synthetic"]["seconds"]
+    full_places = composed_params(PRESET.stem, REPO / "params.yaml", PRESET.parent)["synthetic"]["seconds"]
     full_path = RESULTS_DIR / "bench_full_run.json"
     if not full_path.is_file():
         raise SystemExit(f"{full_path}: missing; the full size is bench_full_run.py's run (run it first)")

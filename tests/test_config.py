@@ -22,6 +22,7 @@ from seasonloop.models.registry import LEARNERS, get_learner
 from seasonloop.params import learners
 from seasonloop.params import schema as config
 from seasonloop.params.schema import SCHEMA, TOP_LEVEL, check_params, check_whole
+from seasonloop.preset import composed_params
 
 REPO = Path(__file__).resolve().parents[1]
 ALL_KEYS = [*SCHEMA, *TOP_LEVEL]
@@ -32,11 +33,12 @@ def params():
     return yaml.safe_load((REPO / "params.yaml").read_text())
 
 
-@pytest.mark.parametrize(
-    "name", ["params.yaml", *sorted(str(path.relative_to(REPO)) for path in (REPO / "presets").glob("*.yaml"))]
-)
-def test_the_shipped_params_pass(name):
-    check_whole(yaml.safe_load((REPO / name).read_text()))
+@pytest.mark.parametrize("preset", [None, *sorted(path.stem for path in (REPO / "presets").glob("*.yaml"))])
+def test_the_shipped_params_pass(preset):
+    params = REPO / "params.yaml"
+    check_whole(
+        yaml.safe_load(params.read_text()) if preset is None else composed_params(preset, params, REPO / "presets")
+    )
 
 
 def test_every_section_of_params_yaml_has_a_schema(params):

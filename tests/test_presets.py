@@ -1,29 +1,116 @@
-"""The presets are full copies of params.yaml: they must keep exactly its keys."""
+"""Presets are overlays: presets/<name>.yaml holds what differs from params.yaml (or from the
+preset it builds on), and `python -m seasonloop.preset NAME` writes params.yaml with it applied."""
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 import yaml
 
+from seasonloop.preset import composed_params, overlay, preset_changes
+
 REPO = Path(__file__).resolve().parents[1]
+PRESETS = sorted(path.stem for path in (REPO / "presets").glob("*.yaml"))
+# the commit whose presets were full copies of params.yaml (the last before they became overlays)
+FULL_COPIES = "d0eeca7"
 
 
-# season -> value maps: their keys are data, not schema (a preset may name a season params.yaml does not)
-SEASON_MAPS = {"data.video_files", "data.offsets", "synthetic.rides", "split.test_every"}
+def full_copy(name: str) -> dict | None:
+    """presets/<name>.yaml as it was when presets were full copies, or None without that history."""
+    shown = subprocess.run(
+        ["git", "-C", str(REPO), "show", f"{FULL_COPIES}:presets/{name}.yaml"], capture_output=True, text=True
+    )
+    return yaml.safe_load(shown.stdout) if shown.returncode == 0 else None
 
 
-def key_paths(tree: dict, prefix: str = "") -> set[str]:
-    paths = set()
-    for key, value in tree.items():
-        paths.add(prefix + key)
-        if isinstance(value, dict) and prefix + key not in SEASON_MAPS:
-            paths |= key_paths(value, f"{prefix}{key}.")
-    return paths
+@pytest.mark.parametrize("name", PRESETS)
+def test_each_preset_composes_to_the_full_copy_it_replaced(name):
+    before = full_copy(name)
+    if before is None:
+        pytest.skip(f"no git history of {FULL_COPIES} in this clone")
+    composed = composed_params(name, REPO / "params.yaml", REPO / "presets")
+    for section in before:
+        assert composed[section] == before[section], section
+    assert composed.keys() == before.keys()
 
 
-@pytest.mark.parametrize("preset", sorted((REPO / "presets").glob("*.yaml")), ids=lambda p: p.stem)
-def test_preset_has_the_keys_of_params_yaml(preset):
-    params = yaml.safe_load((REPO / "params.yaml").read_text())
-    assert key_paths(yaml.safe_load(preset.read_text())) == key_paths(params)
+@pytest.mark.parametrize("name", PRESETS)
+def test_a_preset_holds_only_what_differs(name):
+    changes = yaml.safe_load((REPO / "presets" / f"{name}.yaml").read_text())
+    base_name = changes.pop("base", None)
+    base = (
+        composed_params(base_name, REPO / "params.yaml", REPO / "presets")
+        if base_name
+        else yaml.safe_load((REPO / "params.yaml").read_text())
+    )
+    same = [
+        f"{section}.{key}"
+        for section, values in changes.items()
+        for key, value in (values.items() if isinstance(values, dict) else [("", values)])
+        if (base[section][key] if key else base[section]) == value
+    ]
+    assert not same, f"presets/{name}.yaml repeats what it builds on: {same}"
+
+
+def test_applying_writes_params_yaml_with_its_comments_and_the_preset_values(tmp_path):
+    params = tmp_path / "params.yaml"
+    params.write_text((REPO / "params.yaml").read_text())
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "seasonloop.preset",
+            "full",
+            "--params",
+            str(params),
+            "--presets",
+            str(REPO / "presets"),
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert result.returncode == 0, result.stderr
+    text = params.read_text()
+    assert text.startswith("# presets/full.yaml applied over this file by `python -m seasonloop.preset full`")
+    assert "  seconds: 35768       # route length; second t of every season is the same place" in text
+    assert yaml.safe_load(text) == composed_params("full", REPO / "params.yaml", REPO / "presets")
+
+
+def test_a_base_is_applied_first_and_a_key_params_yaml_lacks_is_one_line(tmp_path):
+    (tmp_path / "big.yaml").write_text("split:\n  section_length: 3000\n  gap: 20\n")
+    (tmp_path / "bigger.yaml").write_text("base: big\nsplit:\n  gap: 30\nlearners: [pca]\n")
+    assert preset_changes("bigger", tmp_path) == {"split": {"section_length": 3000, "gap": 30}, "learners": ["pca"]}
+    params = {"split": {"section_length": 300, "gap": 10, "test_every": {}}, "learners": ["pca", "ica"]}
+    # a season map is a value: replaced whole
+    assert overlay(params, {"split": {"test_every": {"summer": 10}}})["split"]["test_every"] == {"summer": 10}
+    (tmp_path / "typo.yaml").write_text("split:\n  gapp: 3\n")
+    with pytest.raises(ValueError, match=r"typo.yaml: 'split.gapp' is not a key of params.yaml"):
+        overlay(params, preset_changes("typo", tmp_path), str(tmp_path / "typo.yaml"))
+    with pytest.raises(FileNotFoundError, match="no such preset"):
+        preset_changes("none", tmp_path)
+
+
+def test_a_bad_preset_leaves_params_yaml_as_it_was(tmp_path):
+    params = tmp_path / "params.yaml"
+    params.write_text("split:\n  gap: 10\n")
+    (tmp_path / "presets").mkdir()
+    (tmp_path / "presets" / "bad.yaml").write_text("split:\n  gapp: 3\n")
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "seasonloop.preset",
+            "bad",
+            "--params",
+            str(params),
+            "--presets",
+            str(tmp_path / "presets"),
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert result.returncode == 1 and result.stderr.count("\n") == 1 and "split.gapp" in result.stderr
+    assert params.read_text() == "split:\n  gap: 10\n"

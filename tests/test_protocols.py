@@ -24,6 +24,7 @@ from seasonloop.data.synthetic import render_route
 from seasonloop.evaluation.pair_truths import each_truth
 from seasonloop.params.schema import SEASONS, check_whole
 from seasonloop.params.settings import EvaluateConfig, ExtractConfig, SplitConfig
+from seasonloop.preset import composed_params
 
 REPO = Path(__file__).resolve().parents[1]
 EXTRACT = ExtractConfig(fps=1.0, height=6, width=8, trim_to_shortest=False, max_offset=0)
@@ -180,7 +181,7 @@ def nordland_folders(folder: Path) -> list[int]:
 
 
 def use_preset(root: Path, preset: str, frames: Path) -> None:
-    params = yaml.safe_load((REPO / "presets" / preset).read_text())
+    params = composed_params(preset, REPO / "params.yaml", REPO / "presets")
     params = merge(params, {**PROTOCOL_SIZES, "data": {"frames_dir": str(frames)}})
     (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
 
@@ -189,7 +190,7 @@ def use_preset(root: Path, preset: str, frames: Path) -> None:
 def test_the_vpr_bench_and_patch_netvlad_presets_run_on_nordland_shaped_folders(tmp_path):
     listed = nordland_folders(tmp_path / "nordland")
     root = make_workspace(tmp_path / "repo", {})
-    use_preset(root, "vpr_bench_nordland.yaml", tmp_path / "nordland")
+    use_preset(root, "vpr_bench_nordland", tmp_path / "nordland")
     result = dvc(root, "repro")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     frames = json.loads((root / "data/frames/frames.json").read_text())
@@ -208,7 +209,7 @@ def test_the_vpr_bench_and_patch_netvlad_presets_run_on_nordland_shaped_folders(
     assert not (root / "metrics/eval/pca/winter-summer+seq.json").exists()
 
     # the first run went through the report; this one through the evaluation (the suite's time)
-    use_preset(root, "patchnetvlad_nordland.yaml", tmp_path / "nordland")
+    use_preset(root, "patchnetvlad_nordland", tmp_path / "nordland")
     result = dvc(root, "repro", "evaluate@raw_patchnorm", "evaluate@pca")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     pair = json.loads((root / "metrics/ground_truth.json").read_text())["pairs"]["summer-winter"]

@@ -11,6 +11,7 @@ import yaml
 
 from seasonloop.params.schema import SCHEMA
 from seasonloop.params.settings import SECTIONS, AblationConfig, EvaluateConfig, SplitConfig, _frozen
+from seasonloop.preset import composed_params
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -27,9 +28,10 @@ def test_every_schema_section_has_a_typed_config_with_its_keys():
         assert section.keys() == tuple(SCHEMA[name]), name
 
 
-@pytest.mark.parametrize("name", ["params.yaml", "presets/full.yaml"])
-def test_shipped_params_build_every_section(name):
-    params = yaml.safe_load((REPO / name).read_text())
+@pytest.mark.parametrize("preset", [None, "full"])
+def test_shipped_params_build_every_section(preset):
+    path = REPO / "params.yaml"
+    params = yaml.safe_load(path.read_text()) if preset is None else composed_params(preset, path, REPO / "presets")
     for section in SECTIONS:
         config = section.from_params(params)
         for key in section.keys():  # noqa: SIM118 (Section.keys, not a dict)

@@ -1,10 +1,11 @@
-"""Typed views of params.yaml: one frozen dataclass per section, built once, after checking.
+"""params.yaml's sections, each key declared once: its type and, beside it, its check.
 
-`seasonloop.params.schema` owns the schema (which keys a section has and what each may hold) and names a
-bad key in its error; a dataclass here is what the library receives instead of a raw dict, so a
-typo in a key is caught once, at the edge, and the library's signatures say what they read.
-Field names are the section's keys (tests/test_settings.py keeps both in step); lists become
-tuples so that a config is immutable.
+A section is a frozen dataclass whose fields are the section's keys; `setting(check)` gives a field
+the check its value must pass (seasonloop.params.checks), and SCHEMA, which params.yaml is checked
+with, is read from these fields. A new key is one field here and its value in params.yaml. The
+dataclass is what the library receives instead of a raw dict, so a typo in a key is caught once,
+at the edge, and the library's signatures say what they read; lists become tuples so that a
+config is immutable.
 
     split = SplitConfig.from_params(params)      # checks params["split"], then builds
     make_split(n_places, split, ...)
@@ -13,10 +14,45 @@ tuples so that a config is immutable.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from typing import Any, ClassVar, TypeVar
 
-from seasonloop.params.schema import check_params
+from seasonloop.params.checks import (
+    Check,
+    boolean,
+    integer,
+    list_of,
+    number,
+    one_of,
+    optional_text,
+    pair,
+    record,
+    season_map,
+    seasons,
+    test_fraction,
+    text,
+)
+from seasonloop.params.choices import (
+    CONFIDENCES,
+    CONTRAST_METHODS,
+    DISTANCE_METRICS,
+    GROUND_TRUTHS,
+    LEARNER_SECTIONS,
+    MATCHER_NAMES,
+    MIN_SEQUENCE_WINDOW,
+    POSITION_SOURCES,
+    POSITION_UNITS,
+    RIDE_SCHEMA,
+    SOURCES,
+    WINDOW_RULES,
+)
+from seasonloop.params.seasons import SEASONS
+
+
+def setting(check: Check) -> Any:
+    """A section field whose value must pass `check` (read into SCHEMA)."""
+    return field(metadata={"check": check})
+
 
 SectionT = TypeVar("SectionT", bound="Section")
 
@@ -40,6 +76,8 @@ class Section:
     def from_params(cls: type[SectionT], params: Mapping[str, Any]) -> SectionT:
         """Check section `NAME` of `params` against the schema (a bad key raises a ValueError that
         names it), then build the dataclass from it."""
+        from seasonloop.params.schema import check_params  # which reads SCHEMA from this module
+
         check_params(params, [cls.NAME])
         section = params[cls.NAME]
         return cls(**{field.name: _frozen(section[field.name]) for field in fields(cls)})
@@ -52,153 +90,163 @@ class Section:
 @dataclass(frozen=True)
 class DataConfig(Section):
     NAME = "data"
-    source: str
-    seasons: tuple[str, ...]
-    videos_dir: str
-    video_files: dict[str, str]
-    frames_dir: str
-    frame_step: int
-    offsets: dict[str, int]
-    ground_truth: str
-    positions_dir: str
-    position_source: str
-    position_columns: tuple[str, ...]
-    position_units: str
-    position_key: str
-    ground_truth_dir: str
-    image_list: str
+    source: str = setting(one_of(*SOURCES))
+    seasons: tuple[str, ...] = setting(seasons)
+    videos_dir: str = setting(text)
+    video_files: dict[str, str] = setting(season_map(text))
+    frames_dir: str = setting(text)
+    frame_step: int = setting(integer(1))
+    offsets: dict[str, int] = setting(season_map(integer(0)))
+    # what makes a match correct (seasonloop.evaluation.ground_truth)
+    ground_truth: str = setting(one_of(*GROUND_TRUTHS))
+    positions_dir: str = setting(text)
+    position_source: str = setting(one_of(*POSITION_SOURCES))
+    position_columns: tuple[str, ...] = setting(list_of(text))
+    position_units: str = setting(one_of(*POSITION_UNITS))
+    position_key: str = setting(optional_text)
+    ground_truth_dir: str = setting(text)
+    # a file in frames_dir naming the images to keep (cleanImageNames.txt); "": every image
+    image_list: str = setting(optional_text)
 
 
 @dataclass(frozen=True)
 class SyntheticConfig(Section):
     NAME = "synthetic"
-    seconds: int
-    fps: int
-    width: int
-    height: int
-    seed: int
+    seconds: int = setting(integer(10))
+    fps: int = setting(integer(1))
+    width: int = setting(integer(16))
+    height: int = setting(integer(16))
+    seed: int = setting(integer(0))
     # the route's difficulty knobs: seasonloop.data.synthetic.RouteDifficulty has the same fields
-    cruise_speed: float
-    brake_time: float
-    tunnel_every_s: float
-    tunnel_min_s: int
-    tunnel_max_s: int
-    stop_every_s: float
-    stop_min_s: int
-    stop_max_s: int
-    event_gap_s: int
-    edge_margin_s: int
-    winter_contrast: float
-    winter_shading: float
+    # difficulty knobs (seasonloop.data.synthetic.RouteDifficulty); the speed swings by up to
+    # 9.5 m/s around the cruise speed, so at 10 m/s and more the train never runs backwards
+    cruise_speed: float = setting(number(10, 70))
+    brake_time: float = setting(number(1, 120))
+    tunnel_every_s: float = setting(number(0, None, low_open=True))
+    tunnel_min_s: int = setting(integer(1))
+    tunnel_max_s: int = setting(integer(1))
+    stop_every_s: float = setting(number(0, None, low_open=True))
+    stop_min_s: int = setting(integer(1))
+    stop_max_s: int = setting(integer(1))
+    event_gap_s: int = setting(integer(0))
+    edge_margin_s: int = setting(integer(0))
+    winter_contrast: float = setting(number(0, 2, low_open=True))
+    winter_shading: float = setting(number(0, 2))
     # season -> some of SeasonRide's fields: that season's own ride (absent: the reference ride)
-    rides: dict[str, dict[str, float]]
+    rides: dict[str, dict[str, float]] = setting(season_map(record(RIDE_SCHEMA), allowed=SEASONS))
 
 
 @dataclass(frozen=True)
 class ExtractConfig(Section):
     NAME = "extract"
-    fps: float
-    height: int
-    width: int
-    trim_to_shortest: bool
-    max_offset: int
+    fps: float = setting(number(0, None, low_open=True))
+    height: int = setting(integer(8))
+    width: int = setting(integer(8))
+    trim_to_shortest: bool = setting(boolean)
+    max_offset: int = setting(integer(0))
 
 
 @dataclass(frozen=True)
 class PreprocessConfig(Section):
     NAME = "preprocess"
-    height: int
-    width: int
-    contrast: str
-    clahe_clip: float
-    clahe_grid: int
+    height: int = setting(integer(4))
+    width: int = setting(integer(4))
+    contrast: str = setting(one_of(*CONTRAST_METHODS))
+    clahe_clip: float = setting(number(0, None, low_open=True))
+    clahe_grid: int = setting(integer(1))
 
 
 @dataclass(frozen=True)
 class SplitConfig(Section):
     NAME = "split"
-    section_length: int
-    test_fraction: float
-    gap: int
-    dark_threshold: float
-    stop_threshold: float
-    test_every: dict[str, int]
+    section_length: int = setting(integer(3))
+    # more test than training places per section is no longer a training split; 1: the whole
+    # route is tested (a protocol's), the learners train on other seasons (check_whole_route)
+    test_fraction: float = setting(test_fraction)
+    gap: int = setting(integer(0))
+    dark_threshold: float = setting(number(0, 255))
+    stop_threshold: float = setting(number(0))
+    test_every: dict[str, int] = setting(season_map(integer(1)))
 
 
 @dataclass(frozen=True)
 class AugmentConfig(Section):
     NAME = "augment"
-    copies: int
-    horizontal_flip: bool
-    width_shift: float
-    height_shift: float
-    seed: int
+    copies: int = setting(integer(0))
+    horizontal_flip: bool = setting(boolean)
+    width_shift: float = setting(number(0, 1, high_open=True))
+    height_shift: float = setting(number(0, 1, high_open=True))
+    seed: int = setting(integer(0))
 
 
 @dataclass(frozen=True)
 class TrainConfig(Section):
     NAME = "train"
-    seasons: tuple[str, ...]
-    augmented: bool
+    seasons: tuple[str, ...] = setting(seasons)
+    augmented: bool = setting(boolean)
 
 
 @dataclass(frozen=True)
 class FeaturesConfig(Section):
     NAME = "features"
-    batch_size: int
+    batch_size: int = setting(integer(1))
 
 
 @dataclass(frozen=True)
 class EvaluateConfig(Section):
     NAME = "evaluate"
-    pairs: tuple[str, ...]
-    metric: str
-    extra_metrics: tuple[str, ...]
-    confidence: str
-    ratio_exclusion: int
-    tolerance_frames: int
-    tolerance_m: float
-    matchers: tuple[str, ...]
+    pairs: tuple[str, ...] = setting(list_of(pair))
+    metric: str = setting(one_of(*DISTANCE_METRICS))
+    extra_metrics: tuple[str, ...] = setting(list_of(one_of(*DISTANCE_METRICS), non_empty=False))
+    confidence: str = setting(one_of(*CONFIDENCES))
+    ratio_exclusion: int = setting(integer(0))
+    tolerance_frames: int = setting(integer(0))
+    tolerance_m: float = setting(number(0))
+    matchers: tuple[str, ...] = setting(list_of(one_of(*MATCHER_NAMES)))
 
 
 @dataclass(frozen=True)
 class StatisticsConfig(Section):
     NAME = "statistics"
-    level: float  # of every interval
-    degrees_scale: float  # a route of n queries has floor(degrees_scale * n^(2/3)) degrees of freedom
-    alpha: float  # of the paired tests, after Holm's correction
+    level: float = setting(number(0, 1, low_open=True, high_open=True))  # of every interval
+    degrees_scale: float = setting(
+        number(0, None, low_open=True)
+    )  # a route of n queries has floor(degrees_scale * n^(2/3)) degrees of freedom
+    alpha: float = setting(number(0, 1, low_open=True, high_open=True))  # of the paired tests, after Holm's correction
 
 
 @dataclass(frozen=True)
 class SequenceConfig(Section):
     NAME = "sequence"
-    length: int
-    v_min: float
-    v_max: float
-    v_steps: int
-    window: int
-    window_at_breaks: str
+    length: int = setting(integer(1))
+    v_min: float = setting(number(0, None, low_open=True))
+    v_max: float = setting(number(0, None, low_open=True))
+    v_steps: int = setting(integer(1))
+    # one source for the range: seasonloop.evaluation.sequence checks the same constant
+    window: int = setting(integer(MIN_SEQUENCE_WINDOW))
+    window_at_breaks: str = setting(one_of(*WINDOW_RULES))
 
 
 @dataclass(frozen=True)
 class AblationConfig(Section):
     NAME = "ablation"
-    methods: tuple[str, ...]
-    pair: str
-    training_seasons: tuple[tuple[str, ...], ...]
+    methods: tuple[str, ...] = setting(list_of(one_of(*LEARNER_SECTIONS)))
+    pair: str = setting(pair)
+    training_seasons: tuple[tuple[str, ...], ...] = setting(list_of(seasons))
 
 
 @dataclass(frozen=True)
 class CaeWidthsConfig(Section):
     NAME = "cae_widths"
-    widths: tuple[float, ...]
-    pairs: tuple[str, ...]
+    # fractions of Table 5's channels [96, 256, 384] (seasonloop.ablations.cae_widths); [] skips the sweep
+    widths: tuple[float, ...] = setting(list_of(number(0, 1, low_open=True), non_empty=False))
+    pairs: tuple[str, ...] = setting(list_of(pair))
 
 
 @dataclass(frozen=True)
 class ReportConfig(Section):
     NAME = "report"
-    example_pair: str
+    example_pair: str = setting(pair)
 
 
 SECTIONS: tuple[type[Section], ...] = (
@@ -217,3 +265,9 @@ SECTIONS: tuple[type[Section], ...] = (
     CaeWidthsConfig,
     ReportConfig,
 )
+
+
+# every section's keys and checks, read from the dataclasses above
+SCHEMA: dict[str, dict[str, Check]] = {
+    section.NAME: {entry.name: entry.metadata["check"] for entry in fields(section)} for section in SECTIONS
+}

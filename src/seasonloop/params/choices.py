@@ -1,0 +1,40 @@
+"""The names and ranges params.yaml's choices may take, for the section declarations
+(seasonloop.params.settings) and the library code that must agree with them."""
+
+from __future__ import annotations
+
+from seasonloop.params.checks import Check, number
+from seasonloop.params.learners import LEARNER_SCHEMA
+
+# The names in the library's registries (README: where they are), repeated so that checking params
+# imports no heavy library; tests/test_config.py keeps each equal to its registry, in order.
+DISTANCE_METRICS = ("cosine", "euclidean", "cityblock")
+CONFIDENCES = ("distance", "ratio")
+MATCHER_NAMES = ("single", "sequence")
+CONTRAST_METHODS = ("clahe", "equalize", "none")
+SOURCES = ("synthetic", "videos", "frames")
+GROUND_TRUTHS = ("aligned", "positions", "matrix", "vpr_bench")
+# where positions come from: <positions_dir>/<season>.csv, or each image's name (gmberton's
+# '@<utm_east>@<utm_north>@...' layout)
+POSITION_SOURCES = ("csv", "image_names")
+POSITION_UNITS = ("metres", "degrees")
+# the learner sections: their keys and checks are in seasonloop.params.learners
+LEARNER_SECTIONS = tuple(LEARNER_SCHEMA)
+
+# SeqSLAM's contrast-enhancement window spans at least 2 database columns
+MIN_SEQUENCE_WINDOW = 2
+# How SeqSLAM's contrast-enhancement window meets a break in the database's place ids
+# (seasonloop.evaluation.sequence.enhancement_windows):
+#   ignore: as OpenSeqSLAM, breaks are not looked at; windows are clipped at the database's ends only
+#   shift:  a window of fixed size shifted to lie inside the column's segment (the whole segment when shorter)
+#   clip:   clipped at the segment's ends (a 2-place segment then always enhances to +-1)
+WINDOW_RULES = ("ignore", "shift", "clip")
+
+# synthetic.rides.<season>: seasonloop.data.synthetic.SeasonRide's fields and ranges, each optional
+# (tests/test_synthetic_rides.py keeps them in step)
+RIDE_SCHEMA: dict[str, Check] = {
+    "speed": number(0.2, 5, low_open=True),
+    "stop_scale": number(0, 10, low_open=True),
+    "start_s": number(0),  # and at most synthetic.seconds - RIDE_ROUTE_LEFT_S (seasonloop.params.section_checks)
+    "swing": number(0, 0.9, high_open=True),
+}

@@ -35,8 +35,8 @@ TOLERANCE = 7  # Patch-NetVLAD's radius of 10 on (i, i) coordinates
 
 def child(n_queries: int, n_database: int, dim: int, matcher: str, path: str, metric: str) -> dict:
     """One evaluation in this process: its wall seconds, peak resident memory and metrics."""
+    from seasonloop.data.ground_truth import aligned_truth
     from seasonloop.evaluation.blocks import evaluate_in_blocks, pair_distances
-    from seasonloop.evaluation.ground_truth import aligned_truth
     from seasonloop.evaluation.matchers import match_distances
     from seasonloop.evaluation.matching import distance_matrix
     from seasonloop.params.settings import EvaluateConfig, SequenceConfig

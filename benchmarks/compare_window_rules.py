@@ -24,10 +24,9 @@ import numpy as np
 import yaml
 
 from _bench_common import machine, write_result
-from seasonloop.evaluation.ground_truth import PairTruth
+from seasonloop.data.ground_truth import PairTruth, truth_file
 from seasonloop.evaluation.matchers import match_distances
 from seasonloop.evaluation.matching import distance_matrix
-from seasonloop.evaluation.pair_truths import truth_file
 from seasonloop.io import load_array
 from seasonloop.params.schema import WINDOW_RULES, available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig

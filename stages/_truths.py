@@ -1,5 +1,5 @@
 """The pipeline's ground truth, for the stages that evaluate: binds the ground_truth stage's folder
-to seasonloop.evaluation.ground_truth (kept apart from _datasets.py so that the stages which fit
+to seasonloop.data.ground_truth (kept apart from _datasets.py so that the stages which fit
 and describe do not depend on evaluation code)."""
 
 from __future__ import annotations
@@ -8,8 +8,7 @@ from collections.abc import Iterable, Iterator, Mapping
 from itertools import permutations
 from pathlib import Path
 
-from seasonloop.evaluation.ground_truth import PairTruth
-from seasonloop.evaluation.pair_truths import truth_file
+from seasonloop.data.ground_truth import PairTruth, truth_file
 
 TRUTHS = Path("data/ground_truth")
 

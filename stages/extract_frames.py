@@ -20,6 +20,7 @@ from pathlib import Path
 from _common import data_seasons, load_params, param, stage_main
 from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
 from seasonloop.data.positions import RENDERED, PositionFiles
+from seasonloop.data.truth_kinds import truth_kind
 from seasonloop.io import read_json, staged_dir, write_json
 from seasonloop.params.settings import DataConfig, ExtractConfig
 from seasonloop.plots import plot_image_grid
@@ -37,8 +38,9 @@ def main() -> None:
     sources = read_json(SOURCES)["seasons"]
     check_sources(sources, seasons, SOURCES)
     extract, data = ExtractConfig.from_params(params), DataConfig.from_params(params)
+    kind = truth_kind(data.ground_truth)
     positions = None
-    if data.ground_truth == "positions":
+    if kind.reads_positions:
         positions = (
             PositionFiles(SOURCES.parent / RENDERED.folder, RENDERED.columns, RENDERED.units, RENDERED.key)
             if data.source == "synthetic"
@@ -58,7 +60,7 @@ def main() -> None:
             int(data.frame_step),
             dict(data.offsets),
             out,
-            aligned=data.ground_truth == "aligned",
+            aligned=kind.aligned,
             positions=positions,
             image_list=Path(data.frames_dir) / data.image_list if data.image_list else None,
             stop_threshold=float(param(params, "split.stop_threshold")),

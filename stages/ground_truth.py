@@ -1,6 +1,6 @@
 """Stage ground_truth: which database places are correct for each query, for every season pair.
 
-Writes data/ground_truth/<database>-<query>.npz (seasonloop.evaluation.ground_truth.PairTruth) for
+Writes data/ground_truth/<database>-<query>.npz (seasonloop.data.ground_truth.PairTruth) for
 every ordered pair of data.seasons and metrics/ground_truth.json (kind, tolerance, queries without
 any correct database place). data.ground_truth says how: aligned frame indices
 (evaluate.tolerance_frames), positions (evaluate.tolerance_m) or a matrix given with the data.
@@ -13,7 +13,8 @@ from pathlib import Path
 from _common import data_seasons, load_params, param, stage_main
 from _datasets import SPLIT
 from seasonloop.data.datasets import read_split
-from seasonloop.evaluation.pair_truths import each_truth, pair_record, truth_file, truth_record
+from seasonloop.data.ground_truth import truth_file
+from seasonloop.evaluation.pair_truths import each_truth, pair_record, truth_record
 from seasonloop.io import staged_dir, write_json
 from seasonloop.params.settings import EvaluateConfig
 

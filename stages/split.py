@@ -17,33 +17,16 @@ import numpy as np
 from _common import data_seasons, load_params, param, stage_main
 from _datasets import SPLIT
 from seasonloop.data.layout import RouteLayout
-from seasonloop.data.season_split import by_matrix, by_position, split_seasons
+from seasonloop.data.season_split import split_seasons
 from seasonloop.data.split import detection_record, place_seconds, split_route, write_split_sets
-from seasonloop.data.truth_matrix import matrix_between
-from seasonloop.io import load_array, read_json, staged_dir, write_json
+from seasonloop.data.truth_kinds import truth_kind
+from seasonloop.io import read_json, staged_dir, write_json
 from seasonloop.params.settings import SplitConfig
 
 PREPROCESSED = Path("data/preprocessed")
 FRAMES = Path("data/frames")
 LAYOUT = Path("data/acquired/layout.json")
 DETECTION = Path("metrics/detection.json")
-
-
-def reference_places(
-    kind: str, seasons: list[str], counts: dict[str, int], truth_dir: Path, tolerance_m: float
-) -> dict[str, np.ndarray]:
-    """season -> the first season's place for each of its frames (-1: none), by position (within
-    tolerance_m) or by matrix."""
-    if kind == "positions":
-        positions = {season: load_array(FRAMES / f"{season}_positions.npy") for season in seasons}
-        return by_position(positions, seasons[0], tolerance_m)
-    first = seasons[0]
-    mapped = {first: np.arange(counts[first])}
-    vpr_bench = (seasons[0], seasons[1]) if kind == "vpr_bench" else None
-    for season in seasons[1:]:
-        matrix = matrix_between(truth_dir, first, season, counts[first], counts[season], vpr_bench)
-        mapped[season] = by_matrix(matrix, f"{first}-{season}")
-    return mapped
 
 
 @stage_main
@@ -61,9 +44,9 @@ def main() -> None:
     seasons = data_seasons(params)
     stats = np.load(PREPROCESSED / "stats.npz")
     config = SplitConfig.from_params(params)
-    kind = param(params, "data.ground_truth")
+    kind = truth_kind(param(params, "data.ground_truth"))
     detection = {}
-    if kind == "aligned":
+    if kind.aligned:
         split, tunnel, stop = split_route(stats, seasons, config)
         if param(params, "data.source") == "synthetic" and LAYOUT.is_file():
             # the renderer knows where its tunnels and stops are: score the image-based detection
@@ -75,7 +58,7 @@ def main() -> None:
     else:
         counts = {season: len(stats[f"{season}_brightness"]) for season in seasons}
         truth_dir = Path(param(params, "data.ground_truth_dir"))
-        mapped = reference_places(kind, seasons, counts, truth_dir, float(param(params, "evaluate.tolerance_m")))
+        mapped = kind.reference_places(seasons, counts, FRAMES, truth_dir, float(param(params, "evaluate.tolerance_m")))
         split = split_seasons(stats, seasons, config, mapped)
     with staged_dir(SPLIT) as out:
         write_split_sets(PREPROCESSED, out, seasons, split)

@@ -11,7 +11,7 @@ from seasonloop.ablations.training_seasons import (
     write_ablation,
     write_learner_record,
 )
-from seasonloop.evaluation.ground_truth import aligned_truth
+from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 
 STUDY_SETS = [["summer"], ["summer", "winter"], ["summer", "winter", "spring"], ["summer", "winter", "spring", "fall"]]

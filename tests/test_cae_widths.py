@@ -17,7 +17,7 @@ from seasonloop.ablations.cae_widths import (
     write_skipped_sweep,
     write_width_sweep,
 )
-from seasonloop.evaluation.ground_truth import aligned_truth
+from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.raw_patchnorm import RawPatchNorm
 from seasonloop.params.schema import check_whole

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import yaml
 
-from seasonloop.evaluation.ground_truth import aligned_truth
+from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.evaluation.matchers import (
     MATCHER_REGISTRY,
     MATCHERS,

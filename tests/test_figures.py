@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.data.patchnorm import patch_normalise
-from seasonloop.evaluation.ground_truth import aligned_truth
 from seasonloop.models.registry import get_learner
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.reporting.figures import AE_DESCRIPTORS, autoencoder_descriptors, draw_figures

@@ -7,6 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from seasonloop.data.ground_truth import PairTruth, aligned_truth, matrix_truth, position_truth
 from seasonloop.data.positions import (
     PositionFiles,
     at_times,
@@ -17,7 +18,6 @@ from seasonloop.data.positions import (
 )
 from seasonloop.data.season_split import by_matrix, by_position, distance_to_track, split_seasons
 from seasonloop.data.truth_matrix import matrix_between, read_matrix
-from seasonloop.evaluation.ground_truth import PairTruth, aligned_truth, matrix_truth, position_truth
 from seasonloop.evaluation.metrics import evaluate_pair, evaluate_truth, pr_curve, truth_matches
 from seasonloop.models.core.learner import PlaceRows
 from seasonloop.models.precomputed import PrecomputedDescriptors
@@ -195,11 +195,16 @@ def test_precomputed_descriptors_are_looked_up_by_place(tmp_path):
 
 
 def test_the_schema_knows_every_kind_of_ground_truth():
-    from seasonloop.evaluation.ground_truth import KINDS
+    from seasonloop.data.ground_truth import KINDS
+    from seasonloop.data.truth_kinds import TRUTH_KINDS, truth_kind
     from seasonloop.params.schema import GROUND_TRUTHS
 
-    # every kind of truth has a params value; vpr_bench is a matrix truth read from VPR-Bench's file
+    # the params' list is the registry's, in its order; vpr_bench builds matrix truths from VPR-Bench's file
+    assert tuple(TRUTH_KINDS) == GROUND_TRUTHS
     assert set(GROUND_TRUTHS) == {*KINDS, "vpr_bench"}
+    assert [kind.name for kind in TRUTH_KINDS.values() if kind.aligned] == ["aligned"]
+    with pytest.raises(ValueError, match="data.ground_truth: unknown kind 'gps'"):
+        truth_kind("gps")
 
 
 def test_recall_at_n_leaves_out_queries_without_a_correct_place():

@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 from test_results import fake_intervals
 
-from seasonloop.evaluation.ground_truth import aligned_truth
+from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.plots import plot_image_grid
 from seasonloop.reporting.report import (
     Image,

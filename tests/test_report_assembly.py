@@ -11,7 +11,7 @@ import pytest
 # the fake metrics/eval folder of test_results
 from test_results import METHODS, PAIRS, VARIANTS, write_evaluations
 
-from seasonloop.evaluation.ground_truth import aligned_truth
+from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.io import save_array, write_json
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.plots import plot_image_grid

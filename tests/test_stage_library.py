@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 
 from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
-from seasonloop.evaluation.ground_truth import aligned_truth
+from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.evaluation.pair_evaluation import evaluate_learner
 from seasonloop.params.settings import EvaluateConfig, ExtractConfig, SequenceConfig, StatisticsConfig
 

@@ -26,8 +26,8 @@ from typing import Any
 
 import numpy as np
 
+from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.blocks import best_columns
-from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.io import staged_file, write_json
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.plots import percent_bands, plot_message, plot_series

@@ -29,8 +29,8 @@ from typing import Any
 
 import numpy as np
 
+from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.blocks import evaluate_descriptors
-from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matchers import result_suffix
 from seasonloop.fit_ending import how_fit_ended
 from seasonloop.io import read_json, write_json

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from seasonloop.evaluation.ground_truth import PairTruth
+from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.matchers import get_matcher, row_blocks
 from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.metrics import summarise_records

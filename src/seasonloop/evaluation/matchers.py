@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from seasonloop.evaluation.ground_truth import PairTruth
+from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_truth
 from seasonloop.evaluation.sequence import sequence_distance_blocks

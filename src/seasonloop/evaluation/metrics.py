@@ -1,7 +1,7 @@
 """Place-recognition metrics: correct matches, the study's PR curve, recall@N, per-pair summary.
 
 Which database places are correct for a query is the pair's ground truth
-(seasonloop.evaluation.ground_truth.PairTruth: aligned frame indices, positions or a matrix);
+(seasonloop.data.ground_truth.PairTruth: aligned frame indices, positions or a matrix);
 evaluate_pair is the aligned shorthand (frame i of every season is the same place). The place ids
 of a test pair need not be contiguous because test sets drop tunnel and station frames.
 """
@@ -13,7 +13,7 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 
-from seasonloop.evaluation.ground_truth import PairTruth, aligned_truth
+from seasonloop.data.ground_truth import PairTruth, aligned_truth
 from seasonloop.evaluation.records import RECALL_NS, QueryRecords, block_records, final_confidence, nearest_hits
 
 METRIC_KEYS = (

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from seasonloop.evaluation.ground_truth import PairTruth
+from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.records import QueryRecords, final_confidence
 
 COLUMNS = ("query_place", "correct", "confidence", "has_match", "hit_at_1")

@@ -16,11 +16,10 @@ from typing import Any
 
 import numpy as np
 
+from seasonloop.data.ground_truth import PairTruth, truth_file
 from seasonloop.evaluation.blocks import evaluate_in_blocks, pair_distances
-from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.evaluation.outcomes import QueryOutcomes
-from seasonloop.evaluation.pair_truths import truth_file
 from seasonloop.io import load_array, save_array, write_json
 from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig

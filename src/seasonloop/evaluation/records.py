@@ -16,7 +16,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from seasonloop.evaluation.ground_truth import PairTruth
+from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.matching import best_matches
 
 # recall@N is reported for these N; a record keeps the hits among the max(RECALL_NS) nearest

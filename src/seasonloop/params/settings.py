@@ -97,7 +97,7 @@ class DataConfig(Section):
     frames_dir: str = setting(text)
     frame_step: int = setting(integer(1))
     offsets: dict[str, int] = setting(season_map(integer(0)))
-    # what makes a match correct (seasonloop.evaluation.ground_truth)
+    # what makes a match correct (seasonloop.data.ground_truth)
     ground_truth: str = setting(one_of(*GROUND_TRUTHS))
     positions_dir: str = setting(text)
     position_source: str = setting(one_of(*POSITION_SOURCES))

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
+from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.blocks import EVALUATION_ROWS_PER_BLOCK, pair_distances
-from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.evaluation.matchers import row_blocks
 from seasonloop.evaluation.metrics import truth_matches
 from seasonloop.evaluation.records import QueryRecords, block_records, final_confidence

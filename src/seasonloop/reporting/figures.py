@@ -15,8 +15,8 @@ from typing import Any
 
 import numpy as np
 
+from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.blocks import PairEvaluation, evaluate_descriptors
-from seasonloop.evaluation.ground_truth import PairTruth
 from seasonloop.models.registry import load_learner
 from seasonloop.params.learners import AE_DESCRIPTORS
 from seasonloop.params.schema import pair_name

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from seasonloop.evaluation.ground_truth import PairTruth
+from seasonloop.data.ground_truth import PairTruth
 from seasonloop.io import read_json
 from seasonloop.params.schema import pair_name
 from seasonloop.params.settings import EvaluateConfig

@@ -22,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+from seasonloop.params.seasons import pair_name
+
 KINDS = ("aligned", "positions", "matrix")
 # query rows whose (rows, M) distances to the database are held at once while a truth is built
 TRUTH_ROWS_PER_BLOCK = 1024
@@ -186,3 +188,8 @@ def matrix_truth(
         ignored = np.asarray(soft)[np.ix_(database_places, query_places)].T.astype(bool) & ~correct
     first = np.where(correct.any(axis=1), correct.argmax(axis=1), -1).astype(np.int64)
     return PairTruth("matrix", database_places, query_places, correct, first, ignored)
+
+
+def truth_file(folder: Path, database: str, query: str) -> Path:
+    """Where the ground_truth stage writes the truth of (database, query) (PairTruth.save)."""
+    return Path(folder) / f"{pair_name(database, query)}.npz"

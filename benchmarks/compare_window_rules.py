@@ -28,7 +28,8 @@ from seasonloop.data.ground_truth import PairTruth, truth_file
 from seasonloop.evaluation.matchers import match_distances
 from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.io import load_array
-from seasonloop.params.schema import WINDOW_RULES, available_pairs, pair_name
+from seasonloop.params.choices import WINDOW_RULES
+from seasonloop.params.seasons import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
 BASELINE = "clip"

@@ -34,7 +34,7 @@ from tqdm import tqdm
 
 from _bench_common import REPO, git_state, machine, write_result
 from seasonloop.evaluation.matchers import evaluations
-from seasonloop.params.schema import available_pairs, pair_name
+from seasonloop.params.seasons import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.reporting.replicates import (
     claims_across_routes,

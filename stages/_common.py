@@ -14,7 +14,8 @@ from typing import Any
 
 import yaml
 
-from seasonloop.params.schema import check_params, check_seasons, check_whole
+from seasonloop.params.schema import check_params, check_whole
+from seasonloop.params.seasons import check_seasons
 
 PARAMS_FILE = Path("params.yaml")
 

@@ -22,7 +22,7 @@ from _datasets import test_images, training_images, training_places
 from seasonloop.ablations.cae_widths import run_width_sweep, width_channels, write_skipped_sweep, write_width_sweep
 from seasonloop.models.raw_patchnorm import RawPatchNorm
 from seasonloop.models.registry import load_learner
-from seasonloop.params.schema import available_pairs
+from seasonloop.params.seasons import available_pairs
 from seasonloop.params.settings import CaeWidthsConfig, EvaluateConfig, FeaturesConfig, SequenceConfig, StatisticsConfig
 
 if TYPE_CHECKING:

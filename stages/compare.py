@@ -16,7 +16,7 @@ from pathlib import Path
 from _common import data_seasons, load_params, param, stage_main
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.io import staged_file, write_json
-from seasonloop.params.schema import available_pairs, pair_name
+from seasonloop.params.seasons import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.reporting.comparisons import comparisons_markdown, run_comparisons
 

@@ -20,7 +20,7 @@ from _truths import all_pair_truths
 from _common import data_seasons, load_params, param, stage_main
 from _datasets import test_images
 from seasonloop.io import staged_dir, write_json
-from seasonloop.params.schema import available_pairs
+from seasonloop.params.seasons import available_pairs
 from seasonloop.params.settings import EvaluateConfig, FeaturesConfig, SequenceConfig, StatisticsConfig
 from seasonloop.reporting.figures import draw_figures
 

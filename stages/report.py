@@ -15,7 +15,7 @@ from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main
 from _datasets import test_images
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.io import staged_file
-from seasonloop.params.schema import available_pairs, pair_name, pair_present
+from seasonloop.params.seasons import available_pairs, pair_name, pair_present
 from seasonloop.params.settings import AblationConfig, EvaluateConfig, ReportConfig
 from seasonloop.reporting.report import ReportFiles, study_report
 from seasonloop.reporting.results import load_evaluations

@@ -34,7 +34,7 @@ from pathlib import Path
 from _common import data_seasons, load_params, param, stage_main
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.io import staged_dir, write_json
-from seasonloop.params.schema import available_pairs, pair_name
+from seasonloop.params.seasons import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.reporting.dvcplots import training_curves
 from seasonloop.reporting.results import autoencoder_training, load_evaluations, load_runtime

@@ -21,7 +21,7 @@ from _common import data_seasons, load_params, param, stage_main, train_seasons
 from _datasets import test_images, training_images, training_places
 from seasonloop.ablations.training_seasons import plan_ablation, reusable_label, run_ablation, write_learner_record
 from seasonloop.models.registry import get_learner
-from seasonloop.params.schema import available_pairs
+from seasonloop.params.seasons import available_pairs
 from seasonloop.params.settings import AblationConfig, EvaluateConfig, SequenceConfig, StatisticsConfig
 
 RECORDS = Path("metrics/training_seasons")

@@ -19,9 +19,9 @@ from seasonloop.models.core.torch_ica import WHITEN_SOLVERS
 from seasonloop.models.fae import ACTIVATIONS
 from seasonloop.models.ica import ICA_SOLVERS
 from seasonloop.models.registry import LEARNERS, get_learner
-from seasonloop.params import learners
-from seasonloop.params import schema as config
-from seasonloop.params.schema import SCHEMA, TOP_LEVEL, check_params, check_whole
+from seasonloop.params import choices, learners
+from seasonloop.params.schema import TOP_LEVEL, check_params, check_whole
+from seasonloop.params.settings import SCHEMA
 from seasonloop.preset import composed_params
 
 REPO = Path(__file__).resolve().parents[1]
@@ -44,7 +44,7 @@ def test_the_shipped_params_pass(preset):
 def test_every_section_of_params_yaml_has_a_schema(params):
     # a section nobody checks would accept typos silently
     for name in params:
-        assert name in SCHEMA or name in TOP_LEVEL or name in config.LEARNER_SECTIONS, name
+        assert name in SCHEMA or name in TOP_LEVEL or name in choices.LEARNER_SECTIONS, name
     for name, section in SCHEMA.items():
         assert set(params[name]) == set(section), name
 
@@ -144,12 +144,12 @@ def test_only_the_keys_asked_for_are_checked(params):
 def test_choices_match_the_library():
     # the schema repeats the registries' names so that config.py imports no heavy module (torch,
     # cv2): this test is what keeps the two one list, in the same order (the order of "known: ...")
-    assert config.DISTANCE_METRICS == tuple(matching.DISTANCES) == matching.METRICS
-    assert tuple(matching.CONFIDENCES) == config.CONFIDENCES
-    assert config.CONTRAST_METHODS == tuple(preprocess.CONTRASTS) == preprocess.CONTRAST_METHODS
-    assert config.MATCHER_NAMES == tuple(MATCHER_REGISTRY) == tuple(MATCHERS)
-    assert tuple(sources.SOURCES) == config.SOURCES
-    assert set(config.LEARNER_SECTIONS) == set(LEARNERS)
+    assert choices.DISTANCE_METRICS == tuple(matching.DISTANCES) == matching.METRICS
+    assert tuple(matching.CONFIDENCES) == choices.CONFIDENCES
+    assert choices.CONTRAST_METHODS == tuple(preprocess.CONTRASTS) == preprocess.CONTRAST_METHODS
+    assert choices.MATCHER_NAMES == tuple(MATCHER_REGISTRY) == tuple(MATCHERS)
+    assert tuple(sources.SOURCES) == choices.SOURCES
+    assert set(choices.LEARNER_SECTIONS) == set(LEARNERS)
 
 
 def test_config_imports_no_heavy_module():
@@ -162,14 +162,14 @@ def test_config_imports_no_heavy_module():
 def test_the_whole_file_is_checked_before_any_stage_works():
     # a typo in a section the first stages never read still stops them (stages/_common.load_params)
     params = yaml.safe_load((REPO / "params.yaml").read_text())
-    config.check_whole(params)
+    check_whole(params)
     params["evaluate"]["metirc"] = params["evaluate"].pop("metric")
     with pytest.raises(ValueError, match=r"^evaluate.metirc: unknown key"):
-        config.check_whole(params)
+        check_whole(params)
     params = yaml.safe_load((REPO / "params.yaml").read_text())
     params["cae"]["chanels"] = [6, 16, 24]
     with pytest.raises(ValueError, match=r"^cae.chanels: unknown key"):
-        config.check_whole(params)
+        check_whole(params)
 
 
 def test_learner_schema_is_the_learners_defaults_and_registries():
@@ -188,14 +188,14 @@ def test_a_bad_learner_value_stops_the_whole_file_check():
     params = yaml.safe_load((REPO / "params.yaml").read_text())
     params["pca"]["svd_solver"] = "ful"
     with pytest.raises(ValueError, match=r"^pca.svd_solver: unknown value 'ful'"):
-        config.check_whole(params)
+        check_whole(params)
 
 
 def test_the_schema_accepts_only_what_the_code_accepts():
     # sequence.window: the schema's lowest value runs, the one below it fails in both
     distances = np.random.default_rng(0).random((6, 8))
-    enhance_distance_contrast(distances, window=config.MIN_SEQUENCE_WINDOW)
+    enhance_distance_contrast(distances, window=choices.MIN_SEQUENCE_WINDOW)
     with pytest.raises(ValueError):
-        enhance_distance_contrast(distances, window=config.MIN_SEQUENCE_WINDOW - 1)
+        enhance_distance_contrast(distances, window=choices.MIN_SEQUENCE_WINDOW - 1)
     with pytest.raises(ValueError, match="sequence.window"):
-        config.SCHEMA["sequence"]["window"]("sequence.window", config.MIN_SEQUENCE_WINDOW - 1)
+        SCHEMA["sequence"]["window"]("sequence.window", choices.MIN_SEQUENCE_WINDOW - 1)

@@ -23,7 +23,7 @@ from seasonloop.data.sources import (
     real_sources,
 )
 from seasonloop.data.split import detect_stops, detect_tunnels, make_split, section_blocks
-from seasonloop.params.schema import available_pairs, check_seasons
+from seasonloop.params.seasons import available_pairs, check_seasons
 from seasonloop.params.settings import DataConfig
 
 DATA = DataConfig(

@@ -197,7 +197,7 @@ def test_precomputed_descriptors_are_looked_up_by_place(tmp_path):
 def test_the_schema_knows_every_kind_of_ground_truth():
     from seasonloop.data.ground_truth import KINDS
     from seasonloop.data.truth_kinds import TRUTH_KINDS, truth_kind
-    from seasonloop.params.schema import GROUND_TRUTHS
+    from seasonloop.params.choices import GROUND_TRUTHS
 
     # the params' list is the registry's, in its order; vpr_bench builds matrix truths from VPR-Bench's file
     assert tuple(TRUTH_KINDS) == GROUND_TRUTHS

@@ -22,7 +22,8 @@ from seasonloop.data.season_split import split_seasons
 from seasonloop.data.split import make_split, split_masks
 from seasonloop.data.synthetic import render_route
 from seasonloop.evaluation.pair_truths import each_truth
-from seasonloop.params.schema import SEASONS, check_whole
+from seasonloop.params.schema import check_whole
+from seasonloop.params.seasons import SEASONS
 from seasonloop.params.settings import EvaluateConfig, ExtractConfig, SplitConfig
 from seasonloop.preset import composed_params
 

@@ -9,8 +9,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from seasonloop.params.schema import SCHEMA
-from seasonloop.params.settings import SECTIONS, AblationConfig, EvaluateConfig, SplitConfig, _frozen
+from seasonloop.params.settings import SCHEMA, SECTIONS, AblationConfig, EvaluateConfig, SplitConfig, _frozen
 from seasonloop.preset import composed_params
 
 REPO = Path(__file__).resolve().parents[1]

@@ -22,7 +22,8 @@ from seasonloop.data.synthetic import (
     video,
     world,
 )
-from seasonloop.params.schema import RIDE_SCHEMA, check_params
+from seasonloop.params.choices import RIDE_SCHEMA
+from seasonloop.params.schema import check_params
 from seasonloop.params.settings import SyntheticConfig
 
 REPO = Path(__file__).resolve().parents[1]

@@ -34,7 +34,7 @@ from seasonloop.evaluation.blocks import evaluate_descriptors
 from seasonloop.evaluation.matchers import result_suffix
 from seasonloop.fit_ending import how_fit_ended
 from seasonloop.io import read_json, write_json
-from seasonloop.params.schema import SEASONS, check_seasons, pair_name, pair_present, parse_pair
+from seasonloop.params.seasons import SEASONS, check_seasons, pair_name, pair_present, parse_pair
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.significance.intervals import route_interval
 

@@ -41,7 +41,7 @@ def _clahe(images: np.ndarray, clahe_clip: float, clahe_grid: int) -> np.ndarray
     return np.stack([clahe.apply(image) for image in images]) if len(images) else images.copy()
 
 
-# The order is config.CONTRAST_METHODS' (tests/test_config.py keeps them in step).
+# The order is params.choices.CONTRAST_METHODS' (tests/test_config.py keeps them in step).
 CONTRASTS: dict[str, ContrastMethod] = {"clahe": _clahe, "equalize": _equalize, "none": _no_contrast}
 CONTRAST_METHODS = tuple(CONTRASTS)
 

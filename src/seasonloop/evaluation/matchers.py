@@ -7,7 +7,7 @@ then the matcher's ("+seq" for sequence matching), e.g. "pca", "pca+seq", "pca@c
 
 MATCHER_REGISTRY holds the matchers (name -> suffix and the function that turns descriptor
 distances into the distances matched on, a block of query rows at a time); MATCHERS is its name -> suffix view. The params are
-checked once, by seasonloop.params.schema's schema when EvaluateConfig / SequenceConfig are built: this
+checked once, by the sections' checks (seasonloop.params.settings) when EvaluateConfig / SequenceConfig are built: this
 module only computes.
 """
 
@@ -76,7 +76,7 @@ def _sequence(
     )
 
 
-# A new matcher is one function plus one line here; the order is config.MATCHER_NAMES'.
+# A new matcher is one function plus one line here; the order is params.choices.MATCHER_NAMES'.
 MATCHER_REGISTRY: dict[str, Matcher] = {"single": Matcher("", _single_image), "sequence": Matcher("+seq", _sequence)}
 # matcher -> the suffix its results carry in file names and tables ("pca" vs "pca+seq")
 MATCHERS: dict[str, str] = {name: matcher.suffix for name, matcher in MATCHER_REGISTRY.items()}

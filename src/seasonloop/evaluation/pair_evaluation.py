@@ -21,7 +21,7 @@ from seasonloop.evaluation.blocks import evaluate_in_blocks, pair_distances
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.io import load_array, save_array, write_json
-from seasonloop.params.schema import pair_name
+from seasonloop.params.seasons import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.significance.intervals import fraction_interval
 

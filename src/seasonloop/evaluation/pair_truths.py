@@ -14,7 +14,7 @@ import numpy as np
 from seasonloop.data.datasets import season_part, season_split
 from seasonloop.data.ground_truth import PairTruth
 from seasonloop.data.truth_kinds import truth_kind
-from seasonloop.params.schema import pair_name
+from seasonloop.params.seasons import pair_name
 from seasonloop.params.settings import EvaluateConfig
 
 

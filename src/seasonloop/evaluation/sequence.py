@@ -11,7 +11,7 @@ from collections.abc import Callable, Iterator
 
 import numpy as np
 
-from seasonloop.params.schema import MIN_SEQUENCE_WINDOW, WINDOW_RULES
+from seasonloop.params.choices import MIN_SEQUENCE_WINDOW, WINDOW_RULES
 from seasonloop.params.settings import SequenceConfig
 
 # Rows processed at once by enhance_distance_contrast: bounds its float64 temporaries (~6 x rows x M x 8 B).

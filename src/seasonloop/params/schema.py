@@ -1,7 +1,7 @@
 """params.yaml checked whole before any stage works: every section (its keys and checks are declared
 with the sections, seasonloop.params.settings), the top-level values, every learner section and the
 checks across sections. Seasons and pairs are in seasonloop.params.seasons, the checks of one value
-in seasonloop.params.checks (both re-exported here).
+in seasonloop.params.checks, the names choices may take in seasonloop.params.choices.
 """
 
 from __future__ import annotations
@@ -10,35 +10,10 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from seasonloop.params.across import check_across
-
-# re-exported, so that `from seasonloop.params.schema import SEASONS, parse_pair, ...` keeps working
-from seasonloop.params.checks import Check, check_degree_columns, integer, list_of, one_of  # noqa: F401
-from seasonloop.params.choices import (  # noqa: F401
-    CONFIDENCES,
-    CONTRAST_METHODS,
-    DISTANCE_METRICS,
-    GROUND_TRUTHS,
-    LEARNER_SECTIONS,
-    MATCHER_NAMES,
-    MIN_SEQUENCE_WINDOW,
-    POSITION_SOURCES,
-    POSITION_UNITS,
-    RIDE_SCHEMA,
-    SOURCES,
-    WINDOW_RULES,
-)
+from seasonloop.params.checks import Check, integer, list_of, one_of
+from seasonloop.params.choices import LEARNER_SECTIONS
 from seasonloop.params.learners import LEARNER_SCHEMA, check_learner
-from seasonloop.params.seasons import (  # noqa: F401
-    SEASONS,
-    STUDY_PAIRS,
-    TRAVERSE_KEYS,
-    available_pairs,
-    check_seasons,
-    check_traverses,
-    pair_name,
-    pair_present,
-    parse_pair,
-)
+from seasonloop.params.seasons import TRAVERSE_KEYS, check_traverses
 from seasonloop.params.section_checks import SECTION_CHECKS
 from seasonloop.params.settings import SCHEMA
 

@@ -19,7 +19,7 @@ from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.blocks import PairEvaluation, evaluate_descriptors
 from seasonloop.models.registry import load_learner
 from seasonloop.params.learners import AE_DESCRIPTORS
-from seasonloop.params.schema import pair_name
+from seasonloop.params.seasons import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
 from seasonloop.significance.intervals import route_interval

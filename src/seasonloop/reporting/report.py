@@ -17,7 +17,7 @@ import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth
 from seasonloop.io import read_json
-from seasonloop.params.schema import pair_name
+from seasonloop.params.seasons import pair_name
 from seasonloop.params.settings import EvaluateConfig
 from seasonloop.reporting.comparisons import comparisons_section
 from seasonloop.reporting.examples import Example, example_grid_png, example_grids, examples_section, select_examples

@@ -929,7 +929,6 @@ def _claims_beside_runs(path: Path) -> str:
 
 # table name -> (the output file it is written from, its snapshot in docs/results/, how)
 TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
-    "headline": ("plots/summary/fraction_correct.md", "fraction_correct.md", _headline),
     "fraction_correct": ("plots/summary/fraction_correct.md", "fraction_correct.md", _fraction_correct),
     "pr_landmarks": ("plots/summary/pr_landmarks.md", "pr_landmarks.md", _fraction_correct),
     # paired comparisons (docs/results.md: how sure): every table, and the claims the prose cites
@@ -991,13 +990,7 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "check_cross_isa": ("benchmarks/results/check_cross_isa.json", "check_cross_isa.json", _check_cross_isa),
     "bench_ica": ("benchmarks/results/bench_ica.json", "bench_ica.json", _bench_ica),
     "check_cross_blas": ("benchmarks/results/check_cross_blas.json", "check_cross_blas.json", _check_cross_blas),
-    # the default run timed from a fresh copy, uncapped and capped to AVX2 (README, docs/results.md)
-    "default_run_time": ("benchmarks/results/bench_default_run.json", "bench_default_run.json", _default_run_time),
-    "default_run_time_capped": (
-        "benchmarks/results/bench_default_run_capped.json",
-        "bench_default_run_capped.json",
-        _default_run_time,
-    ),
+    # the default run timed from a fresh copy, uncapped and capped to AVX2 (docs/results.md)
     "default_run_stages": ("benchmarks/results/bench_default_run.json", "bench_default_run.json", _default_run_stages),
     "default_run_stages_capped": (
         "benchmarks/results/bench_default_run_capped.json",

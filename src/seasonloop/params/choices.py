@@ -6,7 +6,7 @@ from __future__ import annotations
 from seasonloop.params.checks import Check, number
 from seasonloop.params.learners import LEARNER_SCHEMA
 
-# The names in the library's registries (README: where they are), repeated so that checking params
+# The names in the library's registries (docs/pipeline.md: where they are), repeated so that checking params
 # imports no heavy library; tests/test_config.py keeps each equal to its registry, in order.
 DISTANCE_METRICS = ("cosine", "euclidean", "cityblock")
 CONFIDENCES = ("distance", "ratio")

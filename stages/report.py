@@ -1,7 +1,8 @@
 """Stage report: every result of the study in one self-contained HTML file, plots/report.html.
 
-Reads the other stages' metrics and figures, recomputes the single-image best matches of
-report.example_pair to show example matches and failures, and embeds params.yaml verbatim
+Reads the other stages' metrics and figures, the single-image best matches of report.example_pair
+from the evaluate stage's per-query outcomes to show example matches and failures, and embeds
+params.yaml verbatim
 (seasonloop.reporting.report assembles it).
 """
 
@@ -27,7 +28,7 @@ FILES = ReportFiles(
     training_seasons=Path("metrics/training_seasons.json"),
     autoencoder_descriptors=Path("metrics/autoencoder_descriptors.json"),
     autoencoder_training=Path("metrics/autoencoder_training.json"),
-    features=Path("data/features"),
+    outcomes=Path("data/outcomes"),
     season_preview=Path("plots/season_preview.png"),
     summary=Path("plots/summary"),
     training_seasons_figure=Path("plots/training_seasons.png"),

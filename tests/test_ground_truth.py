@@ -254,7 +254,9 @@ def test_an_all_soft_query_under_sequence_distances_with_infinite_cells_gets_the
 
 
 def test_example_matches_skip_soft_cells_as_the_metrics_do():
-    from seasonloop.reporting.examples import select_examples
+    from seasonloop.evaluation.outcomes import QueryOutcomes
+    from seasonloop.evaluation.records import block_records
+    from seasonloop.reporting.examples import outcome_examples
 
     hard = np.eye(3, dtype=bool)
     soft = hard.copy()
@@ -262,7 +264,8 @@ def test_example_matches_skip_soft_cells_as_the_metrics_do():
     truth = matrix_truth(hard, soft, np.arange(3), np.arange(3), "x.npz")
     distances = np.array([[0.5, 0.9, 0.1], [0.9, 0.2, 0.9], [0.9, 0.9, 0.3]])
     metrics, _ = evaluate_truth(distances, truth)
-    examples = select_examples(distances, truth, "distance", n=3)
+    outcomes = QueryOutcomes.from_records(block_records(distances, truth, "distance", 0), truth, "distance")
+    examples = outcome_examples(outcomes, truth, n=3)
     assert metrics["fraction_correct"] == 1.0
     assert all(example.correct for example in examples) and examples[-1].match == 0
 

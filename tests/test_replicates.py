@@ -34,7 +34,7 @@ def write_route(folder, good: np.ndarray, bad: np.ndarray) -> None:
     for method, correct in (("good", good), ("bad", bad), ("same", good)):
         (folder / method).mkdir(parents=True)
         n = len(correct)
-        QueryOutcomes(np.arange(n), correct, np.zeros(n), np.ones(n, bool), correct).to_csv(
+        QueryOutcomes(np.arange(n), correct, np.zeros(n), np.ones(n, bool), correct, np.arange(n), np.zeros(n)).to_csv(
             folder / method / "summer-fall.csv"
         )
 

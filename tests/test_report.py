@@ -8,7 +8,10 @@ import pytest
 from test_results import fake_intervals
 
 from seasonloop.data.ground_truth import aligned_truth
+from seasonloop.evaluation.outcomes import QueryOutcomes
+from seasonloop.evaluation.records import block_records
 from seasonloop.plots import plot_image_grid
+from seasonloop.reporting.examples import outcome_examples
 from seasonloop.reporting.report import (
     Image,
     Section,
@@ -24,7 +27,6 @@ from seasonloop.reporting.report import (
     parameters_section,
     pr_section,
     runtime_section,
-    select_examples,
     similarity_section,
     training_seasons_section,
 )
@@ -104,26 +106,37 @@ def test_report_rejects_missing_and_non_png_images(tmp_path):
         build_report("r", [Section("s", [Image("c", tmp_path / "fake.png")])])
 
 
-def test_select_examples_picks_most_confident_correct_and_wrong():
+def examples_of(distances, truth, n):
+    """The examples the report shows for an evaluation of `distances`: from its per-query outcomes."""
+    outcomes = QueryOutcomes.from_records(block_records(np.asarray(distances), truth, "distance", 0), truth, "distance")
+    return outcome_examples(outcomes, truth, n)
+
+
+def test_examples_are_the_most_confident_correct_and_wrong_matches_of_the_evaluation():
     places = np.array([10, 11, 12, 13])
     # query 0 -> 0 (correct, distance 0.1), query 1 -> 1 (correct, 0.3),
     # query 2 -> 0 (wrong, 0.05), query 3 -> 2 (wrong, 0.2)
     distances = np.array([[0.1, 0.9, 0.9, 0.9], [0.9, 0.3, 0.9, 0.9], [0.05, 0.9, 0.6, 0.9], [0.9, 0.9, 0.2, 0.7]])
-    examples = select_examples(distances, aligned_truth(places, places, 0), "distance", n=1)
+    examples = examples_of(distances, aligned_truth(places, places, 0), n=1)
     assert [(e.query, e.match, e.truth, e.correct) for e in examples] == [(0, 0, 0, True), (2, 0, 2, False)]
-    examples = select_examples(distances, aligned_truth(places, places, 1), "distance", n=5)
+    examples = examples_of(distances, aligned_truth(places, places, 1), n=5)
     # within one place query 3's match (place 12 for 13) counts as correct
     assert [e.query for e in examples if e.correct] == [0, 3, 1]
     assert [e.query for e in examples if not e.correct] == [2]
-    with pytest.raises(ValueError, match="does not match"):
-        select_examples(distances[:3], aligned_truth(places, places, 0), "distance", n=1)
+    outcomes = QueryOutcomes.from_records(
+        block_records(distances, aligned_truth(places, places, 0), "distance", 0),
+        aligned_truth(places, places, 0),
+        "distance",
+    )
+    with pytest.raises(ValueError, match="different queries"):
+        outcome_examples(outcomes, aligned_truth(places[:3], places[:3], 0), n=1)
 
 
 def test_example_grid_is_embedded():
     rng = np.random.default_rng(1)
     images = rng.integers(0, 255, size=(4, 8, 16), dtype=np.uint8)
     places = np.arange(4)
-    examples = select_examples(rng.random((4, 4)), aligned_truth(places, places, 0), "distance", n=2)
+    examples = examples_of(rng.random((4, 4)), aligned_truth(places, places, 0), n=2)
     png = example_grid_png(images, images, examples, places, places, title="pca")
     page = build_report("r", [examples_section("summer-fall", {"pca": png})])
     assert page.count("data:image/png;base64,") == 1

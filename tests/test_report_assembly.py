@@ -12,7 +12,9 @@ import pytest
 from test_results import METHODS, PAIRS, VARIANTS, write_evaluations
 
 from seasonloop.data.ground_truth import aligned_truth
-from seasonloop.io import save_array, write_json
+from seasonloop.evaluation.outcomes import QueryOutcomes
+from seasonloop.evaluation.records import block_records
+from seasonloop.io import write_json
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.plots import plot_image_grid
 from seasonloop.reporting.report import ReportFiles, study_report
@@ -45,7 +47,7 @@ def report_files(root) -> ReportFiles:
         training_seasons=root / "training.json",
         autoencoder_descriptors=root / "ae.json",
         autoencoder_training=root / "ae_training.json",
-        features=root / "features",
+        outcomes=root / "outcomes",
         season_preview=png,
         summary=root / "summary",
         training_seasons_figure=png,
@@ -113,8 +115,12 @@ def report_files(root) -> ReportFiles:
     )
     rng = np.random.default_rng(1)
     for method in METHODS:
-        for season in SEASONS:
-            save_array(files.features / method / f"{season}.npy", rng.random((5, 4)))
+        # the example pair's single-image outcomes, as the evaluate stage writes them
+        records = block_records(rng.random((5, 5)), TRUTH, EVALUATE.confidence, 0)
+        (files.outcomes / method).mkdir(parents=True)
+        QueryOutcomes.from_records(records, TRUTH, EVALUATE.confidence).to_csv(
+            files.outcomes / method / "summer-fall.csv"
+        )
     files.summary.mkdir()
     for name in ["fraction_correct", "similarity", *(f"pr_{pair}" for pair in PAIRS)]:
         shutil.copy(png, files.summary / f"{name}.png")

@@ -199,10 +199,12 @@ def test_outcomes_round_trip(tmp_path):
         np.array([-0.5, -np.inf, -0.25]),
         np.array([True, True, False]),
         np.array([True, False, False]),
+        np.array([3, 7, 2]),
+        np.array([0.5, np.inf, 0.25]),
     )
     outcomes.to_csv(tmp_path / "pair.csv")
     back = QueryOutcomes.read_csv(tmp_path / "pair.csv")
-    for name in ("query_place", "correct", "confidence", "has_match", "hit_at_1"):
+    for name in ("query_place", "correct", "confidence", "has_match", "hit_at_1", "match_place", "match_distance"):
         assert np.array_equal(getattr(back, name), getattr(outcomes, name)), name
     (tmp_path / "bad.csv").write_text("query_place,correct\n1,1\n")
     with pytest.raises(ValueError, match=r"bad\.csv: per-query outcomes lack column\(s\) confidence"):

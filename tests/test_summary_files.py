@@ -78,9 +78,9 @@ def test_mean_intervals_are_of_the_outcomes_of_every_label(tmp_path):
                 written.setdefault(method + suffix, []).append(correct)
                 (tmp_path / method).mkdir(exist_ok=True)
                 n = len(correct)
-                QueryOutcomes(np.arange(n), correct, rng.random(n), np.ones(n, bool), correct).to_csv(
-                    tmp_path / method / f"{pair}{suffix}.csv"
-                )
+                QueryOutcomes(
+                    np.arange(n), correct, rng.random(n), np.ones(n, bool), correct, np.arange(n), np.zeros(n)
+                ).to_csv(tmp_path / method / f"{pair}{suffix}.csv")
     intervals = mean_intervals(tmp_path, METHODS, VARIANTS, PAIRS, SETTINGS)
     assert set(intervals) == set(written)
     for label, by_pair in written.items():

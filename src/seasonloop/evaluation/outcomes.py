@@ -5,7 +5,9 @@ and paired tests need no second evaluation.
 A CSV, one row per query in the pair's query order (route order: consecutive rows are neighbouring
 test places): query_place, correct (its best match is right), confidence (higher = more confident,
 as the PR curve ranks it), has_match (some database place is correct: recall@N counts only these),
-hit_at_1 (its nearest database place is correct: recall@1's numerator).
+hit_at_1 (its nearest database place is correct: recall@1's numerator), match_place (the database
+place of its best match) and match_distance (the distance matched on there), so that the report
+shows example matches without matching again.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ import pandas as pd
 from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.records import QueryRecords, final_confidence
 
-COLUMNS = ("query_place", "correct", "confidence", "has_match", "hit_at_1")
+COLUMNS = ("query_place", "correct", "confidence", "has_match", "hit_at_1", "match_place", "match_distance")
 
 
 @dataclass(frozen=True)
@@ -31,6 +33,8 @@ class QueryOutcomes:
     confidence: np.ndarray  # (n,) float64
     has_match: np.ndarray  # (n,) bool
     hit_at_1: np.ndarray  # (n,) bool
+    match_place: np.ndarray  # (n,) int64: the database place of the best match
+    match_distance: np.ndarray  # (n,) float64
 
     @classmethod
     def from_records(cls, records: QueryRecords, truth: PairTruth, confidence: str) -> QueryOutcomes:
@@ -42,6 +46,8 @@ class QueryOutcomes:
             np.asarray(final_confidence(records, confidence), np.float64),
             np.asarray(truth.has_match, bool),
             np.asarray(records.hit_within[:, 0], bool) & np.asarray(truth.has_match, bool),
+            np.asarray(truth.database_places, np.int64)[records.best],
+            np.asarray(records.distance, np.float64),
         )
 
     def to_csv(self, path: Path) -> None:
@@ -68,4 +74,6 @@ class QueryOutcomes:
             table["confidence"].to_numpy(np.float64),
             table["has_match"].to_numpy().astype(bool),
             table["hit_at_1"].to_numpy().astype(bool),
+            table["match_place"].to_numpy(np.int64),
+            table["match_distance"].to_numpy(np.float64),
         )

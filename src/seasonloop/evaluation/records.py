@@ -25,17 +25,18 @@ RECALL_NS = (1, 5, 10)
 
 @dataclass(frozen=True)
 class QueryRecords:
-    """Per query: its best database column, the match's confidence and correctness, which of its
+    """Per query: its best database column and the distance there, the match's confidence and correctness, which of its
     nearest columns are correct; and the largest finite distance of its rows."""
 
     best: np.ndarray  # (n,) int64: the best column (cells the truth ignores are never picked)
+    distance: np.ndarray  # (n,) float64: the distance matched on at the best column
     confidence: np.ndarray  # (n,) float64, higher = more confident; all-soft queries: final_confidence
     correct: np.ndarray  # (n,) bool
     hit_within: np.ndarray  # (n, depth) bool: a correct column among the k + 1 nearest
     all_soft: np.ndarray  # (n,) bool: every database place of the query is soft
     largest_finite: float  # of the rows' distances (-inf when none is finite or the truth has no soft cells)
 
-    _ARRAYS: ClassVar[tuple[str, ...]] = ("best", "confidence", "correct", "hit_within", "all_soft")
+    _ARRAYS: ClassVar[tuple[str, ...]] = ("best", "distance", "confidence", "correct", "hit_within", "all_soft")
 
     @classmethod
     def concatenate(cls, parts: Sequence[QueryRecords]) -> QueryRecords:
@@ -82,7 +83,10 @@ def block_records(distances: np.ndarray, truth: PairTruth, confidence: str, rati
     largest = (
         -np.inf if truth.ignored is None else float(np.max(distances, where=np.isfinite(distances), initial=-np.inf))
     )
-    return QueryRecords(columns, scores, correct, nearest_hits(masked, truth.correct, depth), all_soft, largest)
+    matched = np.take_along_axis(masked, columns[:, None], axis=1)[:, 0].astype(np.float64)
+    return QueryRecords(
+        columns, matched, scores, correct, nearest_hits(masked, truth.correct, depth), all_soft, largest
+    )
 
 
 def final_confidence(records: QueryRecords, confidence: str) -> np.ndarray:

@@ -1,23 +1,20 @@
 """Example matches and failures for the report: the most confident correct and wrong best
-matches of one pair, drawn as image grids (query, best match, true match).
+matches of one pair, read from the evaluate stage's per-query outcomes, drawn as image grids
+(query, best match, true match).
 """
 
 from __future__ import annotations
 
 import tempfile
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth
-from seasonloop.evaluation.blocks import EVALUATION_ROWS_PER_BLOCK, pair_distances
-from seasonloop.evaluation.matchers import row_blocks
-from seasonloop.evaluation.metrics import truth_matches
-from seasonloop.evaluation.records import QueryRecords, block_records, final_confidence
-from seasonloop.io import load_array
-from seasonloop.params.settings import EvaluateConfig
+from seasonloop.evaluation.outcomes import QueryOutcomes
+from seasonloop.params.seasons import pair_name
 from seasonloop.plots import plot_image_grid
 from seasonloop.reporting.html import Image, Png, Section, Text
 
@@ -33,47 +30,13 @@ class Example:
     confidence: float
 
 
-def select_examples(
-    distances: np.ndarray, truth: PairTruth, confidence: str, n: int, ratio_exclusion: int = 0
-) -> list[Example]:
-    """The n most confident correct matches, then the n most confident failures (fewer if there are not n).
-
-    distances is (queries, database); the true match is the truth's exact match of the query (the
-    query's own column when it has none). Ties in confidence keep query order, so the choice is
-    deterministic.
-    """
-    database_places, query_places = truth.database_places, truth.query_places
-    if np.shape(distances) != (len(query_places), len(database_places)):
-        raise ValueError(
-            f"distances shape {np.shape(distances)} does not match "
-            f"(queries, database) = ({len(query_places)}, {len(database_places)})"
-        )
-    return choose_examples(*truth_matches(np.asarray(distances), truth, confidence, ratio_exclusion), truth, n)
-
-
-def blocked_examples(
-    distance_rows: Callable[[slice], np.ndarray],
-    n_database: int,
-    truth: PairTruth,
-    confidence: str,
-    n: int,
-    ratio_exclusion: int = 0,
-) -> list[Example]:
-    """select_examples a block of query rows at a time (a 27,592 x 27,592 pair's distances are 3 GB):
-    distance_rows(rows) gives the distances of query rows `rows`."""
-    records = QueryRecords.concatenate(
-        [
-            block_records(distance_rows(rows), truth.query_rows(rows), confidence, ratio_exclusion)
-            for rows in row_blocks(len(truth.query_places), EVALUATION_ROWS_PER_BLOCK)
-        ]
-    )
-    return choose_examples(records.best, final_confidence(records, confidence), records.correct, truth, n)
-
-
 def choose_examples(
     matches: np.ndarray, scores: np.ndarray, correct: np.ndarray, truth: PairTruth, n: int
 ) -> list[Example]:
-    """select_examples' choice from every query's best match, its confidence and correctness."""
+    """The n most confident correct matches, then the n most confident failures (fewer if there are
+    not n), from every query's best match (a column of the truth's database places), its confidence
+    and correctness. The true match is the truth's exact match of the query (its best match when it
+    has none). Ties in confidence keep query order, so the choice is deterministic."""
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
     order = np.argsort(-scores, kind="stable")
@@ -88,6 +51,16 @@ def choose_examples(
         )
         for q in chosen
     ]
+
+
+def outcome_examples(outcomes: QueryOutcomes, truth: PairTruth, n: int) -> list[Example]:
+    """choose_examples from an evaluation's per-query outcomes (seasonloop.evaluation.outcomes),
+    which keep each query's best match: the evaluate stage's own matches, not a second matching."""
+    if not np.array_equal(outcomes.query_place, truth.query_places):
+        raise ValueError("per-query outcomes and ground truth hold different queries (rerun the evaluate stage)")
+    column = {int(place): i for i, place in enumerate(truth.database_places)}
+    matches = np.array([column[int(place)] for place in outcomes.match_place], dtype=np.int64)
+    return choose_examples(matches, outcomes.confidence, outcomes.correct, truth, n)
 
 
 def example_grid_png(
@@ -116,30 +89,24 @@ def example_grid_png(
 
 
 def example_grids(
-    features_dir: Path,
+    outcomes_dir: Path,
     methods: Sequence[str],
     database: str,
     query: str,
     images: Mapping[str, np.ndarray],
     truth: PairTruth,
-    evaluate: EvaluateConfig,
     n: int,
 ) -> dict[str, bytes]:
-    """method -> PNG bytes of its example grid on the pair (database, query): single-image best
-    matches of the descriptors features_dir/<method>/<season>.npy under evaluate.metric, the n
-    most confident correct ones and n most confident failures, by the pair's ground truth."""
+    """method -> PNG bytes of its example grid on the pair (database, query): its single-image best
+    matches under evaluate.metric as the evaluate stage found them (outcomes_dir/<method>/<pair>.csv),
+    the n most confident correct ones and n most confident failures, by the pair's ground truth."""
     grids = {}
     for method in methods:
-        features = features_dir / method
-        database_descriptors = load_array(features / f"{database}.npy")
-        distance_rows = pair_distances(database_descriptors, load_array(features / f"{query}.npy"), evaluate.metric)
-        examples = blocked_examples(
-            distance_rows, len(database_descriptors), truth, evaluate.confidence, n, int(evaluate.ratio_exclusion)
-        )
+        outcomes = QueryOutcomes.read_csv(outcomes_dir / method / f"{pair_name(database, query)}.csv")
         grids[method] = example_grid_png(
             images[database],
             images[query],
-            examples,
+            outcome_examples(outcomes, truth, n),
             truth.database_places,
             truth.query_places,
             title=f"{method}: {query} queries vs {database} database",

@@ -20,7 +20,7 @@ from seasonloop.io import read_json
 from seasonloop.params.seasons import pair_name
 from seasonloop.params.settings import EvaluateConfig
 from seasonloop.reporting.comparisons import comparisons_section
-from seasonloop.reporting.examples import Example, example_grid_png, example_grids, examples_section, select_examples
+from seasonloop.reporting.examples import Example, example_grid_png, example_grids, examples_section
 from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text, build_report
 from seasonloop.reporting.model_sections import (
     autoencoder_training_section,
@@ -67,7 +67,6 @@ __all__ = [
     "parameters_section",
     "pr_section",
     "runtime_section",
-    "select_examples",
     "similarity_section",
     "software_section",
     "study_report",
@@ -88,7 +87,7 @@ class ReportFiles:
     training_seasons: Path  # the training-season ablation's record
     autoencoder_descriptors: Path  # fraction correct per auto-encoder descriptor
     autoencoder_training: Path  # how each auto-encoder's training ended
-    features: Path  # <method>/<season>.npy descriptors
+    outcomes: Path  # <method>/<pair><suffix>.csv: each query's outcome and best match (the evaluate stage's)
     season_preview: Path  # a PNG
     summary: Path  # fraction_correct[@<metric>].png, pr_<pair>.png, similarity.png
     training_seasons_figure: Path  # a PNG
@@ -123,7 +122,7 @@ def study_report(
     database, query = example_pair
     pairs = results.pairs
     extra_metrics = list(evaluate.extra_metrics)
-    grids = example_grids(files.features, methods, database, query, test_images, truth, evaluate, N_EXAMPLES)
+    grids = example_grids(files.outcomes, methods, database, query, test_images, truth, N_EXAMPLES)
     sections = [
         dataset_section(load_dataset(files.dataset, seasons), files.season_preview, read_json(files.ground_truth)),
         fraction_correct_section(

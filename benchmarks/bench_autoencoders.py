@@ -28,7 +28,7 @@ import torch
 
 from _bench_common import HEIGHT, WIDTH, load_note, machine, pair_images, timed, training_images, write_result
 from seasonloop.ablations.cae_widths import width_channels, width_label
-from seasonloop.evaluation.matching import distance_matrix
+from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
 from seasonloop.models.core.arithmetic import cpu_has_native_bfloat16
 from seasonloop.models.registry import get_learner

@@ -3,7 +3,7 @@ rows at a time), and the whole-matrix path beside it at a size it can hold: peak
 
 Patch-NetVLAD's Nordland split is 27,592 queries x 27,592 database places (3 GB of float32
 distances a copy); VPR-Bench's is 2,760 x 27,592. Each run is its own process, so its peak resident
-memory (ru_maxrss) is its own: the blocked path (pair_evaluation.pair_distances + evaluate_in_blocks)
+memory (ru_maxrss) is its own: the blocked path (blocks.pair_distances + evaluate_in_blocks)
 at --n-queries x --n-database, and both paths (matchers.match_distances on the whole matrix vs the
 blocked one) at --side-by-side places, whose metrics must be identical.
 
@@ -37,8 +37,8 @@ def child(n_queries: int, n_database: int, dim: int, matcher: str, path: str, me
     """One evaluation in this process: its wall seconds, peak resident memory and metrics."""
     from seasonloop.data.ground_truth import aligned_truth
     from seasonloop.evaluation.blocks import evaluate_in_blocks, pair_distances
+    from seasonloop.evaluation.distances import distance_matrix
     from seasonloop.evaluation.matchers import match_distances
-    from seasonloop.evaluation.matching import distance_matrix
     from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
     rng = np.random.default_rng(0)

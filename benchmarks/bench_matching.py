@@ -17,7 +17,7 @@ import argparse
 import numpy as np
 
 from _bench_common import load_note, machine, save_and_report, timed
-from seasonloop.evaluation.matching import METRICS, best_matches, distance_matrix
+from seasonloop.evaluation.distances import METRICS, best_matches, distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
 
 

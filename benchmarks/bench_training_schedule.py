@@ -42,7 +42,7 @@ import yaml
 
 from _bench_common import REPO, load_note, machine, write_result
 from seasonloop.data import datasets
-from seasonloop.evaluation.matching import distance_matrix
+from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
 from seasonloop.io import read_json
 from seasonloop.models.cae import ConvolutionalAutoEncoder, UpsampledConv2d

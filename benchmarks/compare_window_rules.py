@@ -25,8 +25,8 @@ import yaml
 
 from _bench_common import machine, write_result
 from seasonloop.data.ground_truth import PairTruth, truth_file
+from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.matchers import match_distances
-from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.io import load_array
 from seasonloop.params.choices import WINDOW_RULES
 from seasonloop.params.seasons import available_pairs, pair_name

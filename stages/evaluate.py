@@ -17,7 +17,7 @@ import argparse
 from pathlib import Path
 
 from _common import data_seasons, load_params, stage_main
-from seasonloop.evaluation.pair_evaluation import evaluate_learner
+from seasonloop.evaluation.learner_evaluation import evaluate_learner
 from seasonloop.io import staged_dir
 from seasonloop.params.seasons import available_pairs
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig

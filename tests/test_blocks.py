@@ -9,8 +9,8 @@ import pytest
 from seasonloop.data import ground_truth
 from seasonloop.data.ground_truth import PairTruth, aligned_truth, position_truth
 from seasonloop.evaluation.blocks import evaluate_in_blocks, pair_distances, similarity_thumbnail
+from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.matchers import match_distances
-from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.sequence import sequence_distance_blocks, sequence_distances
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 

@@ -12,7 +12,7 @@ import pytest
 import yaml
 
 from seasonloop.data import preprocess, sources
-from seasonloop.evaluation import matching
+from seasonloop.evaluation import distances
 from seasonloop.evaluation.matchers import MATCHER_REGISTRY, MATCHERS
 from seasonloop.evaluation.sequence import enhance_distance_contrast
 from seasonloop.models.core.torch_ica import WHITEN_SOLVERS
@@ -144,8 +144,8 @@ def test_only_the_keys_asked_for_are_checked(params):
 def test_choices_match_the_library():
     # the schema repeats the registries' names so that config.py imports no heavy module (torch,
     # cv2): this test is what keeps the two one list, in the same order (the order of "known: ...")
-    assert choices.DISTANCE_METRICS == tuple(matching.DISTANCES) == matching.METRICS
-    assert tuple(matching.CONFIDENCES) == choices.CONFIDENCES
+    assert choices.DISTANCE_METRICS == tuple(distances.DISTANCES) == distances.METRICS
+    assert tuple(distances.CONFIDENCES) == choices.CONFIDENCES
     assert choices.CONTRAST_METHODS == tuple(preprocess.CONTRASTS) == preprocess.CONTRAST_METHODS
     assert choices.MATCHER_NAMES == tuple(MATCHER_REGISTRY) == tuple(MATCHERS)
     assert tuple(sources.SOURCES) == choices.SOURCES

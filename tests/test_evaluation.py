@@ -8,13 +8,14 @@ import pytest
 import yaml
 
 from seasonloop.data.ground_truth import aligned_truth
+from seasonloop.evaluation.blocks import pair_distances
+from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.matchers import (
     MATCHER_REGISTRY,
     MATCHERS,
     evaluations,
     get_matcher,
     match_distances,
-    match_pair,
     result_suffix,
 )
 from seasonloop.evaluation.sequence import sequence_distances
@@ -96,7 +97,8 @@ def test_every_registered_matcher_evaluates_a_pair(matcher):
     places = np.arange(12)
     database = rng.normal(size=(12, 6))
     queries = database + 0.05 * rng.normal(size=(12, 6))
-    metrics, pr, matched = match_pair(database, queries, aligned_truth(places, places, 0), matcher, EVALUATE, SEQUENCE)
+    distances = distance_matrix(database, queries, metric=EVALUATE.metric)
+    metrics, pr, matched = match_distances(distances, aligned_truth(places, places, 0), matcher, EVALUATE, SEQUENCE)
     assert matched.shape == (12, 12) and len(pr) > 0 and 0 <= metrics["fraction_correct"] <= 1
 
 
@@ -109,13 +111,11 @@ def test_sequence_matching_of_a_pair_restarts_at_the_breaks_of_its_places():
     assert not np.array_equal(matched, sequence_distances(distances, 3, 1.0, 1.0, 1, 4))
 
 
-def test_match_pair_uses_the_metric_asked_for():
+def test_a_pair_is_matched_on_the_metric_asked_for():
     rng = np.random.default_rng(1)
-    database, queries, places = rng.normal(size=(8, 4)), rng.normal(size=(8, 4)), np.arange(8)
-    _, _, cosine = match_pair(database, queries, aligned_truth(places, places, 0), "single", EVALUATE, SEQUENCE)
-    _, _, l1 = match_pair(
-        database, queries, aligned_truth(places, places, 0), "single", EVALUATE, SEQUENCE, metric="cityblock"
-    )
+    database, queries = rng.normal(size=(8, 4)), rng.normal(size=(8, 4))
+    cosine = pair_distances(database, queries, "cosine")(slice(0, 8))
+    l1 = pair_distances(database, queries, "cityblock")(slice(0, 8))
     np.testing.assert_allclose(l1, np.abs(queries[:, None] - database[None]).sum(-1), rtol=1e-6)
     assert cosine.max() <= 2.0 < l1.max()
 

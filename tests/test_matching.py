@@ -1,10 +1,10 @@
-"""Tests for seasonloop.evaluation.matching."""
+"""Tests for seasonloop.evaluation.distances."""
 
 import numpy as np
 import pytest
 from scipy.spatial.distance import cdist
 
-from seasonloop.evaluation.matching import CONFIDENCES, DISTANCES, best_matches, distance_matrix
+from seasonloop.evaluation.distances import CONFIDENCES, DISTANCES, best_matches, distance_matrix
 
 
 @pytest.fixture

@@ -178,7 +178,7 @@ def test_auc_pr_is_scikit_learns_area_bit_for_bit():
     # evaluate_pair integrates with numpy's trapezoid instead of importing scikit-learn: same number
     from sklearn.metrics import auc
 
-    from seasonloop.evaluation.matching import best_matches
+    from seasonloop.evaluation.distances import best_matches
 
     rng = np.random.default_rng(4)
     for _ in range(20):

@@ -188,7 +188,7 @@ def independent_pattern_images(n: int, seed: int) -> np.ndarray:
 
 
 def test_whitened_pca_matches_ica_distances_under_cosine_and_euclidean_only():
-    from seasonloop.evaluation.matching import distance_matrix
+    from seasonloop.evaluation.distances import distance_matrix
 
     train, database, queries = (independent_pattern_images(n, seed) for n, seed in ((3000, 0), (60, 1), (50, 2)))
     k = 6

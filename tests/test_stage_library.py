@@ -12,7 +12,7 @@ import pytest
 
 from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
 from seasonloop.data.ground_truth import aligned_truth
-from seasonloop.evaluation.pair_evaluation import evaluate_learner
+from seasonloop.evaluation.learner_evaluation import evaluate_learner
 from seasonloop.params.settings import EvaluateConfig, ExtractConfig, SequenceConfig, StatisticsConfig
 
 EXTRACT = ExtractConfig(fps=1.0, height=6, width=8, trim_to_shortest=False, max_offset=0)

@@ -71,7 +71,7 @@ def plot_pr_curves(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], title: s
 
 def plot_similarity_grid(thumbnails: Mapping[str, Mapping[str, np.ndarray]], path, title: str) -> None:
     """Every learner's similarity matrix of every pair in one figure, thumbnails[learner][pair]:
-    (queries, database) similarity in [0, 1] (NaN: blank), as seasonloop.evaluation.pair_evaluation
+    (queries, database) similarity in [0, 1] (NaN: blank), as seasonloop.evaluation.learner_evaluation
     writes them. One row per learner, one column per pair, each label once, one colour bar; sized
     to be read at a laptop's width (1,366 px)."""
     rows = list(thumbnails)

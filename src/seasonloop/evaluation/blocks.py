@@ -15,8 +15,8 @@ import numpy as np
 import pandas as pd
 
 from seasonloop.data.ground_truth import PairTruth
+from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.matchers import get_matcher, row_blocks
-from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.metrics import summarise_records
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.evaluation.records import QueryRecords, block_records

@@ -21,7 +21,6 @@ import numpy as np
 import pandas as pd
 
 from seasonloop.data.ground_truth import PairTruth
-from seasonloop.evaluation.matching import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_truth
 from seasonloop.evaluation.sequence import sequence_distance_blocks
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
@@ -109,7 +108,7 @@ def match_distances(
 ) -> tuple[dict[str, Any], pd.DataFrame, np.ndarray]:
     """(metrics, PR curve, distance matrix used for matching) from one pair's descriptor distances
     and its ground truth (whose place ids tell the sequence matcher where the route breaks), the
-    whole matrix as one block (pair_evaluation.evaluate_in_blocks: a large pair in blocks).
+    whole matrix as one block (blocks.evaluate_in_blocks: a large pair in blocks).
 
     evaluate gives the confidence and ratio exclusion; sequence the sequence matcher's settings.
     """
@@ -127,18 +126,3 @@ def match_distances(
         matched, truth, confidence=evaluate.confidence, ratio_exclusion=int(evaluate.ratio_exclusion)
     )
     return metrics, pr, matched
-
-
-def match_pair(
-    database: np.ndarray,
-    queries: np.ndarray,
-    truth: PairTruth,
-    matcher: str,
-    evaluate: EvaluateConfig,
-    sequence: SequenceConfig,
-    metric: str | None = None,
-) -> tuple[dict[str, Any], pd.DataFrame, np.ndarray]:
-    """(metrics, PR curve, distance matrix used for matching) of one pair with one matcher, under
-    `metric` (default evaluate.metric)."""
-    distances = distance_matrix(database, queries, metric=evaluate.metric if metric is None else metric)
-    return match_distances(distances, truth, matcher, evaluate, sequence)

@@ -188,7 +188,7 @@ def truth_matches(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(best database column, its confidence, correct or not) per query, under the truth.
 
-    confidence and ratio_exclusion (in place ids) go to seasonloop.evaluation.matching.best_matches.
+    confidence and ratio_exclusion (in place ids) go to seasonloop.evaluation.distances.best_matches.
     Cells the truth ignores (soft ground truth) are never picked. A query whose places are all soft
     has no match to pick: as VPR_Tutorial (soft cells set to the lowest similarity) it counts as a
     wrong match at the lowest confidence (seasonloop.evaluation.records.final_confidence).

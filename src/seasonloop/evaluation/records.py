@@ -17,7 +17,7 @@ from typing import ClassVar
 import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth
-from seasonloop.evaluation.matching import best_matches
+from seasonloop.evaluation.distances import best_matches
 
 # recall@N is reported for these N; a record keeps the hits among the max(RECALL_NS) nearest
 RECALL_NS = (1, 5, 10)
@@ -74,7 +74,7 @@ def nearest_hits(distances: np.ndarray, correct: np.ndarray, depth: int) -> np.n
 
 def block_records(distances: np.ndarray, truth: PairTruth, confidence: str, ratio_exclusion: int) -> QueryRecords:
     """The records of the query rows `truth` holds (a PairTruth.query_rows block) from their
-    (rows, M) distances; confidence and ratio_exclusion go to matching.best_matches."""
+    (rows, M) distances; confidence and ratio_exclusion go to distances.best_matches."""
     masked, all_soft = mask_soft(distances, truth)
     columns, scores = best_matches(masked, confidence, truth.database_places, ratio_exclusion)
     correct = truth.correct[np.arange(len(columns)), columns] & ~all_soft

@@ -6,9 +6,10 @@ import numpy as np
 
 from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.data.patchnorm import patch_normalise
+from seasonloop.evaluation.descriptors import autoencoder_descriptors
 from seasonloop.models.registry import get_learner
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
-from seasonloop.reporting.figures import AE_DESCRIPTORS, autoencoder_descriptors, draw_figures
+from seasonloop.reporting.figures import AE_DESCRIPTORS, draw_figures
 
 EVALUATE = EvaluateConfig(
     pairs=("summer-fall",),

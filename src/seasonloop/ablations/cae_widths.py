@@ -28,10 +28,10 @@ import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.blocks import best_columns
+from seasonloop.evaluation.descriptors import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
 from seasonloop.io import staged_file, write_json
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.plots import percent_bands, plot_message, plot_series
-from seasonloop.reporting.figures import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
 from seasonloop.reporting.summary import record_cell
 
 TABLE5_CHANNELS = (96, 256, 384)

@@ -11,24 +11,16 @@ from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.evaluation.records import block_records
 from seasonloop.plots import plot_image_grid
-from seasonloop.reporting.examples import outcome_examples
-from seasonloop.reporting.report import (
-    Image,
-    Section,
-    Table,
-    Text,
-    autoencoder_training_section,
-    build_report,
+from seasonloop.reporting.examples import example_grid_png, examples_section, outcome_examples
+from seasonloop.reporting.html import Image, Section, Table, Text, build_report
+from seasonloop.reporting.model_sections import autoencoder_training_section, figures_section, training_seasons_section
+from seasonloop.reporting.sections import (
     dataset_section,
-    example_grid_png,
-    examples_section,
-    figures_section,
     fraction_correct_section,
     parameters_section,
     pr_section,
     runtime_section,
     similarity_section,
-    training_seasons_section,
 )
 from seasonloop.reporting.summary import pr_landmarks, pr_landmarks_table
 

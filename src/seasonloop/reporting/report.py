@@ -4,7 +4,6 @@ other stages wrote.
 Which files those are is the caller's (ReportFiles); this module reads them in the order the
 tables list them (seasonloop.reporting.results), builds the sections (seasonloop.reporting.sections, the
 example grids of seasonloop.reporting.examples) and renders the page (seasonloop.reporting.html).
-The building blocks are re-exported here, so `from seasonloop.reporting.report import Table` keeps working.
 """
 
 from __future__ import annotations
@@ -20,8 +19,8 @@ from seasonloop.io import read_json
 from seasonloop.params.seasons import pair_name
 from seasonloop.params.settings import EvaluateConfig
 from seasonloop.reporting.comparisons import comparisons_section
-from seasonloop.reporting.examples import Example, example_grid_png, example_grids, examples_section
-from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text, build_report
+from seasonloop.reporting.examples import example_grids, examples_section
+from seasonloop.reporting.html import build_report
 from seasonloop.reporting.model_sections import (
     autoencoder_training_section,
     cae_widths_section,
@@ -45,33 +44,6 @@ from seasonloop.reporting.sections import (
     software_section,
 )
 from seasonloop.reporting.summary import pr_landmarks, pr_landmarks_table
-
-__all__ = [
-    "Block",
-    "Example",
-    "Image",
-    "Png",
-    "ReportFiles",
-    "Section",
-    "Table",
-    "Text",
-    "autoencoder_training_section",
-    "build_report",
-    "cae_widths_section",
-    "dataset_section",
-    "example_grid_png",
-    "example_grids",
-    "examples_section",
-    "figures_section",
-    "fraction_correct_section",
-    "parameters_section",
-    "pr_section",
-    "runtime_section",
-    "similarity_section",
-    "software_section",
-    "study_report",
-    "training_seasons_section",
-]
 
 TITLE = "seasonloop: loop-closure detection across seasons"
 N_EXAMPLES = 3  # correct matches, and as many failures, shown per learner

@@ -899,13 +899,18 @@ def _eval_metrics(path: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+def synthetic_records() -> dict[str, dict]:
+    """column of SYNTHETIC_RUNS -> its record, from the snapshots in docs/results/."""
+    return {column: json.loads((RESULTS / snapshot).read_text()) for column, snapshot in SYNTHETIC_RUNS.items()}
+
+
 def _claims_beside_runs(path: Path) -> str:
     """The default run's claims (docs/claims.yaml, no `run`) on a run of real frames (`path`: its
     comparisons), beside their verdicts on the same pair in the synthetic runs, and how they read
     (seasonloop.reporting.readings.claims_beside)."""
     record = json.loads(path.read_text())
     claims = {name: claim for name, claim in yaml.safe_load(CLAIMS.read_text()).items() if "run" not in claim}
-    synthetic = {column: json.loads((RESULTS / snapshot).read_text()) for column, snapshot in SYNTHETIC_RUNS.items()}
+    synthetic = synthetic_records()
     columns = [*SYNTHETIC_RUNS, "real frames"]
     lines = [
         "| claim | compares | pair | " + " | ".join(columns) + " | on real frames |",

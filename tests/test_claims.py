@@ -219,10 +219,7 @@ def real_readings() -> dict[str, set[str]]:
     """claim -> how its verdict on real frames reads beside the synthetic runs, over the real run's
     pairs (the table real_claims, from the same snapshots)."""
     record = json.loads(RUNS["real"][0].read_text())
-    synthetic = {
-        column: json.loads((write_tables.RESULTS / name).read_text())
-        for column, name in write_tables.SYNTHETIC_RUNS.items()
-    }
+    synthetic = write_tables.synthetic_records()
     claims = {name: claim for name, claim in CLAIMS.items() if "run" not in claim}
     return {
         name: {value["reading"] for value in by_pair.values()}

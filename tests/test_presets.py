@@ -18,6 +18,12 @@ PRESETS = sorted(path.stem for path in (REPO / "presets").glob("*.yaml"))
 FULL_COPIES = "d0eeca7"
 
 
+def apply_in_a_process(name: str, params: Path, presets: Path) -> subprocess.CompletedProcess:
+    """`python -m seasonloop.preset NAME` on the params file, as a user runs it."""
+    command = [sys.executable, "-m", "seasonloop.preset", name, "--params", str(params), "--presets", str(presets)]
+    return subprocess.run(command, capture_output=True, text=True)
+
+
 def full_copy(name: str) -> dict | None:
     """presets/<name>.yaml as it was when presets were full copies, or None without that history."""
     shown = subprocess.run(
@@ -58,20 +64,7 @@ def test_a_preset_holds_only_what_differs(name):
 def test_applying_writes_params_yaml_with_its_comments_and_the_preset_values(tmp_path):
     params = tmp_path / "params.yaml"
     params.write_text((REPO / "params.yaml").read_text())
-    result = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "seasonloop.preset",
-            "full",
-            "--params",
-            str(params),
-            "--presets",
-            str(REPO / "presets"),
-        ],
-        capture_output=True,
-        text=True,
-    )
+    result = apply_in_a_process("full", params, REPO / "presets")
     assert result.returncode == 0, result.stderr
     text = params.read_text()
     assert text.startswith("# presets/full.yaml applied over this file by `python -m seasonloop.preset full`")
@@ -98,19 +91,6 @@ def test_a_bad_preset_leaves_params_yaml_as_it_was(tmp_path):
     params.write_text("split:\n  gap: 10\n")
     (tmp_path / "presets").mkdir()
     (tmp_path / "presets" / "bad.yaml").write_text("split:\n  gapp: 3\n")
-    result = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "seasonloop.preset",
-            "bad",
-            "--params",
-            str(params),
-            "--presets",
-            str(tmp_path / "presets"),
-        ],
-        capture_output=True,
-        text=True,
-    )
+    result = apply_in_a_process("bad", params, tmp_path / "presets")
     assert result.returncode == 1 and result.stderr.count("\n") == 1 and "split.gapp" in result.stderr
     assert params.read_text() == "split:\n  gap: 10\n"

@@ -29,6 +29,12 @@ def write_frame_folders(folder: Path) -> None:
         (folder / season / "._1.png").write_bytes(b"\x00\x05\x16\x07")
 
 
+def readme_recipe(frames: Path) -> list[str]:
+    """The README's two-season frames recipe, as `dvc exp run` settings, for the folder `frames`."""
+    settings = ["data.source=frames", f"data.frames_dir={frames}", "data.seasons=[summer,winter]"]
+    return [part for setting in [*settings, "train.seasons=[summer,winter]"] for part in ("-S", setting)]
+
+
 @pytest.mark.e2e
 def test_the_readme_frames_recipe_runs_through_the_report(tmp_path):
     frames = tmp_path / "nordland_png"  # outside the repository: an external dependency
@@ -41,19 +47,7 @@ def test_the_readme_frames_recipe_runs_through_the_report(tmp_path):
     }
     root = make_workspace(tmp_path / "repo", overrides)
     # the README's recipe, and nothing else changed
-    result = dvc(
-        root,
-        "exp",
-        "run",
-        "-S",
-        "data.source=frames",
-        "-S",
-        f"data.frames_dir={frames}",
-        "-S",
-        "data.seasons=[summer,winter]",
-        "-S",
-        "train.seasons=[summer,winter]",
-    )
+    result = dvc(root, "exp", "run", *readme_recipe(frames))
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     assert "frames paired by file name" in result.stdout
     # the report, with the CAE width sweep that DATA_PATH skips saying so
@@ -81,9 +75,7 @@ def a_queued_experiment_reads_the_frames_by_absolute_path(root: Path, frames: Pa
     """A queued experiment runs in a copy holding only git-tracked files: real data is given by
     absolute path (README). The frame changed above makes extract_frames read every frame again in
     that copy; the target stops at the split, as the stages after it are the recipe's above."""
-    settings = ["-S", "data.source=frames", "-S", f"data.frames_dir={frames}"]
-    settings += ["-S", "data.seasons=[summer,winter]", "-S", "train.seasons=[summer,winter]"]
-    assert dvc(root, "exp", "run", "--queue", "-n", "real", *settings, "split").returncode == 0
+    assert dvc(root, "exp", "run", "--queue", "-n", "real", *readme_recipe(frames), "split").returncode == 0
     assert dvc(root, "queue", "start").returncode == 0
     status = wait_for_the_queue(root, experiments=1)
     assert "Success" in status and "Failed" not in status, status + dvc(root, "queue", "logs", "real").stdout[-3000:]
@@ -112,19 +104,7 @@ def test_real_nordland_frames_run_through_the_report(tmp_path):
             (frames / season / name).write_bytes((REAL_FRAMES / season / name).read_bytes())
     # the data path on real images, with the two learners that train fastest
     root = make_workspace(tmp_path / "repo", {**DATA_PATH, "learners": ["raw_patchnorm", "pca"]})
-    result = dvc(
-        root,
-        "exp",
-        "run",
-        "-S",
-        "data.source=frames",
-        "-S",
-        f"data.frames_dir={frames}",
-        "-S",
-        "data.seasons=[summer,winter]",
-        "-S",
-        "train.seasons=[summer,winter]",
-    )
+    result = dvc(root, "exp", "run", *readme_recipe(frames))
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     assert "frames paired by file name (60 names shared by summer, winter)" in result.stdout
     dataset = json.loads((root / "metrics/dataset.json").read_text())

@@ -69,7 +69,7 @@ def composed_params(name: str, params: Path, folder: Path) -> dict[str, Any]:
     return overlay(yaml.safe_load(params.read_text()), preset_changes(name, folder), f"{folder / name}.yaml")
 
 
-def applied_text(params_text: str, changes: Mapping[str, Any], header: str) -> str:
+def applied_text(params_text: str, changes: Mapping[str, Any], header: str, source: str = "preset") -> str:
     """params.yaml's text with `changes` set (overlay), its comments and layout kept (ruamel.yaml's
     round trip, as DVC's own `-S` edits it), under a `header` comment."""
     from ruamel.yaml import YAML
@@ -79,7 +79,7 @@ def applied_text(params_text: str, changes: Mapping[str, Any], header: str) -> s
     document.width, document.preserve_quotes = 4096, True
     document.indent(mapping=2, sequence=4, offset=2)
     tree = document.load(params_text)
-    overlay(tree, changes)  # the checks, before anything is written
+    overlay(tree, changes, source)  # the checks, before anything is written
 
     def like(old: Any, new: Any) -> Any:
         """new as a ruamel container in old's style (flow or block), old's trailing comment kept."""
@@ -111,12 +111,11 @@ def apply_preset(name: str, params: Path, folder: Path) -> dict[str, Any]:
     """Write preset `name` over the params file (see the module doc); the values it set."""
     changes = preset_changes(name, folder)
     text = params.read_text()
-    overlay(yaml.safe_load(text), changes, f"{folder / name}.yaml")
     header = (
         f"{folder.name}/{name}.yaml applied over this file by `python -m seasonloop.preset {name}` "
         f"(`git checkout {params.name}` goes back)"
     )
-    params.write_text(applied_text(text, changes, header))
+    params.write_text(applied_text(text, changes, header, f"{folder / name}.yaml"))
     return changes
 
 

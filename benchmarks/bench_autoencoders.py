@@ -141,7 +141,7 @@ def throughput(name: str, variant: Variant, device: str, images: np.ndarray, see
     """Training images/s (one epoch of fit, validated on 2 images) and inference images/s (describe)."""
     places = np.arange(len(images))
     one_epoch = {"max_epochs": 1, "max_validation_images": 2, "validation_block": 1, **params}
-    batch = variant.batch_size or get_learner(name).defaults["batch_size"]
+    batch = variant.batch_size or get_learner(name).PARAMS["batch_size"].default
     # warm-up on one batch: CUDA context, oneDNN primitive creation (torch.compile compiles on
     # its first call, so the timed fit below reuses nothing: its compile time is in the figure
     # unless the warm-up's compiled kernels are cached, which inductor does on disk)

@@ -13,7 +13,7 @@ reference itself shows between seeds.
 Besides keys of the learner's section, a setting can name how the training computes (IMPLEMENTATIONS):
 adam=per_tensor runs torch's default Adam (one pass over the weights per operation) instead of the
 pipeline's fused one; upsampling=separate runs the CAE's decoder as nn.Upsample then the convolution
-instead of its sub-pixel convolution (seasonloop.models.cae.UpsampledConv2d); denormals=kept trains
+instead of its sub-pixel convolution (seasonloop.models.core.upsampling.UpsampledConv2d); denormals=kept trains
 without flushing denormal floats to zero (seasonloop.models.core.arithmetic.flush_denormals). Each
 computes the same function up to float rounding, so a difference in quality is that rounding's
 effect on training. Every fit runs in a fresh process, as a fit stage does (a process's threads
@@ -45,8 +45,9 @@ from seasonloop.data import datasets
 from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
 from seasonloop.io import read_json
-from seasonloop.models.cae import ConvolutionalAutoEncoder, UpsampledConv2d
+from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.core import torch_learner, training
+from seasonloop.models.core.upsampling import UpsampledConv2d
 from seasonloop.models.registry import get_learner
 
 sys.path.insert(0, str(REPO / "stages"))

@@ -9,17 +9,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import torch
 import yaml
 
-from seasonloop.data import preprocess, sources
-from seasonloop.evaluation import distances
-from seasonloop.evaluation.matchers import MATCHER_REGISTRY, MATCHERS
 from seasonloop.evaluation.sequence import enhance_distance_contrast
+from seasonloop.models import ica
+from seasonloop.models.core.ica_densities import DENSITIES
 from seasonloop.models.core.torch_ica import WHITEN_SOLVERS
 from seasonloop.models.fae import ACTIVATIONS
-from seasonloop.models.ica import ICA_SOLVERS
 from seasonloop.models.registry import LEARNERS, get_learner
-from seasonloop.params import choices, learners
+from seasonloop.params import choices, registries
 from seasonloop.params.schema import TOP_LEVEL, check_params, check_whole
 from seasonloop.params.settings import SCHEMA
 from seasonloop.preset import composed_params
@@ -44,9 +43,11 @@ def test_the_shipped_params_pass(preset):
 def test_every_section_of_params_yaml_has_a_schema(params):
     # a section nobody checks would accept typos silently
     for name in params:
-        assert name in SCHEMA or name in TOP_LEVEL or name in choices.LEARNER_SECTIONS, name
+        assert name in SCHEMA or name in TOP_LEVEL or name in LEARNERS, name
     for name, section in SCHEMA.items():
         assert set(params[name]) == set(section), name
+    for name in LEARNERS:
+        assert set(params[name]) == set(get_learner(name).PARAMS), name
 
 
 @pytest.mark.parametrize(
@@ -141,21 +142,24 @@ def test_only_the_keys_asked_for_are_checked(params):
     check_params(params, ["pca"])
 
 
-def test_choices_match_the_library():
-    # the schema repeats the registries' names so that config.py imports no heavy module (torch,
-    # cv2): this test is what keeps the two one list, in the same order (the order of "known: ...")
-    assert choices.DISTANCE_METRICS == tuple(distances.DISTANCES) == distances.METRICS
-    assert tuple(distances.CONFIDENCES) == choices.CONFIDENCES
-    assert choices.CONTRAST_METHODS == tuple(preprocess.CONTRASTS) == preprocess.CONTRAST_METHODS
-    assert choices.MATCHER_NAMES == tuple(MATCHER_REGISTRY) == tuple(MATCHERS)
-    assert tuple(sources.SOURCES) == choices.SOURCES
-    assert set(choices.LEARNER_SECTIONS) == set(LEARNERS)
+def test_every_registry_a_check_reads_is_there():
+    # a choice is checked against the library's registry itself (seasonloop.params.registries):
+    # each one named resolves to a non-empty collection of names
+    assert len(registries.READ) >= 7
+    for where in registries.READ:
+        assert registries.names(where), where
+        assert all(isinstance(name, str) for name in registries.names(where)), where
 
 
-def test_config_imports_no_heavy_module():
-    # every stage imports config.py: it must stay cheap (the registries live beside their code)
-    code = "import sys, seasonloop.params.schema, seasonloop.params.settings; print(sorted({'torch', 'cv2', 'sklearn'} & set(sys.modules)))"
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+def test_checking_params_imports_no_heavy_module():
+    # every stage checks the whole params.yaml first, reading the registries and every learner's
+    # declared params: that must not import torch, scikit-learn or pandas (seconds a stage)
+    code = (
+        "import sys, yaml; from seasonloop.params.schema import check_whole; "
+        "check_whole(yaml.safe_load(open('params.yaml'))); "
+        "print(sorted({'torch', 'sklearn', 'pandas', 'joblib'} & set(sys.modules)))"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=REPO)
     assert result.stdout.strip() == "[]"
 
 
@@ -172,15 +176,18 @@ def test_the_whole_file_is_checked_before_any_stage_works():
         check_whole(params)
 
 
-def test_learner_schema_is_the_learners_defaults_and_registries():
-    # every key a learner has is in the schema, and every default passes its check
+def test_every_learner_default_passes_its_own_check():
     for name in LEARNERS:
-        assert set(learners.LEARNER_SCHEMA[name]) == set(get_learner(name).defaults), name
-        learners.check_learner(name, get_learner(name).defaults)
-    # the names of registries that live beside their code
-    assert tuple(ICA_SOLVERS) == learners.ICA_SOLVER_NAMES
-    assert tuple(WHITEN_SOLVERS) == learners.WHITEN_SOLVER_NAMES
-    assert tuple(ACTIVATIONS) == learners.ACTIVATION_NAMES
+        learner = get_learner(name)
+        learner.check_params({key: param.default for key, param in learner.PARAMS.items()})
+
+
+def test_the_torch_ica_solvers_implement_every_value_ica_declares():
+    # ica.fun and ica.whiten_solver are scikit-learn FastICA's values; the torch solvers implement each
+    assert tuple(DENSITIES) == ica.ICA_FUNCTIONS
+    assert tuple(WHITEN_SOLVERS) == ica.WHITEN_SOLVERS
+    for activation in ACTIVATIONS.values():
+        assert issubclass(getattr(torch.nn, activation), torch.nn.Module)
 
 
 def test_a_bad_learner_value_stops_the_whole_file_check():

@@ -197,11 +197,16 @@ def test_precomputed_descriptors_are_looked_up_by_place(tmp_path):
 def test_the_schema_knows_every_kind_of_ground_truth():
     from seasonloop.data.ground_truth import KINDS
     from seasonloop.data.truth_kinds import TRUTH_KINDS, truth_kind
-    from seasonloop.params.choices import GROUND_TRUTHS
+    from seasonloop.params.settings import SCHEMA
 
-    # the params' list is the registry's, in its order; vpr_bench builds matrix truths from VPR-Bench's file
-    assert tuple(TRUTH_KINDS) == GROUND_TRUTHS
-    assert set(GROUND_TRUTHS) == {*KINDS, "vpr_bench"}
+    # data.ground_truth is checked against the registry itself; vpr_bench builds matrix truths from VPR-Bench's file
+    for kind in TRUTH_KINDS:
+        SCHEMA["data"]["ground_truth"]("data.ground_truth", kind)
+    with pytest.raises(
+        ValueError, match=r"data\.ground_truth: unknown value 'gps' \(known: aligned, positions, matrix, vpr_bench\)"
+    ):
+        SCHEMA["data"]["ground_truth"]("data.ground_truth", "gps")
+    assert set(TRUTH_KINDS) == {*KINDS, "vpr_bench"}
     assert [kind.name for kind in TRUTH_KINDS.values() if kind.aligned] == ["aligned"]
     with pytest.raises(ValueError, match="data.ground_truth: unknown kind 'gps'"):
         truth_kind("gps")

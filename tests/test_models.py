@@ -9,8 +9,8 @@ import torch
 from sklearn.decomposition import PCA
 from sklearn.exceptions import ConvergenceWarning
 
-from seasonloop.models.cae import UpsampledConv2d
 from seasonloop.models.core.learner import RUN_KEYS, FeatureLearner, to_float
+from seasonloop.models.core.upsampling import UpsampledConv2d
 from seasonloop.models.registry import LEARNERS, get_learner, load_learner
 
 N_PER_FAMILY = 100

@@ -5,7 +5,10 @@ of params.yaml), the stage script's source is read (never run) to find:
 - the library modules it imports, transitively: seasonloop.* and the stage helpers stages/_*.py.
   The learner registry (seasonloop.models.registry) imports a learner's module only when asked
   for it, so a stage that uses the registry depends on the modules of the learners it can ask
-  for (LEARNERS_ASKED_FOR: fit@pca asks for pca only) and on what those import;
+  for (LEARNERS_ASKED_FOR: fit@pca asks for pca only) and on what those import. The params check
+  every stage starts with imports the learner modules and the registries by name
+  (seasonloop.params.registries) to read their declared params and names: not a dep, since a
+  check only stops a stage and never shapes what it writes;
 - the params it reads: literal keys of param(params, "a.b"), load_params("a", ...) and
   params["a"], and the section "x" of XConfig.from_params(params) (a seasonloop.params.settings class
   whose NAME is "x"), in the script and in the stages/_common.py helpers it calls; each must also

@@ -73,7 +73,7 @@ PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock
 # the test modules whose workspaces start from the seed's cache, in the order they run: SMALL's
 # longest first, then test_pipeline, which waits for TINY (tests/conftest.py starts the seed early
 # when any of them is selected)
-SEEDED_MODULES = ("test_remote", "test_experiments", "test_fresh_clone", "test_pipeline")
+SEEDED_MODULES = ("test_remote", "test_experiments", "test_fresh_clone", "test_new_learner", "test_pipeline")
 
 
 def merge(base: dict, override: dict) -> dict:

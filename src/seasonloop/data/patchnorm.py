@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from seasonloop.params.learners import PATCH_NORM_MODES
+PATCH_NORM_MODES = ("zscore", "minmax")
 
 
 def _patch_shape(patch_size: int | tuple[int, int]) -> tuple[int, int]:

@@ -18,8 +18,6 @@ import pandas as pd
 
 from seasonloop.params.checks import check_degree_columns
 
-UNITS = ("metres", "degrees")
-
 
 def read_table(path: Path, columns: Sequence[str], key: str | None) -> tuple[np.ndarray, pd.Series | None]:
     """(coordinates (n, k) float64, the key column or None) of a positions CSV; a missing file or

@@ -41,9 +41,8 @@ def _clahe(images: np.ndarray, clahe_clip: float, clahe_grid: int) -> np.ndarray
     return np.stack([clahe.apply(image) for image in images]) if len(images) else images.copy()
 
 
-# The order is params.choices.CONTRAST_METHODS' (tests/test_config.py keeps them in step).
+# preprocess.contrast is checked against these names (seasonloop.params.registries)
 CONTRASTS: dict[str, ContrastMethod] = {"clahe": _clahe, "equalize": _equalize, "none": _no_contrast}
-CONTRAST_METHODS = tuple(CONTRASTS)
 
 
 def enhance_image_contrast(images: np.ndarray, method: str, clahe_clip: float = 2.0, clahe_grid: int = 4) -> np.ndarray:

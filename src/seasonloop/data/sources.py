@@ -103,7 +103,7 @@ class Source:
     render: Callable[[Path, Sequence[str], DataConfig, SyntheticConfig], dict[str, Path]] | None = None
 
 
-# The order is params.choices.SOURCES' (tests/test_config.py keeps them in step).
+# data.source is checked against these names (seasonloop.params.registries)
 SOURCES: dict[str, Source] = {
     "synthetic": Source("video", render=_render_synthetic),  # seasonloop.data.synthetic
     "videos": Source("video", locate=_video_files),

@@ -3,9 +3,8 @@
 A kind says what extraction keeps (seasons paired frame by frame, or each its own frames; positions
 read or not), how the split maps every season onto the first season's places, how one pair's
 truth on the test places is built (seasonloop.data.ground_truth), and how the dataset table words
-it. A new kind is one class here and one line of TRUTH_KINDS (its name is also one of
-params.choices.GROUND_TRUTHS, the list params.yaml is checked with; tests/test_ground_truth.py
-keeps the two equal). Checks of data.* that depend on the kind (degrees only with positions,
+it. A new kind is one class here and one line of TRUTH_KINDS (data.ground_truth is checked against
+its names, seasonloop.params.registries). Checks of data.* that depend on the kind (degrees only with positions,
 VPR-Bench's two traverses) run with the params (seasonloop.params.section_checks).
 """
 

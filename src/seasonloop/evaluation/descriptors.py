@@ -12,7 +12,7 @@ import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.blocks import PairEvaluation, evaluate_descriptors
-from seasonloop.params.learners import AE_DESCRIPTORS
+from seasonloop.models.core.torch_learner import AE_DESCRIPTORS
 from seasonloop.params.seasons import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.significance.intervals import route_interval

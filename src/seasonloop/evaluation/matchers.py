@@ -15,15 +15,17 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pandas as pd
 
 from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.metrics import evaluate_truth
 from seasonloop.evaluation.sequence import sequence_distance_blocks
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 # The distances a matcher matches on, a block of query rows at a time: (distance_rows (query rows ->
 # their (rows, M) descriptor distances), N, M, rows per block, database_places (M,), query_places
@@ -75,7 +77,7 @@ def _sequence(
     )
 
 
-# A new matcher is one function plus one line here; the order is params.choices.MATCHER_NAMES'.
+# A new matcher is one function plus one line here (evaluate.matchers is checked against it).
 MATCHER_REGISTRY: dict[str, Matcher] = {"single": Matcher("", _single_image), "sequence": Matcher("+seq", _sequence)}
 # matcher -> the suffix its results carry in file names and tables ("pca" vs "pca+seq")
 MATCHERS: dict[str, str] = {name: matcher.suffix for name, matcher in MATCHER_REGISTRY.items()}

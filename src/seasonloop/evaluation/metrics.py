@@ -9,12 +9,15 @@ of a test pair need not be contiguous because test sets drop tunnel and station 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
 from seasonloop.data.ground_truth import PairTruth, aligned_truth
 from seasonloop.evaluation.records import RECALL_NS, QueryRecords, block_records, final_confidence, nearest_hits
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 METRIC_KEYS = (
     "fraction_correct",
@@ -249,4 +252,6 @@ def summarise_records(
         "n_queries": len(truth.query_places),
         "n_database": n_database,
     }
+    import pandas as pd  # here, not at the top: the params check imports this module and needs no pandas
+
     return metrics, pd.DataFrame({"recall": recall, "precision": precision})

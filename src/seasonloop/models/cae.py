@@ -2,65 +2,20 @@
 
 from __future__ import annotations
 
-import torch
-import torch.nn.functional as F
-from torch import nn
+from typing import TYPE_CHECKING, Any
 
-from seasonloop.models.core.torch_learner import AutoEncoder, TorchAutoEncoderLearner
+from seasonloop.models.core.learner import Param
+from seasonloop.models.core.torch_learner import TorchAutoEncoderLearner
+from seasonloop.params.checks import integer
 
-
-def _conv_relu(in_channels: int, out_channels: int, kernel: int) -> list[nn.Module]:
-    return [nn.Conv2d(in_channels, out_channels, kernel, padding="same"), nn.ReLU()]
-
-
-def phase_taps(kernel: int) -> tuple[torch.Tensor, int]:
-    """Which low-resolution pixel each tap of a "same" convolution reads after nearest 2x
-    up-sampling: a (2, span, kernel) 0/1 tensor, row a for output pixels of parity a (tap u of
-    output 2m + a reads input m + (a + u - left) // 2, left = (kernel - 1) // 2, as padding="same"
-    pads), and how many pixels the lowest offset lies before m."""
-    left = (kernel - 1) // 2
-    offsets = [[(a + u - left) // 2 for u in range(kernel)] for a in (0, 1)]
-    lowest = min(min(row) for row in offsets)
-    span = max(max(row) for row in offsets) - lowest + 1
-    taps = torch.zeros(2, span, kernel)
-    for a, row in enumerate(offsets):
-        for u, offset in enumerate(row):
-            taps[a, offset - lowest, u] = 1.0
-    return taps, -lowest
+if TYPE_CHECKING:
+    from seasonloop.models.core.training import AutoEncoder
 
 
-class UpsampledConv2d(nn.Conv2d):
-    """Nearest 2x up-sampling, then a "same" convolution: the function of nn.Upsample(scale_factor=2)
-    followed by nn.Conv2d(padding="same") with the same weights, up to float rounding.
-
-    Where the kernel is wider than the span of low-resolution pixels it reads (kernel >= 4), it runs
-    as a sub-pixel convolution (Shi et al. 2016): the taps that read the same low-resolution pixel
-    are summed into one kernel per output parity (2 x 2 kernels, stacked as output channels),
-    convolved at the input's resolution and interleaved by pixel_shuffle. The 11x11 layer then costs
-    7 x 7 multiply-adds an output pixel instead of 11 x 11 (the CAE's fit 1.7x faster at the same
-    plateau: benchmarks/bench_training_schedule.py, upsampling=separate).
-    """
-
-    def __init__(self, in_channels: int, out_channels: int, kernel: int):
-        super().__init__(in_channels, out_channels, kernel, padding="same")
-        taps, before = phase_taps(kernel)
-        self.span = span = taps.shape[1]
-        self.sub_pixel = span < kernel
-        self.phase_taps: torch.Tensor
-        self.register_buffer("phase_taps", taps, persistent=False)
-        # F.pad's (left, right, top, bottom) of the low-resolution input
-        self.low_resolution_padding = (before, span - 1 - before) * 2
-
-    def forward(self, inputs: torch.Tensor) -> torch.Tensor:
-        if not self.sub_pixel:
-            return super().forward(F.interpolate(inputs, scale_factor=2, mode="nearest"))
-        taps, span = self.phase_taps.to(self.weight.dtype), self.span
-        # kernels[o, a, b, c] for output channel o at parity (a, b): pixel_shuffle's channel o * 4 + 2a + b
-        kernels = torch.einsum("aiu,bjv,ocuv->oabcij", taps, taps, self.weight)
-        kernels = kernels.reshape(self.out_channels * 4, self.in_channels, span, span)
-        bias = None if self.bias is None else self.bias.repeat_interleave(4)
-        low_resolution = F.conv2d(F.pad(inputs, self.low_resolution_padding), kernels, bias)
-        return F.pixel_shuffle(low_resolution, 2)
+def three_positive_integers(key: str, value: Any) -> None:
+    """The channels or kernels: one positive integer per convolution layer of Table 5."""
+    if not isinstance(value, (list, tuple)) or len(value) != 3 or not all(type(v) is int and v >= 1 for v in value):
+        raise ValueError(f"{key}: expected a list of 3 positive integers, got {value!r}")
 
 
 class ConvolutionalAutoEncoder(TorchAutoEncoderLearner):
@@ -70,15 +25,15 @@ class ConvolutionalAutoEncoder(TorchAutoEncoderLearner):
 
     name = "cae"
     channels_last = True  # oneDNN convolutions are faster on NHWC activations (bench_autoencoders.py)
-    defaults = {
-        "channels": [96, 256, 384],
-        "kernels": [11, 5, 3],
-        "output_kernel": 3,
-        **TorchAutoEncoderLearner.COMMON_DEFAULTS,
+    PARAMS = {
+        "channels": Param([96, 256, 384], three_positive_integers),
+        "kernels": Param([11, 5, 3], three_positive_integers),
+        "output_kernel": Param(3, integer(1)),
+        **TorchAutoEncoderLearner.PARAMS,
         # Full-size CAE is ~9 GMAC per 32x64 image forward: train on a subset by default.
-        "batch_size": 64,
-        "max_train_images": 512,
-        "max_validation_images": 128,
+        "batch_size": Param(64, integer(1)),
+        "max_train_images": Param(512, integer(0)),
+        "max_validation_images": Param(128, integer(0)),
     }
 
     def _check_image_size(self, height: int, width: int) -> None:
@@ -88,6 +43,14 @@ class ConvolutionalAutoEncoder(TorchAutoEncoderLearner):
             )
 
     def _build_model(self, height: int, width: int) -> AutoEncoder:
+        from torch import nn
+
+        from seasonloop.models.core.training import AutoEncoder
+        from seasonloop.models.core.upsampling import UpsampledConv2d
+
+        def _conv_relu(in_channels: int, out_channels: int, kernel: int) -> list[nn.Module]:
+            return [nn.Conv2d(in_channels, out_channels, kernel, padding="same"), nn.ReLU()]
+
         (c0, c1, c2), (k0, k1, k2) = self.params["channels"], self.params["kernels"]
         encoder = nn.Sequential(
             *_conv_relu(1, c0, k0), nn.MaxPool2d(2), *_conv_relu(c0, c1, k1), *_conv_relu(c1, c2, k2), nn.MaxPool2d(2)

@@ -2,21 +2,36 @@
 
 from __future__ import annotations
 
-from torch import nn
+from typing import TYPE_CHECKING
 
-from seasonloop.models.core.torch_learner import AutoEncoder, TorchAutoEncoderLearner
+from seasonloop.models.core.learner import Param
+from seasonloop.models.core.torch_learner import TorchAutoEncoderLearner
+from seasonloop.params.checks import integer, one_of
 
-ACTIVATIONS = {"sigmoid": nn.Sigmoid, "relu": nn.ReLU}
+if TYPE_CHECKING:
+    from seasonloop.models.core.training import AutoEncoder
+
+# fae.activation -> the torch.nn module of the hidden layer
+ACTIVATIONS = {"sigmoid": "Sigmoid", "relu": "ReLU"}
 
 
 class FullyConnectedAutoEncoder(TorchAutoEncoderLearner):
     """One hidden layer auto-encoder; descriptor from its code or (patch-normalised) output."""
 
     name = "fae"
-    defaults = {"hidden": 512, "activation": "relu", **TorchAutoEncoderLearner.COMMON_DEFAULTS}
+    PARAMS = {
+        "hidden": Param(512, integer(1)),
+        "activation": Param("relu", one_of(*ACTIVATIONS)),
+        **TorchAutoEncoderLearner.PARAMS,
+    }
 
     def _build_model(self, height: int, width: int) -> AutoEncoder:
+        from torch import nn
+
+        from seasonloop.models.core.training import AutoEncoder
+
         n_pixels, hidden = height * width, self.params["hidden"]
-        encoder = nn.Sequential(nn.Flatten(), nn.Linear(n_pixels, hidden), ACTIVATIONS[self.params["activation"]]())
+        activation = getattr(nn, ACTIVATIONS[self.params["activation"]])
+        encoder = nn.Sequential(nn.Flatten(), nn.Linear(n_pixels, hidden), activation())
         decoder = nn.Sequential(nn.Linear(hidden, n_pixels), nn.Sigmoid(), nn.Unflatten(1, (1, height, width)))
         return AutoEncoder(encoder, decoder)

@@ -23,23 +23,27 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import joblib
 import numpy as np
-from sklearn.decomposition import FastICA
 
-from seasonloop.models.core.fastica import TorchFastICA
-from seasonloop.models.core.fastica_sklearn import fit_fastica
-from seasonloop.models.core.ica_stationarity import relative_gradient
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
-from seasonloop.models.core.picard import LibraryPicard, TorchPicard
-from seasonloop.models.core.torch_ica import TorchICA
-from seasonloop.models.core.torch_learner import resolve_device
-from seasonloop.params.learners import DEVICES, ICA_ALGORITHMS, ICA_PRECISIONS
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param, select_training_subset, to_float
+from seasonloop.models.core.torch_learner import DEVICES
+from seasonloop.params.checks import integer, number, one_of
+
+if TYPE_CHECKING:
+    from sklearn.decomposition import FastICA
+
+    from seasonloop.models.core.torch_ica import TorchICA
 
 ESTIMATOR_FILE = "fastica.joblib"
 TORCH_STATE_FILE = "ica.npz"
+# scikit-learn FastICA's algorithm, fun and whiten_solver values; the torch solvers implement the
+# same fun and whiten_solver values (models/core/ica_densities.py, models/core/torch_ica.py)
+ICA_ALGORITHMS = ("parallel", "deflation")
+ICA_FUNCTIONS = ("logcosh", "exp", "cube")
+WHITEN_SOLVERS = ("eigh", "svd")
+ICA_PRECISIONS = ("float32", "float64")  # the ICA iterations' arithmetic
 
 
 @dataclass(frozen=True)
@@ -85,6 +89,9 @@ def _record(
 
 
 def _fit_sklearn(learner: ICALearner, flat: np.ndarray, progress: bool) -> dict[str, Any]:
+    from seasonloop.models.core.fastica_sklearn import fit_fastica
+    from seasonloop.models.core.ica_stationarity import relative_gradient
+
     data = flat.astype(np.float64) if learner.params["precision"] == "float64" else flat
     learner.estimator, convergence = fit_fastica(
         data,
@@ -108,21 +115,46 @@ def _fit_sklearn(learner: ICALearner, flat: np.ndarray, progress: bool) -> dict[
 
 
 def _save_sklearn(estimator: FastICA, directory: Path) -> None:
+    import joblib
+
     joblib.dump(estimator, directory / ESTIMATOR_FILE)
 
 
 def _load_sklearn(learner: ICALearner, directory: Path) -> FastICA:
+    import joblib
+
     return joblib.load(directory / ESTIMATOR_FILE)
 
 
+def _torch_picard() -> type[TorchICA]:
+    from seasonloop.models.core.picard import TorchPicard
+
+    return TorchPicard
+
+
+def _library_picard() -> type[TorchICA]:
+    from seasonloop.models.core.picard import LibraryPicard
+
+    return LibraryPicard
+
+
+def _torch_fastica() -> type[TorchICA]:
+    from seasonloop.models.core.fastica import TorchFastICA
+
+    return TorchFastICA
+
+
 def _torch_solver(
-    name: str, estimator: type[TorchICA], devices: tuple[str, ...], precisions: tuple[str, ...]
+    name: str, estimator_class: Callable[[], type[TorchICA]], devices: tuple[str, ...], precisions: tuple[str, ...]
 ) -> ICASolver:
-    """A solver built on TorchICA (whitening, saving and describing shared; `estimator` rotates)."""
+    """A solver built on TorchICA (whitening, saving and describing shared; the class that
+    `estimator_class` imports, when a fit or load needs torch, rotates)."""
 
     def fit(learner: ICALearner, flat: np.ndarray, progress: bool) -> dict[str, Any]:
+        from seasonloop.models.core.arithmetic import resolve_device
+
         device = resolve_device(learner.params["device"], learner._key("device"))
-        fitted = learner._torch_estimator(estimator, device)
+        fitted = learner._torch_estimator(estimator_class(), device)
         try:
             fitted.fit(flat, progress=progress)
         except ValueError as error:
@@ -159,16 +191,17 @@ def _torch_solver(
             raise FileNotFoundError(f"no saved ICA state: {path} does not exist")
         with np.load(path) as arrays:
             # The arrays alone define the model; describe() runs in numpy on any machine.
-            return learner._torch_estimator(estimator, "cpu").load_arrays(dict(arrays))
+            return learner._torch_estimator(estimator_class(), "cpu").load_arrays(dict(arrays))
 
     return ICASolver(("parallel",), devices, precisions, fit, save, load)
 
 
-# A new solver is one ICASolver line here (and its functions above, or a TorchICA subclass).
+# A new solver is one ICASolver line here (and its functions above, or a TorchICA subclass that a
+# function above imports: this module is imported by every stage's params check, torch is not).
 ICA_SOLVERS: dict[str, ICASolver] = {
-    "picard": _torch_solver("picard", TorchPicard, DEVICES, ICA_PRECISIONS),
-    "python_picard": _torch_solver("python_picard", LibraryPicard, ("auto", "cpu"), ("float64",)),
-    "fastica": _torch_solver("fastica", TorchFastICA, DEVICES, ICA_PRECISIONS),
+    "picard": _torch_solver("picard", _torch_picard, DEVICES, ICA_PRECISIONS),
+    "python_picard": _torch_solver("python_picard", _library_picard, ("auto", "cpu"), ("float64",)),
+    "fastica": _torch_solver("fastica", _torch_fastica, DEVICES, ICA_PRECISIONS),
     "sklearn": ICASolver(ICA_ALGORITHMS, ("auto", "cpu"), ICA_PRECISIONS, _fit_sklearn, _save_sklearn, _load_sklearn),
 }
 
@@ -181,18 +214,18 @@ class ICALearner(FeatureLearner):
     """
 
     name = "ica"
-    defaults = {
-        "n_components": 128,
-        "algorithm": "parallel",
-        "fun": "logcosh",
-        "max_iter": 2000,
-        "tol": 1e-7,
-        "change_tol": 1e-4,
-        "whiten_solver": "eigh",
-        "max_train_images": 0,
-        "solver": "picard",
-        "device": "auto",
-        "precision": "float32",
+    PARAMS = {
+        "n_components": Param(128, integer(1)),
+        "algorithm": Param("parallel", one_of(*ICA_ALGORITHMS)),
+        "fun": Param("logcosh", one_of(*ICA_FUNCTIONS)),
+        "max_iter": Param(2000, integer(1)),
+        "tol": Param(1e-7, number(0, None, low_open=True)),
+        "change_tol": Param(1e-4, number(0, None, low_open=True)),
+        "whiten_solver": Param("eigh", one_of(*WHITEN_SOLVERS)),
+        "max_train_images": Param(0, integer(0)),
+        "solver": Param("picard", one_of(*ICA_SOLVERS)),
+        "device": Param("auto", one_of(*DEVICES)),
+        "precision": Param("float32", one_of(*ICA_PRECISIONS)),
     }
 
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):

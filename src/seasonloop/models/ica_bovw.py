@@ -4,19 +4,21 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import joblib
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
-from sklearn.cluster import KMeans, MiniBatchKMeans
-from sklearn.decomposition import FastICA
 
-from seasonloop.models.core.fastica_sklearn import fit_fastica
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, to_float, with_contiguous_arrays
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param, to_float, with_contiguous_arrays
+from seasonloop.params.checks import integer, number, one_of
+
+if TYPE_CHECKING:
+    from sklearn.cluster import KMeans, MiniBatchKMeans
+    from sklearn.decomposition import FastICA
 
 ESTIMATORS_FILE = "ica_bovw.joblib"
 KMEANS_N_INIT = 3
+KMEANS_KINDS = ("minibatch", "full")  # ica_bovw.kmeans: scikit-learn's MiniBatchKMeans or KMeans
 
 
 def extract_patches(images: np.ndarray, patch_size: int, stride: int) -> np.ndarray:
@@ -42,16 +44,16 @@ class ICABoVW(FeatureLearner):
     """FastICA on DC-removed patches, k-means words on the ICA sources, L1-normalised histograms."""
 
     name = "ica_bovw"
-    defaults = {
-        "patch_size": 8,
-        "stride": 4,
-        "n_train_patches": 50000,
+    PARAMS = {
+        "patch_size": Param(8, integer(1)),
+        "stride": Param(4, integer(1)),
+        "n_train_patches": Param(50000, integer(2)),
         # Removing each patch's DC leaves patch_size**2 - 1 dimensions, hence 63 not 64.
-        "n_components": 63,
-        "n_words": 200,
-        "kmeans": "minibatch",
-        "max_iter": 400,
-        "tol": 1e-4,
+        "n_components": Param(63, integer(1)),
+        "n_words": Param(200, integer(1)),
+        "kmeans": Param("minibatch", one_of(*KMEANS_KINDS)),
+        "max_iter": Param(400, integer(1)),
+        "tol": Param(1e-4, number(0, None, low_open=True)),
     }
 
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
@@ -78,6 +80,10 @@ class ICABoVW(FeatureLearner):
         return patches, words.reshape(len(images), -1)
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
+        from sklearn.cluster import KMeans, MiniBatchKMeans
+
+        from seasonloop.models.core.fastica_sklearn import fit_fastica
+
         patch_size, stride = self.params["patch_size"], self.params["stride"]
         height, width = self.image_shape
         if patch_size > min(height, width):
@@ -162,8 +168,12 @@ class ICABoVW(FeatureLearner):
         return examples
 
     def _save_state(self, directory: Path) -> None:
+        import joblib
+
         joblib.dump({"ica": self.ica, "kmeans": self.kmeans}, directory / ESTIMATORS_FILE)
 
     def _load_state(self, directory: Path) -> None:
+        import joblib
+
         estimators = joblib.load(directory / ESTIMATORS_FILE)
         self.ica, self.kmeans = estimators["ica"], estimators["kmeans"]

@@ -13,8 +13,9 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.models.core.learner import EpochCallback, select_training_subset
-from seasonloop.models.core.projection import PrincipalComponentLearner
+from seasonloop.models.core.learner import EpochCallback, Param, select_training_subset
+from seasonloop.models.core.projection import PrincipalComponentLearner, principal_component_params
+from seasonloop.params.checks import integer
 
 # A kept component below this many roundings (of the solver's float type: float64, see
 # core/projection.py) of the scale its solver works at cannot be told from zero: scaling it to unit
@@ -27,7 +28,7 @@ class WhitenedPCALearner(PrincipalComponentLearner):
     by its standard deviation on the training images (population, as FastICA's whitening)."""
 
     name = "pca_whiten"
-    defaults = {"n_discard": 0, "n_keep": 128, "svd_solver": "covariance_eigh", "max_train_images": 0}
+    PARAMS = {**principal_component_params(n_discard=0, n_keep=128), "max_train_images": Param(0, integer(0))}
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         # The same seeded subset as ICA's max_train_images, so both can see the same images.

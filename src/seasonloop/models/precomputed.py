@@ -14,14 +14,15 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, PlaceRows
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param, PlaceRows
+from seasonloop.params.checks import text
 
 
 class PrecomputedDescriptors(FeatureLearner):
     """Rows of <dir>/<season>.npy, looked up by place."""
 
     name = "precomputed"
-    defaults = {"dir": "data/nordland/descriptors"}
+    PARAMS = {"dir": Param("data/nordland/descriptors", text)}
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         folder = Path(self.params["dir"])

@@ -7,15 +7,16 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.data.patchnorm import patch_normalise
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner
+from seasonloop.data.patchnorm import PATCH_NORM_MODES, patch_normalise
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param
+from seasonloop.params.checks import integer, one_of
 
 
 class RawPatchNorm(FeatureLearner):
     """No learning: descriptor = patch_normalise(image).ravel()."""
 
     name = "raw_patchnorm"
-    defaults = {"patch_size": 8, "mode": "zscore"}
+    PARAMS = {"patch_size": Param(8, integer(1)), "mode": Param("zscore", one_of(*PATCH_NORM_MODES))}
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         height, width = self.image_shape

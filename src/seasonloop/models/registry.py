@@ -1,8 +1,11 @@
 """Name -> learner, imported on demand, and loading a saved learner by the name in its learner.json.
 
-Each learner is one module `seasonloop.models.<name>` holding one FeatureLearner subclass; adding
-one is that module plus one line here. Only the module a stage asks for is imported, so a stage
-that fits `pca` runs (and, in dvc.yaml, depends on) `models/pca.py` and `models/core/` only.
+Each learner is one module `seasonloop.models.<name>` holding one FeatureLearner subclass, which
+declares its params; adding one is that module, one line here and its section in params.yaml. A
+stage's work imports only the module it asks for, so a stage that fits `pca` depends (dvc.yaml) on
+`models/pca.py` and `models/core/` only; the params check every stage starts with imports each
+module to read its declared params (seasonloop.params.registries), which needs no torch or
+scikit-learn and shapes no output.
 """
 
 from __future__ import annotations

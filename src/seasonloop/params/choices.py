@@ -1,25 +1,16 @@
-"""The names and ranges params.yaml's choices may take, for the section declarations
-(seasonloop.params.settings) and the library code that must agree with them."""
+"""The names and ranges of params.yaml's choices that no library registry holds, for the section
+declarations (seasonloop.params.settings) and the library code that reads them. A choice that
+selects one of a registry's entries (a distance, a matcher, a learner) is checked against that
+registry itself (seasonloop.params.registries)."""
 
 from __future__ import annotations
 
 from seasonloop.params.checks import Check, number
-from seasonloop.params.learners import LEARNER_SCHEMA
 
-# The names in the library's registries (docs/pipeline.md: where they are), repeated so that checking params
-# imports no heavy library; tests/test_config.py keeps each equal to its registry, in order.
-DISTANCE_METRICS = ("cosine", "euclidean", "cityblock")
-CONFIDENCES = ("distance", "ratio")
-MATCHER_NAMES = ("single", "sequence")
-CONTRAST_METHODS = ("clahe", "equalize", "none")
-SOURCES = ("synthetic", "videos", "frames")
-GROUND_TRUTHS = ("aligned", "positions", "matrix", "vpr_bench")
 # where positions come from: <positions_dir>/<season>.csv, or each image's name (gmberton's
 # '@<utm_east>@<utm_north>@...' layout)
 POSITION_SOURCES = ("csv", "image_names")
 POSITION_UNITS = ("metres", "degrees")
-# the learner sections: their keys and checks are in seasonloop.params.learners
-LEARNER_SECTIONS = tuple(LEARNER_SCHEMA)
 
 # SeqSLAM's contrast-enhancement window spans at least 2 database columns
 MIN_SEQUENCE_WINDOW = 2

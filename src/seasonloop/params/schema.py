@@ -1,7 +1,8 @@
 """params.yaml checked whole before any stage works: every section (its keys and checks are declared
-with the sections, seasonloop.params.settings), the top-level values, every learner section and the
-checks across sections. Seasons and pairs are in seasonloop.params.seasons, the checks of one value
-in seasonloop.params.checks, the names choices may take in seasonloop.params.choices.
+with the sections, seasonloop.params.settings), the top-level values, every learner section (checked
+against the params its class declares, seasonloop.params.registries) and the checks across sections. Seasons and pairs are in seasonloop.params.seasons, the checks of one value
+in seasonloop.params.checks, the names choices may take in the library's registries
+(seasonloop.params.registries) or, where no registry holds them, seasonloop.params.choices.
 """
 
 from __future__ import annotations
@@ -10,15 +11,14 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from seasonloop.params.across import check_across
-from seasonloop.params.checks import Check, integer, list_of, one_of
-from seasonloop.params.choices import LEARNER_SECTIONS
-from seasonloop.params.learners import LEARNER_SCHEMA, check_learner
+from seasonloop.params.checks import Check, integer, list_of
+from seasonloop.params.registries import LEARNERS, check_learner_section, names, registered
 from seasonloop.params.seasons import TRAVERSE_KEYS, check_traverses
 from seasonloop.params.section_checks import SECTION_CHECKS
 from seasonloop.params.settings import SCHEMA
 
 # Top-level keys that are values, not sections.
-TOP_LEVEL: dict[str, Check] = {"seed": integer(0), "learners": list_of(one_of(*LEARNER_SECTIONS))}
+TOP_LEVEL: dict[str, Check] = {"seed": integer(0), "learners": list_of(registered(LEARNERS))}
 
 
 def check_params(params: Mapping[str, Any], keys: Sequence[str]) -> None:
@@ -27,12 +27,13 @@ def check_params(params: Mapping[str, Any], keys: Sequence[str]) -> None:
     Raises a ValueError naming the first unknown, missing or out-of-range key. Learner sections
     are left to the learner classes, which reject unknown keys and bad values.
     """
+    learners = names(LEARNERS)
     for name in params:
-        if name not in SCHEMA and name not in TOP_LEVEL and name not in LEARNER_SECTIONS:
+        if name not in SCHEMA and name not in TOP_LEVEL and name not in learners:
             raise ValueError(f"params.yaml: unknown key '{name}'")
     for key in keys:
         section_name, _, sub = key.partition(".")
-        if section_name in LEARNER_SECTIONS:
+        if section_name in learners:
             continue
         if section_name in TOP_LEVEL:
             if section_name not in params:
@@ -48,13 +49,13 @@ def check_params(params: Mapping[str, Any], keys: Sequence[str]) -> None:
         if sub:
             if sub not in schema:
                 raise ValueError(f"params.yaml: unknown key '{key}'")
-            names = [sub]
+            checked = [sub]
         else:
             unknown = [name for name in section if name not in schema]
             if unknown:
                 raise ValueError(f"{section_name}.{unknown[0]}: unknown key (known: {', '.join(schema)})")
-            names = list(schema)
-        for name in names:
+            checked = list(schema)
+        for name in checked:
             if name not in section:
                 raise ValueError(f"params.yaml: missing key '{section_name}.{name}'")
             schema[name](f"{section_name}.{name}", section[name])
@@ -70,7 +71,7 @@ def check_whole(params: Mapping[str, Any]) -> None:
     not the stage that reads it), then the checks across sections. Raises a ValueError naming the
     first bad key."""
     check_params(params, [*TOP_LEVEL, *SCHEMA])
-    for name in LEARNER_SCHEMA:
+    for name in names(LEARNERS):
         if name in params:
-            check_learner(name, params[name])
+            check_learner_section(name, params[name])
     check_across(params)

@@ -1,8 +1,9 @@
 """params.yaml's sections, each key declared once: its type and, beside it, its check.
 
 A section is a frozen dataclass whose fields are the section's keys; `setting(check)` gives a field
-the check its value must pass (seasonloop.params.checks), and SCHEMA, which params.yaml is checked
-with, is read from these fields. A new key is one field here and its value in params.yaml. The
+the check its value must pass (seasonloop.params.checks; a choice among a library registry's names:
+seasonloop.params.registries), and SCHEMA, which params.yaml is checked with, is read from these
+fields. A new key is one field here and its value in params.yaml. The
 dataclass is what the library receives instead of a raw dict, so a typo in a key is caught once,
 at the edge, and the library's signatures say what they read; lists become tuples so that a
 config is immutable.
@@ -32,21 +33,11 @@ from seasonloop.params.checks import (
     test_fraction,
     text,
 )
-from seasonloop.params.choices import (
-    CONFIDENCES,
-    CONTRAST_METHODS,
-    DISTANCE_METRICS,
-    GROUND_TRUTHS,
-    LEARNER_SECTIONS,
-    MATCHER_NAMES,
-    MIN_SEQUENCE_WINDOW,
-    POSITION_SOURCES,
-    POSITION_UNITS,
-    RIDE_SCHEMA,
-    SOURCES,
-    WINDOW_RULES,
-)
+from seasonloop.params.choices import MIN_SEQUENCE_WINDOW, POSITION_SOURCES, POSITION_UNITS, RIDE_SCHEMA, WINDOW_RULES
+from seasonloop.params.registries import LEARNERS, registered
 from seasonloop.params.seasons import SEASONS
+
+DISTANCES = "seasonloop.evaluation.distances:DISTANCES"
 
 
 def setting(check: Check) -> Any:
@@ -90,7 +81,7 @@ class Section:
 @dataclass(frozen=True)
 class DataConfig(Section):
     NAME = "data"
-    source: str = setting(one_of(*SOURCES))
+    source: str = setting(registered("seasonloop.data.sources:SOURCES"))
     seasons: tuple[str, ...] = setting(seasons)
     videos_dir: str = setting(text)
     video_files: dict[str, str] = setting(season_map(text))
@@ -98,7 +89,7 @@ class DataConfig(Section):
     frame_step: int = setting(integer(1))
     offsets: dict[str, int] = setting(season_map(integer(0)))
     # what makes a match correct (seasonloop.data.ground_truth)
-    ground_truth: str = setting(one_of(*GROUND_TRUTHS))
+    ground_truth: str = setting(registered("seasonloop.data.truth_kinds:TRUTH_KINDS"))
     positions_dir: str = setting(text)
     position_source: str = setting(one_of(*POSITION_SOURCES))
     position_columns: tuple[str, ...] = setting(list_of(text))
@@ -151,7 +142,7 @@ class PreprocessConfig(Section):
     NAME = "preprocess"
     height: int = setting(integer(4))
     width: int = setting(integer(4))
-    contrast: str = setting(one_of(*CONTRAST_METHODS))
+    contrast: str = setting(registered("seasonloop.data.preprocess:CONTRASTS"))
     clahe_clip: float = setting(number(0, None, low_open=True))
     clahe_grid: int = setting(integer(1))
 
@@ -196,13 +187,13 @@ class FeaturesConfig(Section):
 class EvaluateConfig(Section):
     NAME = "evaluate"
     pairs: tuple[str, ...] = setting(list_of(pair))
-    metric: str = setting(one_of(*DISTANCE_METRICS))
-    extra_metrics: tuple[str, ...] = setting(list_of(one_of(*DISTANCE_METRICS), non_empty=False))
-    confidence: str = setting(one_of(*CONFIDENCES))
+    metric: str = setting(registered(DISTANCES))
+    extra_metrics: tuple[str, ...] = setting(list_of(registered(DISTANCES), non_empty=False))
+    confidence: str = setting(registered("seasonloop.evaluation.distances:CONFIDENCES"))
     ratio_exclusion: int = setting(integer(0))
     tolerance_frames: int = setting(integer(0))
     tolerance_m: float = setting(number(0))
-    matchers: tuple[str, ...] = setting(list_of(one_of(*MATCHER_NAMES)))
+    matchers: tuple[str, ...] = setting(list_of(registered("seasonloop.evaluation.matchers:MATCHER_REGISTRY")))
 
 
 @dataclass(frozen=True)
@@ -230,7 +221,7 @@ class SequenceConfig(Section):
 @dataclass(frozen=True)
 class AblationConfig(Section):
     NAME = "ablation"
-    methods: tuple[str, ...] = setting(list_of(one_of(*LEARNER_SECTIONS)))
+    methods: tuple[str, ...] = setting(list_of(registered(LEARNERS)))
     pair: str = setting(pair)
     training_seasons: tuple[tuple[str, ...], ...] = setting(list_of(seasons))
 

@@ -17,8 +17,8 @@ import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.descriptors import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
+from seasonloop.models.core.torch_learner import AE_DESCRIPTORS
 from seasonloop.models.registry import load_learner
-from seasonloop.params.learners import AE_DESCRIPTORS
 from seasonloop.params.seasons import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series

@@ -1,5 +1,6 @@
-"""How the auto-encoders compute on this machine: the precision of their forward pass (bfloat16
-where the hardware has it, autocast) and denormal floats flushed to zero on the CPU."""
+"""How the auto-encoders (and the torch ICA solvers) compute on this machine: the device, the
+precision of the forward pass (bfloat16 where the hardware has it, autocast) and denormal floats
+flushed to zero on the CPU."""
 
 from __future__ import annotations
 
@@ -8,7 +9,16 @@ from contextlib import contextmanager
 
 import torch
 
-from seasonloop.params.learners import PRECISIONS
+from seasonloop.models.core.torch_learner import PRECISIONS
+
+
+def resolve_device(requested: str, key: str) -> torch.device:
+    """'auto' -> cuda if available else cpu; 'cuda' without CUDA -> ValueError naming `key`."""
+    if requested == "auto":
+        return torch.device("cuda" if torch.cuda.is_available() else "cpu")
+    if requested == "cuda" and not torch.cuda.is_available():
+        raise ValueError(f"{key} = 'cuda' but CUDA is not available on this machine")
+    return torch.device(requested)
 
 
 def cpu_has_native_bfloat16() -> bool:

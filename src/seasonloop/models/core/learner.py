@@ -12,7 +12,7 @@ from typing import Any, ClassVar
 import numpy as np
 from tqdm.auto import tqdm
 
-from seasonloop.params.learners import check_learner
+from seasonloop.params.checks import Check
 
 LEARNER_FILE = "learner.json"
 
@@ -23,6 +23,15 @@ LEARNER_FILE = "learner.json"
 RUN_KEYS = ("training_seconds", "device", "torch_threads", "cpu_native_bfloat16")
 
 EpochCallback = Callable[[int, dict[str, float]], None]
+
+
+@dataclass(frozen=True)
+class Param:
+    """One key of a learner's params section: the value it takes when params.yaml leaves it out,
+    and the check a given value must pass (seasonloop.params.checks)."""
+
+    default: Any
+    check: Check
 
 
 @dataclass(frozen=True)
@@ -90,24 +99,40 @@ def to_json_value(value: Any) -> Any:
 class FeatureLearner(ABC):
     """A method that turns (N, H, W) images into (N, D) float32 descriptors.
 
-    Subclasses set `name` and `defaults` and implement `_fit`, `_describe_batch`,
-    `_save_state` and `_load_state`; `_validate_params` checks params across keys.
+    Subclasses set `name` and `PARAMS` and implement `_fit`, `_describe_batch`, `_save_state`
+    and `_load_state`; `_validate_params` checks params across keys.
+
+    A learner's module is imported by every stage, to check params.yaml before any work
+    (seasonloop.params.schema.check_whole): it declares, and imports torch or scikit-learn only
+    inside the methods that compute (tests/test_models.py holds every learner module to it).
     """
 
     name: ClassVar[str]
-    defaults: ClassVar[dict[str, Any]]
+    # the learner's params section (its name is `name`): every key with its default and check,
+    # declared once; params.yaml's section is checked against it before any stage works, and the
+    # given params again when the learner is built
+    PARAMS: ClassVar[dict[str, Param]]
     # whether fit() reports epochs to its on_epoch callback (the stage logs them with dvclive)
     trains_in_epochs: ClassVar[bool] = False
 
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
-        given = dict(params or {})
-        # the same checks as the whole params.yaml gets before any stage works: one source
-        check_learner(self.name, given)
-        self.params: dict[str, Any] = {**self.defaults, **given}
+        self.check_params(params or {})
+        self.params: dict[str, Any] = {key: param.default for key, param in self.PARAMS.items()} | dict(params or {})
         self.seed = int(seed)
         self.fit_info: dict[str, Any] | None = None
         self.input_shape: tuple[int, int] | None = None
         self._validate_params()
+
+    @classmethod
+    def check_params(cls, params: Mapping[str, Any]) -> None:
+        """Check the keys given for this learner (a partial section is fine: the defaults fill the
+        rest); a ValueError names the first unknown key or bad value."""
+        if not isinstance(params, Mapping):
+            raise ValueError(f"{cls.name}: expected a mapping of the learner's params, got {params!r}")
+        for key, value in params.items():
+            if key not in cls.PARAMS:
+                raise ValueError(f"{cls.name}.{key}: unknown key (known: {', '.join(cls.PARAMS)})")
+            cls.PARAMS[key].check(f"{cls.name}.{key}", value)
 
     # ----- param checks shared by the subclasses -----
     def _key(self, key: str) -> str:
@@ -122,7 +147,7 @@ class FeatureLearner(ABC):
 
     def _validate_params(self) -> None:  # noqa: B027 (optional hook: most learners need none)
         """Raise ValueError for params that are fine one by one but not together (subclasses override;
-        each value's own range and choices are checked by seasonloop.params.learners)."""
+        each value's own range and choices are checked by PARAMS)."""
 
     # ----- public API -----
     def fit(

@@ -4,15 +4,28 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import joblib
 import numpy as np
-from sklearn.decomposition import PCA
 
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, to_float, with_contiguous_arrays
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param, to_float, with_contiguous_arrays
+from seasonloop.params.checks import integer, one_of
+
+if TYPE_CHECKING:
+    from sklearn.decomposition import PCA
 
 ESTIMATOR_FILE = "pca.joblib"
+# scikit-learn's PCA(svd_solver=...) values
+SVD_SOLVERS = ("auto", "full", "covariance_eigh", "arpack", "randomized")
+
+
+def principal_component_params(n_discard: int, n_keep: int) -> dict[str, Param]:
+    """The params of a learner on components [n_discard, n_discard + n_keep), with these defaults."""
+    return {
+        "n_discard": Param(n_discard, integer(0)),
+        "n_keep": Param(n_keep, integer(1)),
+        "svd_solver": Param("covariance_eigh", one_of(*SVD_SOLVERS)),
+    }
 
 
 def to_pixels64(images: np.ndarray) -> np.ndarray:
@@ -25,7 +38,7 @@ def to_pixels64(images: np.ndarray) -> np.ndarray:
 
 class PrincipalComponentLearner(FeatureLearner):
     """Descriptor = projections on principal components [n_discard, n_discard + n_keep) of
-    scikit-learn's PCA; a subclass sets `name` and `defaults` (which include those keys and svd_solver)."""
+    scikit-learn's PCA; a subclass sets `name` and `PARAMS` (principal_component_params and its own)."""
 
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
         super().__init__(params, seed)
@@ -36,6 +49,8 @@ class PrincipalComponentLearner(FeatureLearner):
         return self.params["n_discard"] + self.params["n_keep"]
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
+        from sklearn.decomposition import PCA
+
         flat = to_pixels64(images)
         # arpack cannot compute all min(n_samples, n_features) components.
         limit = min(flat.shape) - (1 if self.params["svd_solver"] == "arpack" else 0)
@@ -74,7 +89,11 @@ class PrincipalComponentLearner(FeatureLearner):
         return rebuilt.reshape(images.shape).astype(np.float32)
 
     def _save_state(self, directory: Path) -> None:
+        import joblib
+
         joblib.dump(self.estimator, directory / ESTIMATOR_FILE)
 
     def _load_state(self, directory: Path) -> None:
+        import joblib
+
         self.estimator = joblib.load(directory / ESTIMATOR_FILE)

@@ -1,107 +1,72 @@
-"""Shared torch machinery of the two auto-encoders: device, precision and thread choice, the
-held-out validation places, batched inference with the three descriptors, and save/load of the
-state_dict. The training loop is in training.py, the arithmetic (precision, denormals) in arithmetic.py."""
+"""Shared machinery of the two auto-encoders: their training params, device, precision and thread
+choice, the held-out validation places, batched inference with the three descriptors, and save/load
+of the state_dict. The training loop is in training.py, the arithmetic (precision, denormals) in
+arithmetic.py.
+
+torch is imported inside the methods that compute: every stage imports the learner modules to
+check params.yaml (seasonloop.models.core.learner), and torch takes a second to import."""
 
 from __future__ import annotations
 
 from abc import abstractmethod
-from collections.abc import Iterator, Mapping
-from contextlib import contextmanager
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import torch
-from torch import nn
 
 from seasonloop.data.patchnorm import patch_normalise
-from seasonloop.models.core.arithmetic import autocast, cpu_has_native_bfloat16, flush_denormals, resolve_precision
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
-from seasonloop.models.core.training import TrainingConfig, train_until_plateau, validation_places
-from seasonloop.params.learners import AE_DESCRIPTORS
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param, select_training_subset, to_float
+from seasonloop.params.checks import integer, number, one_of
+
+if TYPE_CHECKING:
+    import torch
+
+    from seasonloop.models.core.training import AutoEncoder, TrainingConfig
 
 MODEL_FILE = "model.pt"
-
-
-def resolve_device(requested: str, key: str) -> torch.device:
-    """'auto' -> cuda if available else cpu; 'cuda' without CUDA -> ValueError naming `key`."""
-    if requested == "auto":
-        return torch.device("cuda" if torch.cuda.is_available() else "cpu")
-    if requested == "cuda" and not torch.cuda.is_available():
-        raise ValueError(f"{key} = 'cuda' but CUDA is not available on this machine")
-    return torch.device(requested)
-
-
-class AutoEncoder(nn.Module):
-    """encoder: (B, 1, H, W) -> code; decoder: code -> (B, 1, H, W) in [0, 1]."""
-
-    def __init__(self, encoder: nn.Module, decoder: nn.Module):
-        super().__init__()
-        self.encoder = encoder
-        self.decoder = decoder
-
-    def forward(self, images: torch.Tensor) -> torch.Tensor:
-        return self.decoder(self.encoder(images))
-
-
-@contextmanager
-def deterministic_algorithms(device: torch.device) -> Iterator[None]:
-    """Ask torch for deterministic kernels while training, then restore the caller's settings.
-
-    On CUDA some kernels (e.g. nearest-upsampling backward) have no deterministic version, so
-    there torch only warns instead of raising.
-    """
-    previous = (
-        torch.are_deterministic_algorithms_enabled(),
-        torch.is_deterministic_algorithms_warn_only_enabled(),
-        torch.backends.cudnn.deterministic,
-        torch.backends.cudnn.benchmark,
-    )
-    torch.use_deterministic_algorithms(True, warn_only=device.type != "cpu")
-    torch.backends.cudnn.deterministic, torch.backends.cudnn.benchmark = True, False
-    try:
-        yield
-    finally:
-        torch.use_deterministic_algorithms(previous[0], warn_only=previous[1])
-        torch.backends.cudnn.deterministic, torch.backends.cudnn.benchmark = previous[2:]
+DEVICES = ("auto", "cpu", "cuda")
+PRECISIONS = ("auto", "float32", "bfloat16")  # of the forward pass (seasonloop.models.core.arithmetic)
+AE_DESCRIPTORS = ("code", "output", "output_patchnorm")
 
 
 class TorchAutoEncoderLearner(FeatureLearner):
     """Common fit/describe/save/load of the auto-encoders; subclasses define the network.
 
-    Subclass defaults must include the keys of COMMON_DEFAULTS. `channels_last` says whether the
-    network runs faster with NHWC activations (convolutions under oneDNN/cuDNN do).
+    A subclass's PARAMS extend these (its network's keys, other defaults). `channels_last` says
+    whether the network runs faster with NHWC activations (convolutions under oneDNN/cuDNN do).
     """
 
     channels_last: bool = False
     trains_in_epochs = True
 
-    COMMON_DEFAULTS = {
-        "max_epochs": 200,
-        "batch_size": 128,
-        "learning_rate": 1e-3,
+    PARAMS = {
+        "max_epochs": Param(200, integer(1)),
+        "batch_size": Param(128, integer(1)),
+        "learning_rate": Param(1e-3, number(0, None, low_open=True)),
         # stop when the validation loss has not improved by min_delta (relative) for `patience`
         # epochs in a row; halve the learning rate at the lr_patience-th such epoch in a row
-        "patience": 5,
-        "min_delta": 0.005,
-        "lr_patience": 2,
-        "lr_factor": 0.5,
-        "budget_seconds": 0,  # wall-clock cap on training (0: none); machine-dependent
-        "validation_fraction": 0.1,  # of the training places (whole blocks), never test places
-        "validation_block": 10,  # consecutive places per held-out block
-        "max_validation_images": 0,  # 0: every image of the validation places
-        "precision": "auto",  # auto | float32 | bfloat16 (autocast of the forward pass)
-        "threads": 0,  # torch CPU threads; 0: torch's default (recorded either way)
-        "descriptor": "output_patchnorm",
-        "patch_size": 8,
-        "device": "auto",
-        "max_train_images": 0,
+        "patience": Param(5, integer(1)),
+        "min_delta": Param(0.005, number(0, 1, high_open=True)),
+        "lr_patience": Param(2, integer(1)),
+        "lr_factor": Param(0.5, number(0, 1, low_open=True, high_open=True)),
+        "budget_seconds": Param(0, number(0)),  # wall-clock cap on training (0: none); machine-dependent
+        # of the training places (whole blocks), never test places
+        "validation_fraction": Param(0.1, number(0, 1, high_open=True)),
+        "validation_block": Param(10, integer(1)),  # consecutive places per held-out block
+        "max_validation_images": Param(0, integer(0)),  # 0: every image of the validation places
+        "precision": Param("auto", one_of(*PRECISIONS)),  # autocast of the forward pass
+        "threads": Param(0, integer(0)),  # torch CPU threads; 0: torch's default (recorded either way)
+        "descriptor": Param("output_patchnorm", one_of(*AE_DESCRIPTORS)),
+        "patch_size": Param(8, integer(1)),
+        "device": Param("auto", one_of(*DEVICES)),
+        "max_train_images": Param(0, integer(0)),
     }
 
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
         super().__init__(params, seed)
         self.model: AutoEncoder | None = None
-        self._dtype = torch.float32
+        self._dtype: torch.dtype | None = None  # the forward pass's, set by fit and load
 
     @abstractmethod
     def _build_model(self, height: int, width: int) -> AutoEncoder:
@@ -119,18 +84,26 @@ class TorchAutoEncoderLearner(FeatureLearner):
 
     def _seeded_model(self) -> AutoEncoder:
         """Build the network with weights drawn from `seed`, leaving the global torch RNG untouched."""
+        import torch
+
         with torch.random.fork_rng(devices=[]):
             torch.manual_seed(self.seed)
             return self._build_model(*self.image_shape)
 
     def _memory_format(self) -> torch.memory_format:
+        import torch
+
         return torch.channels_last if self.channels_last else torch.contiguous_format
 
     def _set_threads(self) -> None:
+        import torch
+
         if self.params["threads"]:
             torch.set_num_threads(self.params["threads"])
 
     def _training_config(self) -> TrainingConfig:
+        from seasonloop.models.core.training import TrainingConfig
+
         return TrainingConfig(
             max_epochs=self.params["max_epochs"],
             batch_size=self.params["batch_size"],
@@ -146,6 +119,8 @@ class TorchAutoEncoderLearner(FeatureLearner):
     def _split_validation(self, images: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
         """(training images, validation images, record): every image of the held-out places goes
         to validation (augmented copies included), so no validation place is ever trained on."""
+        from seasonloop.models.core.training import validation_places
+
         places = self.train_places
         held_out = validation_places(
             places, self.params["validation_fraction"], self.params["validation_block"], self.seed
@@ -167,6 +142,16 @@ class TorchAutoEncoderLearner(FeatureLearner):
         )
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
+        import torch
+
+        from seasonloop.models.core.arithmetic import (
+            cpu_has_native_bfloat16,
+            flush_denormals,
+            resolve_device,
+            resolve_precision,
+        )
+        from seasonloop.models.core.training import deterministic_algorithms, train_until_plateau
+
         height, width = self.image_shape
         self._check_image_size(height, width)
         patch_size = self.params["patch_size"]
@@ -206,6 +191,11 @@ class TorchAutoEncoderLearner(FeatureLearner):
 
     def _forward_batch(self, images: np.ndarray, decode: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
         """Code (n, C) and, if `decode`, output (n, H*W) of one batch, as float32 numpy arrays."""
+        import torch
+
+        from seasonloop.models.core.arithmetic import autocast
+
+        assert self._dtype is not None, "set with the network, by fit or load"
         model = self.network
         device = next(model.parameters()).device
         inputs = torch.from_numpy(to_float(images)).unsqueeze(1).to(device)
@@ -270,9 +260,15 @@ class TorchAutoEncoderLearner(FeatureLearner):
         return codes, np.concatenate(outputs)
 
     def _save_state(self, directory: Path) -> None:
+        import torch
+
         torch.save(self.network.state_dict(), directory / MODEL_FILE)
 
     def _load_state(self, directory: Path) -> None:
+        import torch
+
+        from seasonloop.models.core.arithmetic import resolve_precision
+
         # A model trained on CUDA still loads (on the CPU) where CUDA is absent.
         # Precision is resolved again for the machine that loads it ('auto' may differ).
         use_cuda = self.params["device"] != "cpu" and torch.cuda.is_available()

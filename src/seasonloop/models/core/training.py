@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import copy
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -21,6 +23,41 @@ from tqdm.auto import tqdm
 
 from seasonloop.models.core.arithmetic import autocast
 from seasonloop.models.core.learner import EpochCallback
+
+
+class AutoEncoder(nn.Module):
+    """encoder: (B, 1, H, W) -> code; decoder: code -> (B, 1, H, W) in [0, 1]."""
+
+    def __init__(self, encoder: nn.Module, decoder: nn.Module):
+        super().__init__()
+        self.encoder = encoder
+        self.decoder = decoder
+
+    def forward(self, images: torch.Tensor) -> torch.Tensor:
+        return self.decoder(self.encoder(images))
+
+
+@contextmanager
+def deterministic_algorithms(device: torch.device) -> Iterator[None]:
+    """Ask torch for deterministic kernels while training, then restore the caller's settings.
+
+    On CUDA some kernels (e.g. nearest-upsampling backward) have no deterministic version, so
+    there torch only warns instead of raising.
+    """
+    previous = (
+        torch.are_deterministic_algorithms_enabled(),
+        torch.is_deterministic_algorithms_warn_only_enabled(),
+        torch.backends.cudnn.deterministic,
+        torch.backends.cudnn.benchmark,
+    )
+    torch.use_deterministic_algorithms(True, warn_only=device.type != "cpu")
+    torch.backends.cudnn.deterministic, torch.backends.cudnn.benchmark = True, False
+    try:
+        yield
+    finally:
+        torch.use_deterministic_algorithms(previous[0], warn_only=previous[1])
+        torch.backends.cudnn.deterministic, torch.backends.cudnn.benchmark = previous[2:]
+
 
 # Why training stopped; only a plateau means the model has learned what it can from this data.
 # diverged: a loss became NaN or infinite (the weights of the best finite epoch are kept).

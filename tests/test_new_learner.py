@@ -1,0 +1,104 @@
+"""A new learner is its module, one registry line and its params section, and nothing else: a copy
+of the project gains a learner in exactly those three places and `dvc repro` runs it to the report,
+its params checked by what the module declares."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+from workspaces import SMALL, git, make_workspace, tool_env
+
+# A learner the project has never seen: a seeded random projection of the pixels.
+RANDOM_PROJECTION = '''"""Random projection of the pixels (Johnson-Lindenstrauss): a learner that learns nothing."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param, to_float
+from seasonloop.params.checks import integer
+
+
+class RandomProjection(FeatureLearner):
+    """Descriptor = the pixels times a seeded Gaussian matrix of n_dims columns."""
+
+    name = "random_projection"
+    PARAMS = {"n_dims": Param(32, integer(1))}
+
+    def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
+        n_pixels = images.shape[1] * images.shape[2]
+        self.matrix = np.random.default_rng(self.seed).standard_normal((n_pixels, self.params["n_dims"]))
+        return {"n_train_images": len(images)}
+
+    def _describe_batch(self, images: np.ndarray) -> np.ndarray:
+        return to_float(images).reshape(len(images), -1) @ self.matrix.astype(np.float32)
+
+    def _save_state(self, directory: Path) -> None:
+        np.save(directory / "matrix.npy", self.matrix)
+
+    def _load_state(self, directory: Path) -> None:
+        self.matrix = np.load(directory / "matrix.npy")
+'''
+REGISTRY_LINE = '    "random_projection": "RandomProjection",\n'
+
+
+def add_learner(root: Path) -> None:
+    """The module, its registry line, its params section (and its name in `learners`)."""
+    (root / "src/seasonloop/models/random_projection.py").write_text(RANDOM_PROJECTION)
+    registry = root / "src/seasonloop/models/registry.py"
+    text = registry.read_text()
+    anchor = '    "precomputed": "PrecomputedDescriptors",\n'
+    assert anchor in text
+    registry.write_text(text.replace(anchor, anchor + REGISTRY_LINE))
+    params = yaml.safe_load((root / "params.yaml").read_text())
+    params["learners"].append("random_projection")
+    params["random_projection"] = {"n_dims": 24}
+    (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
+
+
+def repro(root: Path) -> subprocess.CompletedProcess:
+    """`dvc repro` with the copy's own library (the installed one is this checkout's)."""
+    return subprocess.run(
+        [str(Path(sys.executable).parent / "dvc"), "repro"],
+        cwd=root,
+        env=tool_env(PYTHONPATH=str(root / "src")),
+        capture_output=True,
+        text=True,
+    )
+
+
+@pytest.mark.e2e
+def test_a_learner_added_in_three_places_runs_through_dvc_repro(tmp_path, small_seed_cache):
+    root = make_workspace(tmp_path / "workspace", SMALL, small_seed_cache)
+    add_learner(root)
+    changed = git(root, "status", "--porcelain").stdout.split("\n")
+    assert sorted(line[3:] for line in changed if line) == [
+        "params.yaml",
+        "src/seasonloop/models/random_projection.py",
+        "src/seasonloop/models/registry.py",
+    ]
+
+    # its declared params are checked before any stage works, naming the key
+    params = yaml.safe_load((root / "params.yaml").read_text())
+    params["random_projection"] = {"n_dim": 24}
+    (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
+    result = repro(root)
+    assert result.returncode != 0
+    assert "random_projection.n_dim: unknown key (known: n_dims)" in result.stdout + result.stderr
+    params["random_projection"] = {"n_dims": 24}
+    (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
+
+    result = repro(root)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    fitted = yaml.safe_load((root / "models/random_projection/learner.json").read_text())
+    assert fitted["params"] == {"n_dims": 24}
+    summary = yaml.safe_load((root / "metrics/mean_fraction_correct.json").read_text())
+    assert {"random_projection", "random_projection+seq"} <= set(summary)
+    assert "random_projection" in (root / "plots/report.html").read_text()

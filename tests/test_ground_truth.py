@@ -3,6 +3,8 @@ of traverses that are not aligned, positions files, truth matrices and precomput
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -210,6 +212,23 @@ def test_the_schema_knows_every_kind_of_ground_truth():
     assert [kind.name for kind in TRUTH_KINDS.values() if kind.aligned] == ["aligned"]
     with pytest.raises(ValueError, match="data.ground_truth: unknown kind 'gps'"):
         truth_kind("gps")
+
+
+def test_a_new_kind_of_ground_truth_is_one_class_and_one_registry_line(monkeypatch):
+    # the class and its TRUTH_KINDS entry are all params.yaml's check and the pipeline read
+    import yaml
+
+    from seasonloop.data import truth_kinds
+    from seasonloop.params.schema import check_whole
+
+    class SameFrames(truth_kinds.Aligned):
+        name = "same_frames"
+
+    monkeypatch.setitem(truth_kinds.TRUTH_KINDS, "same_frames", SameFrames())
+    params = yaml.safe_load((Path(__file__).resolve().parents[1] / "params.yaml").read_text())
+    params["data"]["ground_truth"] = "same_frames"
+    check_whole(params)
+    assert truth_kinds.truth_kind("same_frames").aligned
 
 
 def test_recall_at_n_leaves_out_queries_without_a_correct_place():

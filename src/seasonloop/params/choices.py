@@ -21,8 +21,8 @@ MIN_SEQUENCE_WINDOW = 2
 #   clip:   clipped at the segment's ends (a 2-place segment then always enhances to +-1)
 WINDOW_RULES = ("ignore", "shift", "clip")
 
-# synthetic.rides.<season>: seasonloop.data.synthetic.SeasonRide's fields and ranges, each optional
-# (tests/test_synthetic_rides.py keeps them in step)
+# synthetic.rides.<season>: seasonloop.data.synthetic.SeasonRide's fields and their ranges, each
+# optional; SeasonRide checks its fields with these
 RIDE_SCHEMA: dict[str, Check] = {
     "speed": number(0.2, 5, low_open=True),
     "stop_scale": number(0, 10, low_open=True),

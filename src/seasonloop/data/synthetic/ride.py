@@ -19,6 +19,7 @@ from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 
+from ...params.choices import RIDE_SCHEMA
 from ...params.seasons import SEASONS
 from ..layout import RouteLayout
 
@@ -30,10 +31,12 @@ class SeasonRide:
     """How one season rides the route: pace (`speed`, with a slow `swing`), time spent standing at
     stops (`stop_scale`) and where on the route it starts (`start_s`, reference seconds)."""
 
-    speed: float = 1.0  # times the reference's speed, in (0.2, 5]
-    stop_scale: float = 1.0  # times the reference's time standing at a stop, in (0, 10]
-    start_s: float = 0.0  # starts this many reference seconds along the route, in [0, seconds - 10]
-    swing: float = 0.0  # relative swing of the speed over a few minutes, in [0, 0.9)
+    # each field's range is declared once, in synthetic.rides' check (RIDE_SCHEMA), and used here
+    speed: float = 1.0  # times the reference's speed
+    stop_scale: float = 1.0  # times the reference's time standing at a stop
+    start_s: float = 0.0  # starts this many reference seconds along the route (at most seconds - 10)
+    swing: float = 0.0  # relative swing of the speed over a few minutes; below 1 the speed stays
+    # positive: the season never stands outside a stop nor runs backwards
 
     def __post_init__(self) -> None:
         for field in fields(self):
@@ -42,16 +45,8 @@ class SeasonRide:
                 raise ValueError(f"{field.name}: expected a number, got {value!r}")
             if not math.isfinite(float(value)):
                 raise ValueError(f"{field.name}: expected a finite number, got {value!r}")
+            RIDE_SCHEMA[field.name](field.name, value)
             object.__setattr__(self, field.name, float(value))
-        if not 0.2 < self.speed <= 5.0:
-            raise ValueError(f"speed: expected a number in (0.2, 5], got {self.speed!r}")
-        if not 0.0 < self.stop_scale <= 10.0:
-            raise ValueError(f"stop_scale: expected a number in (0, 10], got {self.stop_scale!r}")
-        if self.start_s < 0.0:
-            raise ValueError(f"start_s: expected a number >= 0, got {self.start_s!r}")
-        # below 1 the speed stays positive: the season never stands outside a stop nor runs backwards
-        if not 0.0 <= self.swing < 0.9:
-            raise ValueError(f"swing: expected a number in [0, 0.9), got {self.swing!r}")
 
     @property
     def is_reference(self) -> bool:

@@ -98,6 +98,38 @@ def test_the_registry_imports_only_the_learner_asked_for():
     assert "seasonloop.models.cae" not in loaded and "seasonloop.models.ica" not in loaded and "'torch'" not in loaded
 
 
+# The fit stage imports a learner's LIBRARIES before its timer: a fit that imports more (a library
+# of its own, or one of models/core) would count Python's import in fit_seconds.
+FIT_IMPORTS = """
+import json, sys, tempfile
+import numpy as np
+from seasonloop.models.registry import get_learner, load_learner
+params = {params!r}
+learner = get_learner({name!r})(params, seed=0)
+learner.import_libraries()
+before = set(sys.modules)
+images = np.random.default_rng(0).integers(0, 256, (64, 16, 32), dtype=np.uint8)
+learner.fit(images, progress=False)
+with tempfile.TemporaryDirectory() as folder:
+    learner.save(folder)
+    load_learner(folder).describe(images[:4])
+packages = {{module.split(".")[0] for module in before}}
+new = set(sys.modules) - before
+print(json.dumps(sorted({{m.split(".")[0] for m in new}} - packages | {{m for m in new if m.startswith("seasonloop.")}})))
+"""
+
+
+@pytest.mark.parametrize("name", [name for name in TEST_PARAMS if get_learner(name).LIBRARIES])
+def test_a_fit_imports_nothing_its_learner_does_not_list(name):
+    params = {**TEST_PARAMS[name][0], **({"max_epochs": 1} if get_learner(name).trains_in_epochs else {})}
+    code = FIT_IMPORTS.format(params=params, name=name)
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr[-2000:]
+    new = json.loads(result.stdout.strip().splitlines()[-1])
+    heavy = {"torch", "sklearn", "joblib", "scipy", "pandas", "picard"}
+    assert not [module for module in new if module in heavy or module.startswith("seasonloop.models")], new
+
+
 @pytest.mark.parametrize("name", list(TEST_PARAMS))
 def test_descriptor_shape_and_family_separation(name, fitted, families):
     images, labels = families

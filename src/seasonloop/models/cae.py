@@ -24,6 +24,7 @@ class ConvolutionalAutoEncoder(TorchAutoEncoderLearner):
     ends in a 1-channel sigmoid conv of output_kernel."""
 
     name = "cae"
+    LIBRARIES = (*TorchAutoEncoderLearner.LIBRARIES, "seasonloop.models.core.upsampling")
     channels_last = True  # oneDNN convolutions are faster on NHWC activations (bench_autoencoders.py)
     PARAMS = {
         "channels": Param([96, 256, 384], three_positive_integers),

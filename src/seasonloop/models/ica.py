@@ -214,6 +214,15 @@ class ICALearner(FeatureLearner):
     """
 
     name = "ica"
+    # every solver's (which one fits is ica.solver's choice)
+    LIBRARIES = (
+        "joblib",
+        "seasonloop.models.core.arithmetic",
+        "seasonloop.models.core.fastica",
+        "seasonloop.models.core.fastica_sklearn",
+        "seasonloop.models.core.ica_stationarity",
+        "seasonloop.models.core.picard",
+    )
     PARAMS = {
         "n_components": Param(128, integer(1)),
         "algorithm": Param("parallel", one_of(*ICA_ALGORITHMS)),

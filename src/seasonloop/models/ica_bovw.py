@@ -44,6 +44,7 @@ class ICABoVW(FeatureLearner):
     """FastICA on DC-removed patches, k-means words on the ICA sources, L1-normalised histograms."""
 
     name = "ica_bovw"
+    LIBRARIES = ("sklearn.cluster", "sklearn.decomposition", "joblib", "seasonloop.models.core.fastica_sklearn")
     PARAMS = {
         "patch_size": Param(8, integer(1)),
         "stride": Param(4, integer(1)),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import json
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Mapping
@@ -112,6 +113,10 @@ class FeatureLearner(ABC):
     # declared once; params.yaml's section is checked against it before any stage works, and the
     # given params again when the learner is built
     PARAMS: ClassVar[dict[str, Param]]
+    # the libraries its methods import when they compute (torch, scikit-learn, ...): the fit stage
+    # imports them before its timer starts, so that fit_seconds is the learner's work and not
+    # Python's imports (tests/test_models.py: a fit imports nothing heavy that is not listed)
+    LIBRARIES: ClassVar[tuple[str, ...]] = ()
     # whether fit() reports epochs to its on_epoch callback (the stage logs them with dvclive)
     trains_in_epochs: ClassVar[bool] = False
 
@@ -122,6 +127,12 @@ class FeatureLearner(ABC):
         self.fit_info: dict[str, Any] | None = None
         self.input_shape: tuple[int, int] | None = None
         self._validate_params()
+
+    @classmethod
+    def import_libraries(cls) -> None:
+        """Import LIBRARIES now, ahead of a timed fit."""
+        for name in cls.LIBRARIES:
+            importlib.import_module(name)
 
     @classmethod
     def check_params(cls, params: Mapping[str, Any]) -> None:

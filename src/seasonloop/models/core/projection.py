@@ -40,6 +40,8 @@ class PrincipalComponentLearner(FeatureLearner):
     """Descriptor = projections on principal components [n_discard, n_discard + n_keep) of
     scikit-learn's PCA; a subclass sets `name` and `PARAMS` (principal_component_params and its own)."""
 
+    LIBRARIES = ("sklearn.decomposition", "joblib")
+
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
         super().__init__(params, seed)
         self.estimator: PCA | None = None

@@ -11,7 +11,7 @@ from __future__ import annotations
 from abc import abstractmethod
 from collections.abc import Mapping
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
@@ -38,6 +38,11 @@ class TorchAutoEncoderLearner(FeatureLearner):
     """
 
     channels_last: bool = False
+    LIBRARIES: ClassVar[tuple[str, ...]] = (
+        "torch",
+        "seasonloop.models.core.arithmetic",
+        "seasonloop.models.core.training",
+    )
     trains_in_epochs = True
 
     PARAMS = {

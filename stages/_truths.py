@@ -4,11 +4,16 @@ and describe do not depend on evaluation code)."""
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from itertools import permutations
 from pathlib import Path
+from typing import Any
+
+import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth, truth_file
+from seasonloop.evaluation.context import EvaluationContext
+from seasonloop.params.settings import EvaluateConfig, FeaturesConfig, SequenceConfig, StatisticsConfig
 
 TRUTHS = Path("data/ground_truth")
 
@@ -40,3 +45,22 @@ class TruthFiles(Mapping[tuple[str, str], PairTruth]):
 def all_pair_truths(seasons: list[str]) -> Mapping[tuple[str, str], PairTruth]:
     """The ground truth of every ordered pair of `seasons`, each read when asked for (TruthFiles)."""
     return TruthFiles(permutations(seasons, 2))
+
+
+def evaluation_context(
+    params: dict[str, Any],
+    test: Mapping[str, np.ndarray],
+    truths: Mapping[tuple[str, str], PairTruth],
+    pairs: Sequence[tuple[str, str]],
+) -> EvaluationContext:
+    """The test images `test`, the truths and the pairs to evaluate, with the run's evaluate,
+    sequence and statistics settings and the features stage's batch size."""
+    return EvaluationContext(
+        test,
+        truths,
+        pairs,
+        EvaluateConfig.from_params(params),
+        SequenceConfig.from_params(params),
+        StatisticsConfig.from_params(params),
+        FeaturesConfig.from_params(params).batch_size,
+    )

@@ -13,20 +13,17 @@ so, and torch is not imported.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
-from _truths import pair_truths
+from _truths import evaluation_context, pair_truths
 
 from _common import data_seasons, load_params, param, stage_main, train_seasons
 from _datasets import test_images, training_images, training_places
 from seasonloop.ablations.cae_widths import run_width_sweep, width_channels, write_skipped_sweep, write_width_sweep
+from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.raw_patchnorm import RawPatchNorm
 from seasonloop.models.registry import load_learner
 from seasonloop.params.seasons import available_pairs
-from seasonloop.params.settings import CaeWidthsConfig, EvaluateConfig, FeaturesConfig, SequenceConfig, StatisticsConfig
-
-if TYPE_CHECKING:
-    from seasonloop.models.cae import ConvolutionalAutoEncoder
+from seasonloop.params.settings import CaeWidthsConfig
 
 OUTPUTS = (Path("metrics/cae_widths.json"), Path("plots/cae_widths.png"), Path("plots/cae_widths.md"))
 
@@ -41,10 +38,6 @@ def main() -> None:
     if not sweep.widths:
         write_skipped_sweep(*OUTPUTS)
         return
-    # torch (~2 s to import) only for a sweep that trains
-    from seasonloop.models.cae import ConvolutionalAutoEncoder
-
-    evaluate = EvaluateConfig.from_params(params)
     seed = int(param(params, "seed"))
     cae_params = dict(param(params, "cae"))
 
@@ -71,20 +64,9 @@ def main() -> None:
             and pipeline_cae.params == new_cae(width_channels(width)).params
             and pipeline_cae.seed == seed
         }
-    record = run_width_sweep(
-        sweep.widths,
-        new_cae,
-        raw,
-        (training_images(params, chosen), training_places(params, chosen)),
-        test,
-        pair_truths(pairs),
-        pairs,
-        evaluate,
-        SequenceConfig.from_params(params),
-        FeaturesConfig.from_params(params).batch_size,
-        StatisticsConfig.from_params(params),
-        fitted,
-    )
+    context = evaluation_context(params, test, pair_truths(pairs), pairs)
+    training_set = (training_images(params, chosen), training_places(params, chosen))
+    record = run_width_sweep(sweep.widths, new_cae, raw, training_set, context, fitted)
     write_width_sweep(record, *OUTPUTS)
 
 

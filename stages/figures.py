@@ -15,13 +15,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from _truths import all_pair_truths
+from _truths import all_pair_truths, evaluation_context
 
 from _common import data_seasons, load_params, param, stage_main
 from _datasets import test_images
 from seasonloop.io import staged_dir, write_json
 from seasonloop.params.seasons import available_pairs
-from seasonloop.params.settings import EvaluateConfig, FeaturesConfig, SequenceConfig, StatisticsConfig
+from seasonloop.params.settings import EvaluateConfig
 from seasonloop.reporting.figures import draw_figures
 
 
@@ -29,20 +29,10 @@ from seasonloop.reporting.figures import draw_figures
 def main() -> None:
     params = load_params("learners", "data.seasons", "evaluate", "sequence", "features", "statistics")
     seasons = data_seasons(params)
-    evaluate = EvaluateConfig.from_params(params)
+    pairs = available_pairs(seasons, EvaluateConfig.from_params(params).pairs)
+    context = evaluation_context(params, test_images(seasons), all_pair_truths(seasons), pairs)
     with staged_dir(Path("plots/figures")) as out:
-        records = draw_figures(
-            Path("models"),
-            out,
-            list(param(params, "learners")),
-            test_images(seasons),
-            all_pair_truths(seasons),
-            available_pairs(seasons, evaluate.pairs),
-            FeaturesConfig.from_params(params).batch_size,
-            evaluate,
-            SequenceConfig.from_params(params),
-            StatisticsConfig.from_params(params),
-        )
+        records = draw_figures(Path("models"), out, list(param(params, "learners")), context)
     for note in records.notes:
         print(f"figures: {note}")
     write_json(Path("metrics/autoencoder_descriptors.json"), records.autoencoder_descriptors)

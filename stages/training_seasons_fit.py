@@ -15,14 +15,14 @@ import argparse
 import functools
 from pathlib import Path
 
-from _truths import pair_truths
+from _truths import evaluation_context, pair_truths
 
 from _common import data_seasons, load_params, param, stage_main, train_seasons
 from _datasets import test_images, training_images, training_places
 from seasonloop.ablations.training_seasons import plan_ablation, reusable_label, run_ablation, write_learner_record
 from seasonloop.models.registry import get_learner
 from seasonloop.params.seasons import available_pairs
-from seasonloop.params.settings import AblationConfig, EvaluateConfig, SequenceConfig, StatisticsConfig
+from seasonloop.params.settings import AblationConfig, EvaluateConfig
 
 RECORDS = Path("metrics/training_seasons")
 
@@ -39,7 +39,7 @@ def main() -> None:
         "train.seasons",
         "train.augmented",
         "augment.copies",
-        "features.batch_size",
+        "features",
         "ablation",
         "evaluate",
         "sequence",
@@ -55,7 +55,7 @@ def main() -> None:
     record = RECORDS / f"{method}.json"
     if plan.skipped:
         print(f"training_seasons_fit@{method}: {plan.skipped}")
-        write_learner_record(plan, None, record)
+        write_learner_record(plan, method, None, record)
         return
     # a fresh, unfitted learner per fit, built from the learner's own section (built once here so
     # that it checks its section before the first, possibly long, fit)
@@ -71,22 +71,15 @@ def main() -> None:
         print(
             f"training_seasons_fit@{method}: {reused} is fit@{method}'s training set: evaluate@{method}'s result is used"
         )
-    fits: dict[str, dict[str, dict]] = {}
-    intervals: dict[str, dict[str, dict]] = {}
-    fraction_correct = run_ablation(
+    context = evaluation_context(params, test_images(list(plan.pair)), pair_truths([plan.pair]), [plan.pair])
+    run = run_ablation(
         plan,
         {method: new_learner},
         lambda seasons: (training_images(params, seasons), training_places(params, seasons)),
-        test_images(list(plan.pair)),
-        pair_truths([plan.pair])[plan.pair],
-        evaluate,
-        SequenceConfig.from_params(params),
-        batch_size=int(param(params, "features.batch_size")),
+        context,
         skip={method: reused},
-        fits=fits,
-        intervals=(StatisticsConfig.from_params(params), intervals),
     )
-    write_learner_record(plan, fraction_correct, record, reused, fits.get(method), intervals)
+    write_learner_record(plan, method, run, record, reused)
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from seasonloop.ablations.training_seasons import (
+    AblationRun,
     plan_ablation,
     read_learner_records,
     reusable_label,
@@ -12,6 +13,7 @@ from seasonloop.ablations.training_seasons import (
     write_learner_record,
 )
 from seasonloop.data.ground_truth import aligned_truth
+from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 
 STUDY_SETS = [["summer"], ["summer", "winter"], ["summer", "winter", "spring"], ["summer", "winter", "spring", "fall"]]
@@ -85,6 +87,20 @@ class MeanLearner:
         return images.mean(axis=2)
 
 
+def pair_context(test, evaluate, sequence) -> EvaluationContext:
+    """summer-fall's six aligned test places, as the stage builds them."""
+    truth = aligned_truth(np.arange(6), np.arange(6), 0)
+    return EvaluationContext(
+        test,
+        {("summer", "fall"): truth},
+        [("summer", "fall")],
+        evaluate,
+        sequence,
+        StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05),
+        1024,
+    )
+
+
 def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
     plan = plan_ablation(
         ["summer", "fall", "winter"], "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"]
@@ -104,23 +120,11 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
         return np.zeros((10 * len(seasons), 4, 8)), np.tile(np.repeat(np.arange(5), 2), len(seasons))
 
     MeanLearner.fitted_on, MeanLearner.places = [], []
-    fits: dict = {}
-    intervals: dict = {}
-    statistics = StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05)
-    fraction_correct = run_ablation(
-        plan,
-        {"mean": new_learner},
-        training_set,
-        test,
-        aligned_truth(np.arange(6), np.arange(6), 0),
-        evaluate,
-        sequence,
-        fits=fits,
-        intervals=(statistics, intervals),
-    )
+    run = run_ablation(plan, {"mean": new_learner}, training_set, pair_context(test, evaluate, sequence))
+    fraction_correct, intervals = run.fraction_correct, run.intervals
     assert len(made) == 2 and MeanLearner.fitted_on == [10, 20]
     # how each fit ended is kept per training-season list
-    assert fits == {
+    assert run.fits == {
         "mean": {"summer": {"converged": True, "n_iter": 10}, "summer+winter": {"converged": True, "n_iter": 20}}
     }
     # the place ids reach fit: an auto-encoder then validates on places it never trains on
@@ -158,13 +162,18 @@ def test_write_ablation_of_a_skipped_plan(tmp_path):
     assert (tmp_path / "figure.png").is_file()
 
 
+def found(fraction_correct: dict) -> AblationRun:
+    """run_ablation's result with these fractions correct (no intervals, no fit records)."""
+    return AblationRun(fraction_correct, {}, {})
+
+
 def test_learner_records_combine_into_the_ablation_record(tmp_path):
     # one record per learner (one stage each), read back into what write_ablation writes
     seasons = ["summer", "spring", "fall", "winter"]
     plan = plan_ablation(seasons, "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"])
-    write_learner_record(plan, {"pca": {"summer": 0.5, "summer+winter": 0.75}}, tmp_path / "pca.json")
+    write_learner_record(plan, "pca", found({"pca": {"summer": 0.5, "summer+winter": 0.75}}), tmp_path / "pca.json")
     ica = {"ica": {"summer+winter": 0.625, "summer": 0.25}, "ica@cityblock": {"summer": 0.125, "summer+winter": 0.5}}
-    write_learner_record(plan, ica, tmp_path / "ica.json")
+    write_learner_record(plan, "ica", found(ica), tmp_path / "ica.json")
     combined = read_learner_records(plan, ["pca", "ica"], tmp_path, tmp_path / "eval")
     assert combined == {
         "pca": {"summer": 0.5, "summer+winter": 0.75},
@@ -178,7 +187,7 @@ def test_learner_records_combine_into_the_ablation_record(tmp_path):
     with pytest.raises(FileNotFoundError, match="training_seasons_fit@fae"):
         read_learner_records(plan, ["fae"], tmp_path, tmp_path / "eval")
     skipped = plan_ablation(["summer"], "summer-fall", [["summer"]], ["summer-fall"])
-    write_learner_record(skipped, None, tmp_path / "skipped.json")
+    write_learner_record(skipped, "pca", None, tmp_path / "skipped.json")
     assert json.loads((tmp_path / "skipped.json").read_text())["skipped"].startswith("skipped:")
 
 
@@ -192,7 +201,7 @@ def test_a_reused_label_is_not_refitted_and_is_read_from_the_pipelines_evaluatio
     assert reusable_label(plan, ["winter", "summer"], True, False) is None  # pair not evaluated
     assert reusable_label(plan, seasons, True, True) is None  # no list of these seasons
     series = {"pca": {"summer": 0.5}, "pca@cityblock": {"summer": 0.25}}
-    write_learner_record(plan, series, tmp_path / "pca.json", reused="summer+winter")
+    write_learner_record(plan, "pca", found(series), tmp_path / "pca.json", reused="summer+winter")
     with pytest.raises(FileNotFoundError, match="evaluate@pca"):
         read_learner_records(plan, ["pca"], tmp_path, tmp_path / "eval")
     (tmp_path / "eval" / "pca").mkdir(parents=True)
@@ -213,17 +222,14 @@ def test_run_ablation_skips_the_reused_label(tmp_path):
     test = {"summer": rng.random((6, 4, 8)), "fall": rng.random((6, 4, 8))}
     evaluate, sequence = matching_settings()
     MeanLearner.fitted_on, MeanLearner.places = [], []
-    fraction_correct = run_ablation(
+    run = run_ablation(
         plan,
         {"mean": MeanLearner},
         lambda seasons: (np.zeros((10 * len(seasons), 4, 8)), np.tile(np.repeat(np.arange(5), 2), len(seasons))),
-        test,
-        aligned_truth(np.arange(6), np.arange(6), 0),
-        evaluate,
-        sequence,
+        pair_context(test, evaluate, sequence),
         skip={"mean": "summer+winter"},
     )
-    assert MeanLearner.fitted_on == [10] and list(fraction_correct["mean"]) == ["summer"]
+    assert MeanLearner.fitted_on == [10] and list(run.fraction_correct["mean"]) == ["summer"]
 
 
 def test_how_a_fit_ended_reads_iterative_fits_and_the_nested_patch_ica():

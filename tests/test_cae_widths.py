@@ -18,6 +18,7 @@ from seasonloop.ablations.cae_widths import (
     write_width_sweep,
 )
 from seasonloop.data.ground_truth import aligned_truth
+from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.raw_patchnorm import RawPatchNorm
 from seasonloop.params.schema import check_whole
@@ -92,19 +93,16 @@ def test_sweep_record_table_and_figure(tmp_path):
         )
 
     training = textured_images(60, 2), np.tile(np.arange(30), 2)
-    record = run_width_sweep(
-        [1 / 32, 1 / 48],
-        new_cae,
-        raw,
-        training,
+    context = EvaluationContext(
         test,
         {("summer", "fall"): aligned_truth(places, places, 0)},
         [("summer", "fall")],
         evaluate,
         sequence,
+        StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05),
         batch_size=16,
-        statistics=StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05),
     )
+    record = run_width_sweep([1 / 32, 1 / 48], new_cae, raw, training, context)
     assert fitted_channels == [[3, 8, 12], [2, 5, 8]]
     # every fraction correct with its interval: here too few queries for one, and it says so
     for descriptor in (record["widths"]["1/32"]["output_patchnorm"], record["raw_patchnorm"]):

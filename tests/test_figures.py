@@ -6,6 +6,7 @@ import numpy as np
 
 from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.data.patchnorm import patch_normalise
+from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.evaluation.descriptors import autoencoder_descriptors
 from seasonloop.models.registry import get_learner
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
@@ -44,7 +45,10 @@ def test_autoencoder_descriptors_one_pass_per_season():
     rng = np.random.default_rng(0)
     test = {"summer": rng.random((3, 8, 8)), "fall": rng.random((3, 8, 8))}
     learner = FakeAutoEncoder()
-    described = autoencoder_descriptors(learner, test, batch_size=7)
+    context = EvaluationContext(
+        test, {}, [], EVALUATE, SEQUENCE, StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05), 7
+    )
+    described = autoencoder_descriptors(learner, context)
     assert list(described) == list(AE_DESCRIPTORS) and learner.batch_sizes == [7, 7]
     for season, images in test.items():
         assert list(described["code"]) == ["summer", "fall"]
@@ -57,18 +61,16 @@ def test_autoencoder_descriptors_one_pass_per_season():
 
 def test_draw_figures_without_their_learners_draws_nothing(tmp_path):
     test = {"summer": np.zeros((4, 8, 8)), "fall": np.zeros((4, 8, 8))}
-    records = draw_figures(
-        tmp_path / "models",
-        tmp_path,
-        ["raw_patchnorm"],
+    context = EvaluationContext(
         test,
         {("summer", "fall"): aligned_truth(np.arange(4), np.arange(4), 0)},
         [("summer", "fall")],
-        8,
         EVALUATE,
         SEQUENCE,
         StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05),
+        8,
     )
+    records = draw_figures(tmp_path / "models", tmp_path, ["raw_patchnorm"], context)
     assert records.notes == [
         "pca is not in learners: no Figure 2",
         "ica is not in learners: no global ICA basis",

@@ -26,11 +26,10 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.blocks import best_columns
+from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.evaluation.descriptors import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
 from seasonloop.io import staged_file, write_json
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.plots import percent_bands, plot_message, plot_series
 from seasonloop.reporting.summary import record_cell
 
@@ -82,31 +81,22 @@ def mean_cosine(first: np.ndarray, second: np.ndarray) -> float:
     return float(np.mean(cosines))
 
 
-def describe_width(
-    learner,
-    raw_described: Mapping[str, np.ndarray],
-    test: Mapping[str, np.ndarray],
-    truths: Mapping[tuple[str, str], PairTruth],
-    pairs: Sequence[tuple[str, str]],
-    evaluate: EvaluateConfig,
-    sequence: SequenceConfig,
-    batch_size: int,
-    statistics: StatisticsConfig,
-) -> dict[str, Any]:
+def describe_width(learner, raw_described: Mapping[str, np.ndarray], context: EvaluationContext) -> dict[str, Any]:
     """Fraction correct with its interval, agreement with raw_patchnorm (raw_described[season]: its
     descriptors of test[season]) per descriptor and pair, and the cosine of the patch-normalised
     output with the patch-normalised input, of a fitted CAE."""
-    described = autoencoder_descriptors(learner, test, batch_size)
-    cosines = [mean_cosine(described["output_patchnorm"][season], raw_described[season]) for season in test]
+    described = autoencoder_descriptors(learner, context)
+    cosines = [mean_cosine(described["output_patchnorm"][season], raw_described[season]) for season in context.test]
     record: dict[str, Any] = {"cosine_with_input": float(np.mean(cosines))}
-    evaluations = descriptor_evaluations(described, truths, pairs, evaluate, sequence, DESCRIPTORS)
+    evaluations = descriptor_evaluations(described, context, DESCRIPTORS)
+    metric = context.evaluate.metric
     for descriptor in DESCRIPTORS:
         ours = described[descriptor]
         record[descriptor] = {
-            **fraction_correct_record(evaluations[descriptor], statistics),
+            **fraction_correct_record(evaluations[descriptor], context.statistics),
             "agreement_with_raw": {
-                f"{a}-{b}": agreement((ours[a], ours[b]), (raw_described[a], raw_described[b]), evaluate.metric)
-                for a, b in pairs
+                f"{a}-{b}": agreement((ours[a], ours[b]), (raw_described[a], raw_described[b]), metric)
+                for a, b in context.pairs
             },
         }
     return record
@@ -117,13 +107,7 @@ def run_width_sweep(
     new_cae: Callable[[list[int]], Any],
     raw,
     training_set: tuple[np.ndarray, np.ndarray],
-    test: Mapping[str, np.ndarray],
-    truths: Mapping[tuple[str, str], PairTruth],
-    pairs: Sequence[tuple[str, str]],
-    evaluate: EvaluateConfig,
-    sequence: SequenceConfig,
-    batch_size: int,
-    statistics: StatisticsConfig,
+    context: EvaluationContext,
     fitted: Mapping[float, Any] | None = None,
 ) -> dict[str, Any]:
     """The sweep's record: new_cae(channels) gives an unfitted CAE, trained on training_set
@@ -132,12 +116,12 @@ def run_width_sweep(
     (the pipeline's own fit@cae), evaluated without training it again (its training_seconds: None)."""
     fitted = dict(fitted or {})
     images, image_places = training_set
-    raw_test = {season: raw.describe(test[season]) for season in test}
+    raw_test = {season: raw.describe(images) for season, images in context.test.items()}
     record: dict[str, Any] = {
-        "pairs": [f"{a}-{b}" for a, b in pairs],
-        "metric": evaluate.metric,
+        "pairs": [f"{a}-{b}" for a, b in context.pairs],
+        "metric": context.evaluate.metric,
         "raw_patchnorm": fraction_correct_record(
-            descriptor_evaluations({"raw": raw_test}, truths, pairs, evaluate, sequence, ("raw",))["raw"], statistics
+            descriptor_evaluations({"raw": raw_test}, context, ("raw",))["raw"], context.statistics
         ),
         "widths": {},
     }
@@ -154,7 +138,7 @@ def run_width_sweep(
             "reused": width in fitted,
             **{key: learner.fit_info[key] for key in FIT_RECORD},
             "training_seconds": seconds,
-            **describe_width(learner, raw_test, test, truths, pairs, evaluate, sequence, batch_size, statistics),
+            **describe_width(learner, raw_test, context),
         }
     return record
 

@@ -29,13 +29,12 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.blocks import evaluate_descriptors
+from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.evaluation.matchers import result_suffix
 from seasonloop.fit_ending import how_fit_ended
 from seasonloop.io import read_json, write_json
 from seasonloop.params.seasons import SEASONS, check_seasons, pair_name, pair_present, parse_pair
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.significance.intervals import route_interval
 
 
@@ -100,59 +99,60 @@ def reusable_label(
     return None
 
 
+@dataclass(frozen=True)
+class AblationRun:
+    """What run_ablation found, per series (a method under one distance: "<method>" under
+    evaluate.metric, "<method>@<metric>" under each of evaluate.extra_metrics) and training-season
+    label (the seasons joined by "+"): the fraction correct on the plan's pair, single-image
+    matching, and its interval along the route {low, high}; and per method and label how its fit
+    ended (how_fit_ended)."""
+
+    fraction_correct: dict[str, dict[str, float]]
+    intervals: dict[str, dict[str, dict[str, float]]]
+    fits: dict[str, dict[str, dict[str, Any]]]
+
+
 def run_ablation(
     plan: AblationPlan,
     new_learners: Mapping[str, Callable[[], Any]],
     training_set: Callable[[list[str]], tuple[np.ndarray, np.ndarray]],
-    test: Mapping[str, np.ndarray],
-    truth: PairTruth,
-    evaluate: EvaluateConfig,
-    sequence: SequenceConfig,
-    batch_size: int = 1024,
+    context: EvaluationContext,
     skip: Mapping[str, str | None] | None = None,
-    fits: dict[str, dict[str, dict]] | None = None,
-    intervals: tuple[StatisticsConfig, dict[str, dict[str, dict]]] | None = None,
-) -> dict[str, dict[str, float]]:
-    """fraction_correct[series][training seasons joined by "+"] on the plan's pair, single-image
-    matching, a series being a method under one distance ("<method>" under evaluate.metric,
-    "<method>@<metric>" under each of evaluate.extra_metrics): for each method (new_learners[method]() gives an unfitted learner) and each list of
-    the plan, a learner fitted on training_set(list) = (images, the place id of each image). The
-    place ids go to fit, so that an auto-encoder holds out whole places (every season and augmented
-    copy of them) for validation. test[season] are the test images of the pair's seasons, both at
-    the test places of `truth`, the pair's ground truth, described `batch_size` at a time (the
-    features stage's batches). skip[method] names a label that is not fitted (a reused one).
-    fits, when given, is filled with fits[method][label] = how that fit ended (how_fit_ended);
-    intervals = (settings, found), when given, fills found[series][label] with the fraction
-    correct's interval along the route {low, high} (seasonloop.significance.intervals)."""
+) -> AblationRun:
+    """For each method (new_learners[method]() gives an unfitted learner) and each list of the plan,
+    a learner fitted on training_set(list) = (images, the place id of each image), evaluated on the
+    plan's pair. The place ids go to fit, so that an auto-encoder holds out whole places (every
+    season and augmented copy of them) for validation. The context's test images are those of the
+    pair's seasons, at the test places of its truth, described in the features stage's batches.
+    skip[method] names a label that is not fitted (a reused one)."""
     assert plan.pair is not None and plan.labels is not None and plan.season_sets is not None, "a skipped plan"
     database, query = plan.pair
-    fraction_correct: dict[str, dict[str, float]] = {}
+    truth, evaluate = context.truths[plan.pair], context.evaluate
+    run = AblationRun({}, {}, {})
     metrics_used = [evaluate.metric, *evaluate.extra_metrics]
     for method, new_learner in new_learners.items():
         for metric in metrics_used:
-            fraction_correct[method + result_suffix(metric, "single", evaluate)] = {}
+            run.fraction_correct[method + result_suffix(metric, "single", evaluate)] = {}
         for label, chosen in zip(plan.labels, plan.season_sets):
             if (skip or {}).get(method) == label:
                 continue
             learner = new_learner()
             images, image_places = training_set(chosen)
             info = learner.fit(images, progress=True, places=image_places)
-            if fits is not None:
-                fits.setdefault(method, {})[label] = how_fit_ended(info)
+            run.fits.setdefault(method, {})[label] = how_fit_ended(info)
             database_descriptors, query_descriptors = (
-                learner.describe(test[season], batch_size=batch_size) for season in (database, query)
+                learner.describe(context.test[season], batch_size=context.batch_size) for season in (database, query)
             )
             for metric in metrics_used:
                 series = method + result_suffix(metric, "single", evaluate)
                 evaluation = evaluate_descriptors(
-                    database_descriptors, query_descriptors, truth, "single", evaluate, sequence, metric=metric
+                    database_descriptors, query_descriptors, truth, "single", evaluate, context.sequence, metric=metric
                 )
-                fraction_correct[series][label] = evaluation.metrics["fraction_correct"]
-                if intervals is not None:
-                    intervals[1].setdefault(series, {})[label] = route_interval(
-                        evaluation.outcomes.correct, intervals[0]
-                    )
-    return fraction_correct
+                run.fraction_correct[series][label] = evaluation.metrics["fraction_correct"]
+                run.intervals.setdefault(series, {})[label] = route_interval(
+                    evaluation.outcomes.correct, context.statistics
+                )
+    return run
 
 
 def write_ablation(
@@ -201,29 +201,23 @@ def write_ablation(
 
 
 def write_learner_record(
-    plan: AblationPlan,
-    fraction_correct: Mapping[str, Mapping[str, float]] | None,
-    record: Path,
-    reused: str | None = None,
-    fits: Mapping[str, Mapping[str, Any]] | None = None,
-    intervals: Mapping[str, Mapping[str, Mapping[str, float]]] | None = None,
+    plan: AblationPlan, method: str, run: AblationRun | None, record: Path, reused: str | None = None
 ) -> None:
-    """One learner's part of the ablation: fraction_correct[series][training seasons] on the plan's
-    pair (run_ablation's series of this learner; None for a skipped plan, whose record says why);
-    `reused` is the label left to fill_reused; fits[label], how each fit ended, and
-    intervals[series][label], each fraction correct's interval (run_ablation's)."""
+    """One learner's part of the ablation: run_ablation's fraction correct, intervals and fits of
+    `method` on the plan's pair (None for a skipped plan, whose record says why); `reused` is the
+    label left to fill_reused."""
     if plan.skipped:
         write_json(record, {"skipped": plan.skipped})
         return
-    assert plan.pair is not None and fraction_correct is not None
+    assert plan.pair is not None and run is not None
     write_json(
         record,
         {
             "pair": pair_name(*plan.pair),
-            "fraction_correct": {series: dict(values) for series, values in fraction_correct.items()},
+            "fraction_correct": {series: dict(values) for series, values in run.fraction_correct.items()},
             "reused_from_pipeline": [reused] if reused else [],
-            "fits": {label: dict(ended) for label, ended in (fits or {}).items()},
-            "intervals": {series: dict(bounds) for series, bounds in (intervals or {}).items()},
+            "fits": {label: dict(ended) for label, ended in run.fits.get(method, {}).items()},
+            "intervals": {series: dict(bounds) for series, bounds in run.intervals.items()},
         },
     )
 

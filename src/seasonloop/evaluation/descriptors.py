@@ -10,25 +10,23 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.blocks import PairEvaluation, evaluate_descriptors
+from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.models.core.torch_learner import AE_DESCRIPTORS
 from seasonloop.params.seasons import pair_name
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
+from seasonloop.params.settings import StatisticsConfig
 from seasonloop.significance.intervals import route_interval
 
 
-def autoencoder_descriptors(
-    learner, test: Mapping[str, np.ndarray], batch_size: int
-) -> dict[str, dict[str, np.ndarray]]:
+def autoencoder_descriptors(learner, context: EvaluationContext) -> dict[str, dict[str, np.ndarray]]:
     """described[descriptor][season] for the three auto-encoder descriptors.
 
     One forward pass gives the code and the output, and the patch-normalised output is derived
     from the output: the CAE costs ~9 GMAC per image.
     """
     described: dict[str, dict[str, np.ndarray]] = {descriptor: {} for descriptor in AE_DESCRIPTORS}
-    for season, images in test.items():
-        code, output = learner.describe_code_and_output(images, batch_size, progress=True)
+    for season, images in context.test.items():
+        code, output = learner.describe_code_and_output(images, context.batch_size, progress=True)
         described["code"][season] = code
         described["output"][season] = output
         described["output_patchnorm"][season] = learner.patchnorm_output(output, images.shape[1:])
@@ -37,20 +35,22 @@ def autoencoder_descriptors(
 
 def descriptor_evaluations(
     described: Mapping[str, Mapping[str, np.ndarray]],
-    truths: Mapping[tuple[str, str], PairTruth],
-    pairs: Sequence[tuple[str, str]],
-    evaluate: EvaluateConfig,
-    sequence: SequenceConfig,
+    context: EvaluationContext,
     descriptors: Sequence[str] = AE_DESCRIPTORS,
 ) -> dict[str, dict[str, PairEvaluation]]:
-    """Single-image evaluation [descriptor][pair] of one auto-encoder's described test images
+    """Single-image evaluation [descriptor][pair] of the context's pairs from described test images
     (described[descriptor][season], as autoencoder_descriptors gives them)."""
     return {
         descriptor: {
             pair_name(a, b): evaluate_descriptors(
-                described[descriptor][a], described[descriptor][b], truths[(a, b)], "single", evaluate, sequence
+                described[descriptor][a],
+                described[descriptor][b],
+                context.truths[(a, b)],
+                "single",
+                context.evaluate,
+                context.sequence,
             )
-            for a, b in pairs
+            for a, b in context.pairs
         }
         for descriptor in descriptors
     }

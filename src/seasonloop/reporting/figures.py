@@ -16,11 +16,11 @@ from typing import Any
 import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth
+from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.evaluation.descriptors import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
 from seasonloop.models.core.torch_learner import AE_DESCRIPTORS
 from seasonloop.models.registry import load_learner
 from seasonloop.params.seasons import pair_name
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
 
 AUTOENCODERS = ("fae", "cae")
@@ -116,19 +116,11 @@ def descriptors_figure(record: Mapping[str, Mapping[str, Any]], pairs: Sequence[
 
 
 def autoencoder_figures(
-    models_dir: Path,
-    methods: Sequence[str],
-    test: Mapping[str, np.ndarray],
-    truths: Mapping[tuple[str, str], PairTruth],
-    pairs: Sequence[tuple[str, str]],
-    batch_size: int,
-    evaluate: EvaluateConfig,
-    sequence: SequenceConfig,
-    statistics: StatisticsConfig,
-    out: Path,
+    models_dir: Path, methods: Sequence[str], context: EvaluationContext, out: Path
 ) -> dict[str, dict[str, dict[str, Any]]]:
     """Figures 19, 19b and 19c of the fitted auto-encoders models_dir/<method> of `methods` (at least
     one); record[method][descriptor] = fraction_correct_record of its single-image evaluations."""
+    test = context.test
     seasons = list(test)
     record: dict[str, dict[str, dict[str, Any]]] = {}
     losses: dict[str, dict[str, list[float]]] = {}
@@ -140,16 +132,17 @@ def autoencoder_figures(
         info = learner.fit_info
         assert info is not None, f"{models_dir / method}: a saved learner without its fit record"
         losses[method] = {"train": info["loss_per_epoch"], "validation": info["validation_loss_per_epoch"]}
-        described = autoencoder_descriptors(learner, test, int(batch_size))
+        described = autoencoder_descriptors(learner, context)
         for season in seasons:
             reconstructions[season].append(
                 list(described["output"][season][shown_places].reshape(-1, *test[season].shape[1:]))
             )
-        evaluations = descriptor_evaluations(described, truths, pairs, evaluate, sequence)
+        evaluations = descriptor_evaluations(described, context)
         record[method] = {
-            descriptor: fraction_correct_record(by_pair, statistics) for descriptor, by_pair in evaluations.items()
+            descriptor: fraction_correct_record(by_pair, context.statistics)
+            for descriptor, by_pair in evaluations.items()
         }
-    descriptors_figure(record, pairs, out / "fig19_autoencoder_descriptors.png")
+    descriptors_figure(record, context.pairs, out / "fig19_autoencoder_descriptors.png")
     # rows: a season's input images, then each auto-encoder's reconstructions of them
     plot_image_grid(
         [images for season in seasons for images in zip(*reconstructions[season])],
@@ -182,20 +175,10 @@ def ica_basis_figure(ica, path: Path) -> None:
     )
 
 
-def draw_figures(
-    models_dir: Path,
-    out: Path,
-    learners: Sequence[str],
-    test: Mapping[str, np.ndarray],
-    truths: Mapping[tuple[str, str], PairTruth],
-    pairs: Sequence[tuple[str, str]],
-    batch_size: int,
-    evaluate: EvaluateConfig,
-    sequence: SequenceConfig,
-    statistics: StatisticsConfig,
-) -> FigureRecords:
+def draw_figures(models_dir: Path, out: Path, learners: Sequence[str], context: EvaluationContext) -> FigureRecords:
     """Every figure into `out` whose learner is in `learners`, from the models of models_dir/<learner>;
-    test[season] are the test images of every season, in the run's season order."""
+    the context's test images are every season's."""
+    test, truths = context.test, context.truths
     seasons = list(test)
     notes = []
     if "pca" in learners:
@@ -214,7 +197,5 @@ def draw_figures(
     if not autoencoders:
         notes.append("neither fae nor cae is in learners: no Figures 19, 19b, 19c")
         return FigureRecords(notes=notes)
-    record = autoencoder_figures(
-        models_dir, autoencoders, test, truths, pairs, batch_size, evaluate, sequence, statistics, out
-    )
+    record = autoencoder_figures(models_dir, autoencoders, context, out)
     return FigureRecords(record, notes)

@@ -22,6 +22,7 @@ import sys
 from pathlib import Path
 
 import pytest
+
 from workspaces import SEEDED_MODULES, build_seed, seed_folder
 
 SEED_PROCESS = "_seasonloop_seed_process"
@@ -66,8 +67,10 @@ def pytest_configure(config: pytest.Config) -> None:
     folder = seed_folder(config._tmp_path_factory.getbasetemp())  # type: ignore[attr-defined]
     folder.mkdir(parents=True, exist_ok=True)
     log = open(folder / "build.log", "w")  # noqa: SIM115 (the background build writes it to the end)
+    root = str(Path(__file__).resolve().parents[1])  # tools/, which workspaces.py imports
     process = subprocess.Popen(
         [sys.executable, str(Path(__file__).with_name("workspaces.py")), str(folder)],
+        env={**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [root, os.environ.get("PYTHONPATH")]))},
         stdout=log,
         stderr=subprocess.STDOUT,
         start_new_session=True,  # its own process group: stopped with every stage it started

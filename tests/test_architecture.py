@@ -1,5 +1,6 @@
-"""The library's packages import in one direction only (the order in seasonloop/__init__.py), and
-nothing imports the stage scripts."""
+"""The library's packages import in one direction only (the order in seasonloop/__init__.py), the
+library imports nothing outside it (stage scripts, tools, benchmarks), and the benchmarks and tools
+import nothing of the tests."""
 
 from __future__ import annotations
 
@@ -8,7 +9,8 @@ from pathlib import Path
 
 import pytest
 
-SRC = Path(__file__).resolve().parents[1] / "src" / "seasonloop"
+ROOT = Path(__file__).resolve().parents[1]
+SRC = ROOT / "src" / "seasonloop"
 
 # Lowest first: a module may import its own package and those before it. The foundation modules
 # (seasonloop/io.py, plots.py, machine.py) import nothing of seasonloop.
@@ -37,7 +39,8 @@ def imports_of(path: Path) -> list[str]:
             if node.level:
                 base = ".".join(package[: len(package) - node.level + 1] + ([base] if base else []))
             found.append(base)
-    return [name for name in found if name.split(".")[0] in ("seasonloop", "_common", "_datasets", "stages")]
+    outside = ("_common", "_datasets", "_truths", "stages", "tools", "benchmarks", "workspaces")
+    return [name for name in found if name.split(".")[0] in ("seasonloop", *outside)]
 
 
 MODULES = sorted(SRC.rglob("*.py"))
@@ -52,7 +55,7 @@ def test_every_package_is_a_layer() -> None:
 def test_imports_point_down(path: Path) -> None:
     own = layer_of(module_name(path)) if path.parent != SRC else "foundation"
     for name in imports_of(path):
-        assert name.split(".")[0] == "seasonloop", f"{path.name} imports the stage helper {name}"
+        assert name.split(".")[0] == "seasonloop", f"{path.name} imports {name}, which is not the library"
         target = layer_of(name)
         assert own != "foundation", f"{module_name(path)} is a foundation module but imports {name}"
         assert LAYERS.index(target) <= LAYERS.index(own), (
@@ -67,3 +70,20 @@ def test_the_check_catches_an_upward_import(tmp_path: Path) -> None:
     assert LAYERS.index(layer_of("seasonloop.reporting.summary")) > LAYERS.index(
         layer_of("seasonloop.evaluation.metrics")
     )
+
+
+@pytest.mark.parametrize(
+    "path",
+    sorted([*(ROOT / "benchmarks").rglob("*.py"), *(ROOT / "tools").rglob("*.py")]),
+    ids=lambda p: str(p.relative_to(ROOT)),
+)
+def test_benchmarks_and_tools_import_nothing_of_the_tests(path: Path) -> None:
+    tree = ast.parse(path.read_text())
+    imported = {
+        alias.name.split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names
+    }
+    imported |= {(node.module or "").split(".")[0] for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
+    assert not imported & {"workspaces", "conftest", "tests"}, (
+        f"{path.name} imports {imported & {'workspaces', 'conftest', 'tests'}}"
+    )
+    assert '"tests"' not in path.read_text(), f"{path.name} reaches into tests/"

@@ -1,18 +1,13 @@
-"""benchmarks/bench_ica.py's reading of gradient traces: a time counts once the gradient stays below
+"""benchmarks/speed/bench_ica.py's reading of gradient traces: a time counts once the gradient stays below
 its target, and scikit-learn's FastICA is traced like the torch solvers."""
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import pytest
 from ica_data import images
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import bench_ica  # noqa: E402  (a script folder, not a package)
-
-from seasonloop.models.registry import get_learner  # noqa: E402
+from benchmarks.speed import bench_ica
+from seasonloop.models.registry import get_learner
 
 
 def result(trace: list[tuple[float, float]], final: float) -> dict:

@@ -1,15 +1,11 @@
-"""benchmarks/bench_scaling.py's reading of runs at several sizes: growth exponents, shares of the
+"""benchmarks/speed/bench_scaling.py's reading of runs at several sizes: growth exponents, shares of the
 full run, and which stages grow faster than linearly."""
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import bench_scaling  # noqa: E402  (a script folder, not a package)
+from benchmarks.speed import bench_scaling
 
 
 def record(stages: dict[str, tuple[float, float]]) -> dict:

@@ -1,20 +1,16 @@
-"""The calibration benchmark (benchmarks/check_calibration.py) at a small grid: its simulated routes
+"""The calibration benchmark (benchmarks/studies/check_calibration.py) at a small grid: its simulated routes
 have the dependence it is given, and on them the project's intervals and paired test keep their
 stated levels where the binomial's do not. The full grid's table: docs/statistics.md."""
 
 from __future__ import annotations
 
-import sys
 from itertools import combinations
-from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.stats import multivariate_normal
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-
-from check_calibration import (  # noqa: E402
+from benchmarks.studies.check_calibration import (
     INDEPENDENT,
     Dependence,
     binary_correlation,
@@ -25,7 +21,6 @@ from check_calibration import (  # noqa: E402
     power_cell,
     table_cell,
 )
-
 from seasonloop.params.settings import StatisticsConfig  # noqa: E402
 
 SETTINGS = StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05)

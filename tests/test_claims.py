@@ -6,7 +6,7 @@ docs/full-scale.md), so that no verdict is typed in and none can drift from the 
 in so many words that it is not tested (a comparison across runs, or a point estimate only).
 
 The default run is one synthetic route; docs/results/replicate_routes.json has every claim on five
-routes (benchmarks/replicate_routes.py). A sentence that cites a claim whose verdict is not the
+routes (tools/replicate_routes.py). A sentence that cites a claim whose verdict is not the
 same on every route says which route it speaks of (this one, every one, pooled), and the counts a
 sentence gives over the routes ("in 26 of 30 cells", "pooled on five pairs") are the record's.
 

@@ -4,7 +4,7 @@ parser, and reads it the same as with the pure-Python one.
 DVC parses these files several times a stage, and ruamel.yaml (0.19 on) uses its C parser only
 when ruamel.yaml.clib is installed (pyproject.toml). Without it, restoring a one-learner tiny
 pipeline from the run cache took 1.3x as long and every `dvc status` 1.4x
-(benchmarks/bench_dvc_yaml.py, docs/benchmarks.md), which the end-to-end tests pay hundreds of times.
+(benchmarks/speed/bench_dvc_yaml.py, docs/benchmarks.md), which the end-to-end tests pay hundreds of times.
 """
 
 from __future__ import annotations

@@ -155,7 +155,7 @@ def test_ica_learner_fastica_solver_records_non_convergence_and_checks_params():
 def test_whitening_is_white_for_ill_conditioned_data():
     """The whitened training data has unit covariance to ~5e-6 even when the kept variances span
     4 decades; with a float32 eigen-decomposition of the covariance it is ~6e-5 off here (1.4e-3 on
-    benchmarks/bench_ica.py's images, where FastICA then wanders instead of converging)."""
+    benchmarks/speed/bench_ica.py's images, where FastICA then wanders instead of converging)."""
     rng = np.random.default_rng(0)
     rotation, _ = np.linalg.qr(rng.normal(size=(256, 256)))
     data = (0.5 + rng.laplace(size=(6000, 256)) * np.logspace(0, -2, 256) @ rotation).astype(np.float32)

@@ -16,10 +16,12 @@ import cv2
 import numpy as np
 import pandas as pd
 import pytest
-from workspaces import DATA_PATH, dvc, make_workspace
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import SeasonRide, render_route
+from tools.repository import dvc
+from tools.small_runs import DATA_PATH
+from workspaces import make_workspace
 
 SECONDS = 240
 

@@ -7,7 +7,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from workspaces import SMALL, committed_run, dvc, git
+
+from tools.repository import dvc, git
+from tools.small_runs import SMALL
+from workspaces import committed_run
 
 
 @pytest.mark.e2e

@@ -10,7 +10,10 @@ from pathlib import Path
 
 import pytest
 import yaml
-from workspaces import SMALL, git, make_workspace, tool_env
+
+from tools.repository import git, tool_env
+from tools.small_runs import SMALL
+from workspaces import make_workspace
 
 # A learner the project has never seen: a seeded random projection of the pixels.
 RANDOM_PROJECTION = '''"""Random projection of the pixels (Johnson-Lindenstrauss): a learner that learns nothing."""

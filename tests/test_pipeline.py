@@ -14,7 +14,10 @@ from pathlib import Path
 
 import pytest
 import yaml
-from workspaces import TINY, dvc, make_workspace
+
+from tools.repository import dvc
+from tools.small_runs import TINY
+from workspaces import make_workspace
 
 
 @pytest.fixture(scope="module")

@@ -13,7 +13,6 @@ import cv2
 import numpy as np
 import pytest
 import yaml
-from workspaces import TINY, dvc, make_workspace, merge
 
 from seasonloop.data.datasets import season_part
 from seasonloop.data.extract import extract_seasons
@@ -26,6 +25,9 @@ from seasonloop.params.schema import check_whole
 from seasonloop.params.seasons import SEASONS
 from seasonloop.params.settings import EvaluateConfig, ExtractConfig, SplitConfig
 from seasonloop.preset import composed_params
+from tools.repository import dvc, merge
+from tools.small_runs import TINY
+from workspaces import make_workspace
 
 REPO = Path(__file__).resolve().parents[1]
 EXTRACT = ExtractConfig(fps=1.0, height=6, width=8, trim_to_shortest=False, max_offset=0)

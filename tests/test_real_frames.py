@@ -9,10 +9,12 @@ from pathlib import Path
 
 import cv2
 import pytest
-from workspaces import DATA_PATH, dvc, make_workspace, wait_for_the_queue
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import render_route
+from tools.repository import dvc
+from tools.small_runs import DATA_PATH
+from workspaces import make_workspace, wait_for_the_queue
 
 SECONDS = 240  # places per season
 

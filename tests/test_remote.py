@@ -11,7 +11,10 @@ import time
 from pathlib import Path
 
 import pytest
-from workspaces import SMALL, committed_run, dvc, git
+
+from tools.repository import dvc, git
+from tools.small_runs import SMALL
+from workspaces import committed_run
 
 
 @pytest.fixture(scope="module")

@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -159,8 +156,7 @@ def shown(baseline: str, seed: int, experiments: dict[str, int], state: str | No
 
 
 def test_routes_are_read_from_commits_with_the_same_pipeline():
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    from replicate_routes import routes_of
+    from tools.replicate_routes import routes_of
 
     exps = [
         {"rev": "workspace", "data": {}, "experiments": None},

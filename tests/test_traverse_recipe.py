@@ -8,10 +8,12 @@ from pathlib import Path
 
 import cv2
 import pytest
-from workspaces import DATA_PATH, dvc, make_workspace
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import render_route
+from tools.repository import dvc
+from tools.small_runs import DATA_PATH
+from workspaces import make_workspace
 
 SECONDS = 240
 DATE = "2014-12-09-13-21-02"

@@ -7,7 +7,8 @@ background from the first moment, tests/conftest.py) and each workspace links it
 run cache then restores every stage whose command, deps and params the seed ran, and runs only what
 the test changed. A test that is about a fresh clone without a cache does not link it.
 
-Run as a script, it builds the seed: python tests/workspaces.py SEED_FOLDER
+Run as a script (with the repository root on PYTHONPATH, for tools/), it builds the seed:
+PYTHONPATH=. python tests/workspaces.py SEED_FOLDER
 """
 
 from __future__ import annotations
@@ -21,107 +22,13 @@ import sys
 import time
 from pathlib import Path
 
-import yaml
+from tools.repository import commit_all, copy_sources, dvc, git, tool_env, write_params
+from tools.small_runs import SMALL, TINY
 
-REPO = Path(__file__).resolve().parents[1]
-
-# Small enough for CI on 2 cores, large enough that every stage has real work: three seasons
-# (so pairs are filtered to the seasons present), every learner, both matchers.
-TINY = {
-    "data": {"seasons": ["summer", "fall", "winter"]},
-    "train": {"seasons": ["summer", "fall", "winter"]},
-    "synthetic": {"seconds": 300, "fps": 2, "width": 128, "height": 72},
-    "extract": {"height": 36, "width": 64},
-    "split": {"section_length": 100, "test_fraction": 0.3, "gap": 3},
-    "pca": {"n_discard": 3, "n_keep": 20},
-    "pca_whiten": {"n_keep": 16},
-    "ica": {"n_components": 16, "max_iter": 200},
-    "ica_bovw": {"n_train_patches": 3000, "n_components": 15, "n_words": 20},
-    "fae": {"hidden": 32, "max_epochs": 2},
-    "cae": {
-        "channels": [3, 8, 12],
-        "kernels": [5, 3, 3],
-        "max_epochs": 1,
-        "max_train_images": 64,
-        "max_validation_images": 16,
-    },
-    # 1/32 is the CAE's own width (reused from fit@cae), 1/16 is trained by the sweep
-    "cae_widths": {"widths": [0.03125, 0.0625]},
-    "ablation": {"training_seasons": [["summer"], ["summer", "winter"]], "pair": "summer-fall"},
-}
-
-# the smallest run that still has every stage: two learners, one ablation learner, and the CAE
-# width sweep skipped (its stage writes that it was; TINY's run trains it, test_pipeline checks it):
-# a sweep's torch import and fit are ~4 s of a ~20 s tiny run, in every workspace
-SMALL = {
-    **{key: value for key, value in TINY.items() if key != "ablation"},
-    "learners": ["raw_patchnorm", "pca"],
-    "ablation": {"methods": ["pca"], "pair": "summer-fall", "training_seasons": [["summer"]]},
-    "cae_widths": {"widths": []},
-}
-
-# the tests of other data (test_real_frames, test_other_datasets): nothing is restored for them, so
-# the fewest stages that still go through the report: one learner, which the ablation also trains
-DATA_PATH = {
-    **SMALL,
-    "learners": ["raw_patchnorm"],
-    "ablation": {"methods": ["raw_patchnorm"], "pair": "summer-fall", "training_seasons": [["summer"]]},
-}
-
-# What `dvc repro` writes: a developer's checkout may hold them, a fresh clone does not.
-PIPELINE_OUTPUTS = ("data/", "models/", "metrics/", "plots/", "logs/", "dvc.lock", "benchmarks/results/")
 # the test modules whose workspaces start from the seed's cache, in the order they run: SMALL's
 # longest first, then test_pipeline, which waits for TINY (tests/conftest.py starts the seed early
 # when any of them is selected)
 SEEDED_MODULES = ("test_remote", "test_experiments", "test_fresh_clone", "test_new_learner", "test_pipeline")
-
-
-def merge(base: dict, override: dict) -> dict:
-    for key, value in override.items():
-        base[key] = merge(base[key], value) if isinstance(value, dict) and isinstance(base.get(key), dict) else value
-    return base
-
-
-def source_files() -> list[str]:
-    """The repository as a fresh clone would have it, plus uncommitted source changes."""
-    listed = subprocess.run(
-        ["git", "ls-files", "--cached", "--others", "--exclude-standard"],
-        cwd=REPO,
-        check=True,
-        capture_output=True,
-        text=True,
-    ).stdout.split()
-    # data/nordland/ holds the tracked placeholders of the real-data folders
-    return [
-        name
-        for name in listed
-        if (REPO / name).is_file() and (not name.startswith(PIPELINE_OUTPUTS) or name.startswith("data/nordland/"))
-    ]
-
-
-def git(root: Path, *args: str) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        ["git", "-c", "user.name=t", "-c", "user.email=t@t", *args], cwd=root, capture_output=True, text=True
-    )
-
-
-def write_params(root: Path, overrides: dict) -> None:
-    """root/params.yaml: the repository's params merged with `overrides`."""
-    params = merge(yaml.safe_load((REPO / "params.yaml").read_text()), overrides)
-    (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
-
-
-def copy_sources(root: Path) -> None:
-    """The repository's source files at root, as a fresh clone has them (plus uncommitted changes)."""
-    for name in source_files():
-        (root / name).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy2(REPO / name, root / name)
-
-
-def commit_all(root: Path) -> None:
-    """A new git repository at root holding everything there in one commit."""
-    for command in (["init", "-q"], ["add", "-A"], ["commit", "-qm", "tiny"]):
-        assert git(root, *command).returncode == 0
 
 
 def make_workspace(root: Path, overrides: dict, cache: Path | None = None) -> Path:
@@ -146,21 +53,6 @@ def committed_run(root: Path, overrides: dict, cache: Path | None = None) -> Pat
     git(root, "add", "-A")
     assert git(root, "commit", "-qm", "run").returncode == 0
     return root
-
-
-def tool_env(**extra: str) -> dict[str, str]:
-    """This environment with the test's Python (and its dvc) first on PATH, writing bytecode as
-    Python does by default (a sandbox's PYTHONDONTWRITEBYTECODE would make every stage process
-    compile the package's modules again; .dvcignore keeps the bytecode out of DVC's hashes)."""
-    env = {key: value for key, value in os.environ.items() if key != "PYTHONDONTWRITEBYTECODE"}
-    return dict(env, **extra, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
-
-
-def dvc(root: Path, *args: str) -> subprocess.CompletedProcess:
-    env = tool_env()
-    return subprocess.run(
-        [str(Path(sys.executable).parent / "dvc"), *args], cwd=root, env=env, capture_output=True, text=True
-    )
 
 
 def in_a_terminal(root: Path, columns: int, *args: str) -> str:

@@ -15,7 +15,7 @@ FastICA stops on its own test, the change of W between iterations below ica.chan
 says how far one step moves W, not how far W is from a stationary point. So every solver's fit
 record reports the same stationarity measure, the max |entry| of the relative gradient
 (seasonloop.models.core.ica_stationarity.relative_gradient), and `converged` means exactly that it is
-below ica.tol; the solver's own test is recorded beside it. benchmarks/bench_ica.py compares them.
+below ica.tol; the solver's own test is recorded beside it. benchmarks/speed/bench_ica.py compares them.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Conclusions across replicate routes: the same pipeline and params on several synthetic routes
-(synthetic.seed), each run as a DVC experiment (benchmarks/replicate_routes.py queues and collects
+(synthetic.seed), each run as a DVC experiment (tools/replicate_routes.py queues and collects
 them), read back as each route's outputs: metrics/summary.json, metrics/comparisons.json and the
 per-query outcomes data/outcomes/.
 

@@ -12,7 +12,7 @@ recommendations for practice", J. Business & Economic Statistics 36(4), 2018): e
 and their mean square estimates it with ν degrees of freedom, so a mean divided by its standard
 error follows Student's t with ν degrees of freedom. No resampling, no seed, no block length: ν
 grows with the route, ν = floor(statistics.degrees_scale * n^(2/3)). LLSW's rule has scale 0.4;
-benchmarks/check_calibration.py measured it too liberal at this project's n and dependence, and
+benchmarks/studies/check_calibration.py measured it too liberal at this project's n and dependence, and
 the scale in params.yaml is the one that covers 95% there (docs/statistics.md).
 
 The fraction's interval is Wilson's score interval with the route's effective number of queries

@@ -11,7 +11,7 @@ by Holm's step-down method, and a difference is significant when its Holm p-valu
 (an interval that excludes 0 follows: Holm only raises p-values). The discordant counts (queries
 one side gets right and the other wrong) are kept for the reader; McNemar's test on them, which
 counts them as independent, is not used: along a route it calls equal learners different 5-10
-times as often as it says (benchmarks/check_calibration.py).
+times as often as it says (benchmarks/studies/check_calibration.py).
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from seasonloop.params.settings import StatisticsConfig
 from seasonloop.significance.intervals import mean_variance, t_quantile
 
 VERDICTS = ("better", "worse", "no difference", "not enough queries")
-# benchmarks/check_calibration.py (docs/statistics.md, table calibration_difference_coverage): the
+# benchmarks/studies/check_calibration.py (docs/statistics.md, table calibration_difference_coverage): the
 # difference's interval covers 93-96% except where a side's fraction is near 0 or 1 on a short
 # route (down to 83% at 50 queries, 91% at 158); there a comparison says so beside its interval
 NEAR_BOUNDARY = 0.1  # a side's fraction below it, or above 1 minus it

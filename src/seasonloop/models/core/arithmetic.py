@@ -62,7 +62,7 @@ def flush_denormals(device: torch.device) -> None:
 
     Why: the FAE's gradients reach the denormal range (below ~1.2e-38) after ~10 epochs, where a
     multiply-add takes many times longer; its epochs then took twice as long
-    (benchmarks/bench_training_schedule.py: denormals=kept). Flushed, every FAE run measured ended at
+    (benchmarks/speed/bench_training_schedule.py: denormals=kept). Flushed, every FAE run measured ended at
     the same epoch with the same validation loss to the last digit, and its weights after 14 epochs
     were the same to the bit (such values vanish in sums of normal ones). The mode is per thread,
     and torch's OpenMP threads take the calling thread's when they are created: called before a

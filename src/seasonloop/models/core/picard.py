@@ -185,7 +185,7 @@ class LibraryPicard(TorchICA):
     """The same fit with python-picard itself (`picard(ortho=True, extended=True)`, float64 numpy on
     the CPU) in place of TorchPicard's iterations, from the same whitened data and initial matrix:
     the reference implementation, selectable as ica.solver "python_picard" and compared in
-    benchmarks/bench_ica.py."""
+    benchmarks/speed/bench_ica.py."""
 
     algorithm = "picard-o"
     criterion_name = "gradient"

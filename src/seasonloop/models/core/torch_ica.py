@@ -147,7 +147,7 @@ class TorchICA(ABC):
                 f"n_components = {self.n_components} exceeds min(n_samples, n_features) = {min(n_samples, n_features)}"
             )
         # (seconds since fit began, relative gradient) at the start of every iteration, for
-        # benchmarks/bench_ica.py's time to reach a gradient and stay below it
+        # benchmarks/speed/bench_ica.py's time to reach a gradient and stay below it
         self.started_ = time.perf_counter()
         self.trace_: list[tuple[float, float]] = []
         data = np.ascontiguousarray(data, dtype=np.float32)

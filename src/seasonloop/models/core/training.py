@@ -199,7 +199,7 @@ def _stop_reason(epoch: int, diverged: bool, plateau: _Plateau, config: Training
 def adam(model: nn.Module, learning_rate: float) -> torch.optim.Adam:
     """Adam, fused: one pass over the weights a step instead of one per operation of the update, the
     same update up to float rounding; the per-operation default was ~40% of the FAE's epoch on the
-    CPU (benchmarks/bench_training_schedule.py: adam=per_tensor)."""
+    CPU (benchmarks/speed/bench_training_schedule.py: adam=per_tensor)."""
     return torch.optim.Adam(model.parameters(), lr=learning_rate, fused=True)
 
 

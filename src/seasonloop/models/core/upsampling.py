@@ -32,7 +32,7 @@ class UpsampledConv2d(nn.Conv2d):
     are summed into one kernel per output parity (2 x 2 kernels, stacked as output channels),
     convolved at the input's resolution and interleaved by pixel_shuffle. The 11x11 layer then costs
     7 x 7 multiply-adds an output pixel instead of 11 x 11 (the CAE's fit 1.7x faster at the same
-    plateau: benchmarks/bench_training_schedule.py, upsampling=separate).
+    plateau: benchmarks/speed/bench_training_schedule.py, upsampling=separate).
     """
 
     def __init__(self, in_channels: int, out_channels: int, kernel: int):

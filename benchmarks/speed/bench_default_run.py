@@ -2,7 +2,7 @@
 of the repository (as a new user's clone), with this CPU's own kernels or, with --capped, those of
 an AVX2-only CPU (ISA_CAP: an estimate of the slowest CPU the project meets).
 
-    python benchmarks/bench_default_run.py [--capped]
+    python -m benchmarks.speed.bench_default_run [--capped]
 
 Writes benchmarks/results/bench_default_run.json (or bench_default_run_capped.json): the total, each
 stage's seconds (from DVC's "Running stage" lines) and the largest resident memory of any stage
@@ -13,13 +13,15 @@ meanwhile: the load before and after is recorded, and a busy CPU is named in the
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import resource
 import tempfile
 from pathlib import Path
 
-from _bench_common import ISA_CAP, capped_environment, copy_repository, load_note, machine, save_and_report
-from _pipeline_run import timed_repro
+from benchmarks.common import capped_environment, copy_repository, load_note, machine_line, save_and_report
+from benchmarks.pipeline_run import timed_repro
+from tools.records import ISA_CAP, machine
 
 
 def main() -> None:
@@ -60,6 +62,41 @@ def main() -> None:
     for stage, seconds in sorted(stages.items(), key=lambda item: -item[1]):
         print(f"  {stage:32s} {seconds:7.1f} s")
     save_and_report(name, record, measured_on)
+
+
+def _default_run_time(path: Path) -> str:
+    """One sentence: how long the default run took from a fresh copy, where, and its slowest stages."""
+    record = json.loads(path.read_text())
+    slowest = sorted(record["stages"].items(), key=lambda item: -item[1])[:3]
+    load = f" ({record['load_note']})" if record.get("load_note") else ", nothing else running"
+    return (
+        f"`dvc repro` from a fresh clone took **{record['total_seconds'] / 60:.1f} min** on {machine_line(record)}{load}; "
+        f"largest stage process {record['peak_memory_mb']:.0f} MB; slowest stages "
+        + ", ".join(f"{stage} {seconds:.0f} s" for stage, seconds in slowest)
+        + ".\n"
+    )
+
+
+def _default_run_stages(path: Path) -> str:
+    """Every stage's seconds, slowest first, and its share of the run."""
+    record = json.loads(path.read_text())
+    total = record["total_seconds"]
+    lines = [_default_run_time(path), "| stage | seconds | share |", "|---|---|---|"]
+    for stage, seconds in sorted(record["stages"].items(), key=lambda item: -item[1]):
+        lines.append(f"| {stage} | {seconds:.1f} | {100 * seconds / total:.0f}% |")
+    return "\n".join(lines) + "\n"
+
+
+# docs/write_tables.py's tables of this benchmark's records (uncapped, and capped to AVX2): name ->
+# (record, snapshot, how it is written)
+TABLES = {
+    "default_run_stages": ("benchmarks/results/bench_default_run.json", "bench_default_run.json", _default_run_stages),
+    "default_run_stages_capped": (
+        "benchmarks/results/bench_default_run_capped.json",
+        "bench_default_run_capped.json",
+        _default_run_stages,
+    ),
+}
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@ Agreement: principal angles between the kept subspaces (components n_discard .. 
 of each solver and of the exact reference ("full" LAPACK SVD when it is timed, else the first
 exact solver listed).
 
-    python benchmarks/bench_pca.py [--n-samples 128000] [--solvers full covariance_eigh auto]
+    python -m benchmarks.speed.bench_pca [--n-samples 128000] [--solvers full covariance_eigh auto]
 
 Writes benchmarks/results/bench_pca.json; the headline line is printed last.
 """
@@ -19,10 +19,11 @@ import yaml
 from scipy.linalg import subspace_angles
 from sklearn.decomposition import PCA
 
-from _bench_common import load_note, machine, save_and_report, timed, training_images
+from benchmarks.common import headline_table, load_note, save_and_report, timed, training_images
 from seasonloop.models.core.learner import to_float
 from seasonloop.models.core.projection import SVD_SOLVERS
 from seasonloop.models.pca import PCALearner
+from tools.records import machine
 
 EXACT_SOLVERS = ("full", "covariance_eigh")
 
@@ -167,6 +168,10 @@ def main() -> None:
         )
     record["headline"] = headline
     save_and_report("bench_pca", record, measured_on)
+
+
+# docs/write_tables.py's table of this benchmark's record: name -> (record, snapshot, how it is written)
+TABLES = {"bench_pca": ("benchmarks/results/bench_pca.json", "bench_pca.json", headline_table)}
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@ of `sequence.window_at_breaks` (ignore: OpenSeqSLAM's, clipped at the database's
 shift: a fixed-size window shifted inside the segment; clip: clipped at the segment's ends) on a
 finished run's own descriptors and ground truth.
 
-    python benchmarks/compare_window_rules.py WORKSPACE [WORKSPACE ...]
+    python -m benchmarks.studies.compare_window_rules WORKSPACE [WORKSPACE ...]
 
 For each WORKSPACE (a clone that ran `dvc repro`: data/features, data/ground_truth, params.yaml),
 every learner, pair and metric of its params is matched with `+seq` under each rule through the
@@ -18,12 +18,12 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import json
 from pathlib import Path
 
 import numpy as np
 import yaml
 
-from _bench_common import machine, write_result
 from seasonloop.data.ground_truth import PairTruth, truth_file
 from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.matchers import match_distances
@@ -31,6 +31,7 @@ from seasonloop.io import load_array
 from seasonloop.params.choices import WINDOW_RULES
 from seasonloop.params.seasons import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from tools.records import machine, write_result
 
 BASELINE = "clip"
 
@@ -96,6 +97,41 @@ def main() -> None:
     )
     path = write_result("compare_window_rules", {"runs": runs, "headline": headline}, machine())
     print(f"wrote {path}\nHEADLINE: {headline}")
+
+
+def _compare_window_rules(path: Path) -> str:
+    """benchmarks/studies/compare_window_rules.py's record: per run, each rule's +seq fraction correct against 'clip'."""
+    record = json.loads(path.read_text())
+    lines = [
+        "| run | cells | `ignore`: mean points, up / down | `shift`: mean points, up / down |",
+        "|---|---|---|---|",
+    ]
+    for workspace, run in record["runs"].items():
+        folder = Path(workspace)
+        name = folder.parent.name if folder.name == "repo" else folder.name  # a test's workspace: its test
+        cells = [
+            f"{row['mean_points']:+.2f}, {row['up']} / {row['down']}"
+            for row in (run["against_clip"][rule] for rule in ("ignore", "shift"))
+        ]
+        lines.append(f"| {name} | {run['against_clip']['clip']['cells']} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + f"\n\nComputed on {record['machine']['cpu']} (fractions correct; no timing).\n"
+
+
+# docs/write_tables.py's tables of this study's record: name -> (record, snapshot, how it is
+# written); two runs (the record is rewritten by each): the full preset run's outputs, then the
+# default run's and the tests' non-aligned workspaces
+TABLES = {
+    "compare_window_rules_full": (
+        "benchmarks/results/compare_window_rules.json",
+        "compare_window_rules_full.json",
+        _compare_window_rules,
+    ),
+    "compare_window_rules": (
+        "benchmarks/results/compare_window_rules.json",
+        "compare_window_rules.json",
+        _compare_window_rules,
+    ),
+}
 
 
 if __name__ == "__main__":

@@ -1,7 +1,7 @@
 """Do the intervals cover what they say, and does "significant" err as often as alpha says?
 
-    python benchmarks/check_calibration.py [--workspace DIR] [--replicates R] [--small]
-    python benchmarks/check_calibration.py --means [--workspace DIR] [--replicates R]
+    python -m benchmarks.studies.check_calibration [--workspace DIR] [--replicates R] [--small]
+    python -m benchmarks.studies.check_calibration --means [--workspace DIR] [--replicates R]
 
 Simulates per-query outcomes with a known answer and the dependence of a run's own outcomes, and
 runs the project's statistics on them (seasonloop.significance, the code every stage uses):
@@ -36,9 +36,10 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import json
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from itertools import combinations
 from pathlib import Path
 from typing import Any
@@ -429,7 +430,8 @@ def main() -> None:
     parser.add_argument("--small", action="store_true", help="the tests' small grid")
     parser.add_argument("--means", action="store_true", help="the interval of the mean over six pairs")
     args = parser.parse_args()
-    from _bench_common import machine, save_and_report
+    from benchmarks.common import save_and_report
+    from tools.records import machine
 
     params = yaml.safe_load((args.workspace / "params.yaml").read_text())
     settings = StatisticsConfig.from_params(params)
@@ -475,6 +477,260 @@ def headline(record: dict) -> str:
         f"per comparison and {worst(rows, 'false_positive', 'per_table', False):.3f} per table "
         f"({record['replicates']} routes a cell)"
     )
+
+
+# the calibration targets of docs/statistics.md: a 95% interval covers 94-96.5%, a test at 5% errs
+# at most 5.5% of the time; a cell outside them is marked
+COVERAGE_TARGET, FALSE_POSITIVE_TARGET = (0.94, 0.965), 0.055
+
+
+def _monte_carlo_error(cell: dict, nominal: float) -> float:
+    return (nominal * (1 - nominal) / cell["replicates"]) ** 0.5
+
+
+def _coverage_off(cell: dict) -> bool:
+    """Outside COVERAGE_TARGET by more than two Monte Carlo standard errors."""
+    margin = 2 * _monte_carlo_error(cell, 0.95)
+    return not COVERAGE_TARGET[0] - margin <= cell["rate"] <= COVERAGE_TARGET[1] + margin
+
+
+def _false_positives_off(cell: dict) -> bool:
+    """Above FALSE_POSITIVE_TARGET by more than two Monte Carlo standard errors."""
+    return cell["rate"] > FALSE_POSITIVE_TARGET + 2 * _monte_carlo_error(cell, 0.05)
+
+
+def _rate_cell(cell: dict, off: Callable[[dict], bool] = lambda cell: False) -> str:
+    if cell["rate"] is None:
+        return "refused"
+    return f"{cell['rate']:.3f}" + (" †" if off(cell) else "")
+
+
+def _calibration_rows(path: Path, run: str = "params") -> tuple[dict, list[dict]]:
+    record = json.loads(path.read_text())
+    return record, record["runs"][run]["rows"]
+
+
+def _calibration_legend(record: dict, run: str = "params", replicates: int | None = None) -> str:
+    """replicates: the simulated routes a cell of the table has (default: the record's)."""
+    statistics, replicates = record["runs"][run]["statistics"], replicates or record["replicates"]
+    error = (0.95 * 0.05 / replicates) ** 0.5
+    return (
+        f"{replicates} simulated routes a cell (Monte Carlo standard error {100 * error:.1f} points at 95% "
+        f"or 5%); degrees_scale {statistics['degrees_scale']}; "
+        f"refused: fewer than {record['runs'][run]['min_queries']} queries a route (the pipeline writes "
+        '"not enough queries"); † outside the target by more than two Monte Carlo standard errors.'
+    )
+
+
+def _by_fraction(rows: list[dict], ps: list[float], keys: tuple[str, ...], cell: Callable[[dict], str | None]) -> str:
+    """A table of the grid: a line per value of `keys` (e.g. dependence and n), a column per fraction p,
+    cell(row) the text of a row of the record (None: the row is not in this table)."""
+    cells: dict[tuple, dict[float, str]] = {}
+    for row in rows:
+        text = cell(row)
+        if text is not None:
+            cells.setdefault(tuple(row[key] for key in keys), {})[row["p"]] = text
+    lines = ["| " + " | ".join(keys) + " | " + " | ".join(f"p = {p}" for p in ps) + " |"]
+    lines.append("|" + "---|" * (len(keys) + len(ps)))
+    for key, by_p in cells.items():
+        lines.append("| " + " | ".join(map(str, key)) + " | " + " | ".join(by_p.get(p, "") for p in ps) + " |")
+    return "\n".join(lines)
+
+
+def _calibration_coverage(path: Path) -> str:
+    """Coverage of the 95% interval along the route (Wilson's in brackets) per dependence, n and p."""
+    record, rows = _calibration_rows(path)
+
+    def cell(row: dict) -> str | None:
+        if "coverage" not in row:
+            return None
+        return f"{_rate_cell(row['coverage']['route'], _coverage_off)} ({row['coverage']['wilson']['rate']:.3f})"
+
+    table = _by_fraction(rows, record["grid"]["p"], ("dependence", "n"), cell)
+    return table + "\n\n" + _calibration_legend(record) + " In brackets: Wilson's interval.\n"
+
+
+def _calibration_false_positives(path: Path) -> str:
+    """Equal learners called different: per comparison / per table (Holm), per dependence, n, routes and p."""
+    record, rows = _calibration_rows(path)
+
+    def cell(row: dict) -> str:
+        rates = row["false_positive"]
+        return " / ".join(_rate_cell(rates[kind], _false_positives_off) for kind in ("per_comparison", "per_table"))
+
+    size = record["grid"]["table_learners"]
+    return (
+        _by_fraction(rows, record["grid"]["p"], ("dependence", "n", "routes"), cell)
+        + f"\n\nCells: per comparison / per table ({size} learners of equal laws, {size * (size - 1) // 2} "
+        "comparisons, Holm). routes > 1: that many independent routes pooled (p = 0.5 only). "
+        + _calibration_legend(record)
+        + "\n"
+    )
+
+
+def _calibration_power(path: Path) -> str:
+    """How often the paired test finds a difference of 3, 5 and 10 points (and the difference's interval coverage)."""
+    record, rows = _calibration_rows(path)
+    differences = sorted(next(iter(rows))["power"], key=float)
+    header = [f"power at {100 * float(d):.0f} points" for d in differences]
+    header += [f"interval coverage at {100 * float(d):.0f}" for d in differences]
+    lines = ["| dependence | n | routes | p | " + " | ".join(header) + " |", "|---|---|---|---|" + "---|" * len(header)]
+    for row in rows:
+        if row["p"] != 0.5:
+            continue
+        power = [_rate_cell(row["power"][d]["power"]) for d in differences]
+        coverage = [_rate_cell(row["power"][d]["interval_coverage"], _coverage_off) for d in differences]
+        lines.append(
+            f"| {row['dependence']} | {row['n']} | {row['routes']} | {row['p']} | "
+            + " | ".join(power + coverage)
+            + " |"
+        )
+    return (
+        "\n".join(lines)
+        + "\n\nPower: the share of routes on which the paired test (one comparison, at alpha) finds the difference, in its direction. "
+        + _calibration_legend(record, replicates=_power_replicates(rows))
+        + "\n"
+    )
+
+
+def _power_replicates(rows: list[dict]) -> int:
+    """The simulated routes of a power cell (check_calibration draws half as many as for the others)."""
+    cell = next(iter(rows[-1]["power"].values()))["power"]
+    return cell["replicates"] + cell["refused"]
+
+
+def _calibration_difference_coverage(path: Path) -> str:
+    """The 95% interval of a difference where the difference is real: its lowest coverage over the
+    differences of the grid, per dependence, n and the first learner's fraction (one route)."""
+    record, rows = _calibration_rows(path)
+
+    def cell(row: dict) -> str | None:
+        if row["routes"] != 1:
+            return None
+        answered = [
+            cell["interval_coverage"] for cell in row["power"].values() if cell["interval_coverage"]["rate"] is not None
+        ]
+        return _rate_cell(min(answered, key=lambda cell: cell["rate"]) if answered else {"rate": None}, _coverage_off)
+
+    table = _by_fraction(rows, record["grid"]["p"], ("dependence", "n"), cell)
+    differences = ", ".join(f"{100 * float(d):.0f}" for d in sorted(next(iter(rows))["power"], key=float))
+    return (
+        table
+        + f"\n\nCells: the lowest coverage over differences of {differences} points (the second learner's fraction p "
+        "plus the difference, minus where that passes 0.99). "
+        + _calibration_legend(record, replicates=_power_replicates(rows))
+        + "\n"
+    )
+
+
+def _calibration_llsw(path: Path) -> str:
+    """The params' degrees_scale beside LLSW's 0.4: worst coverage and worst false-positive rate per dependence and n."""
+    record = json.loads(path.read_text())
+    runs = {name: record["runs"][name] for name in ("params", "llsw")}  # JSON keys come back sorted
+    scales = {name: run["statistics"]["degrees_scale"] for name, run in runs.items()}
+    lines = [
+        "| dependence | n | "
+        + " | ".join(f"scale {scales[name]}: coverage, lowest / highest" for name in runs)
+        + " | "
+        + " | ".join(f"scale {scales[name]}: false positives, highest" for name in runs)
+        + " |",
+        "|---|---|" + "---|" * (2 * len(runs)),
+    ]
+    keys = sorted(
+        {(row["dependence"], row["n"]) for row in runs["llsw"]["rows"]},
+        key=lambda key: (list(record["grid"]["n"]).index(key[1]), key[0]),
+    )
+    for dependence, n in keys:
+        coverage, false_positive = [], []
+        for run in runs.values():
+            rows = [row for row in run["rows"] if (row["dependence"], row["n"], row["routes"]) == (dependence, n, 1)]
+            rates = [row["coverage"]["route"]["rate"] for row in rows if row["coverage"]["route"]["rate"] is not None]
+            fps = [
+                row["false_positive"]["per_comparison"]["rate"]
+                for row in rows
+                if row["false_positive"]["per_comparison"]["rate"] is not None
+            ]
+            coverage.append(f"{min(rates):.3f} / {max(rates):.3f}" if rates else "refused")
+            false_positive.append(f"{max(fps):.3f}" if fps else "refused")
+        lines.append(f"| {dependence} | {n} | " + " | ".join(coverage + false_positive) + " |")
+    return (
+        "\n".join(lines)
+        + f"\n\nOver p in {list(record['grid']['p'])}, one route; {record['replicates']} simulated routes a cell.\n"
+    )
+
+
+def _calibration_means(path: Path) -> str:
+    """Coverage of the 95% interval of the mean over six pairs, per dependence, n and fractions."""
+    record = json.loads(path.read_text())
+    names = list(record["fractions"])
+    lines = [
+        "| dependence | n | " + " | ".join(f"pairs {name}" for name in names) + " |",
+        "|---|---|" + "---|" * len(names),
+    ]
+    cells: dict[tuple[str, int], dict[str, str]] = {}
+    for row in record["rows"]:
+        cells.setdefault((row["dependence"], row["n"]), {})[row["fractions"]] = _rate_cell(
+            row["coverage"], _coverage_off
+        )
+    for (dependence, n), by_name in cells.items():
+        lines.append(f"| {dependence} | {n} | " + " | ".join(by_name[name] for name in names) + " |")
+    shares = ", ".join(
+        f"{kind} {fit['pair_share']:.2f} (outcomes' correlation {fit['pair_correlation_measured']:.2f})"
+        for kind, fit in record["fitted"].items()
+    )
+    fractions = "; ".join(f"{name}: {list(values)}" for name, values in record["fractions"].items())
+    error = (0.95 * 0.05 / record["replicates"]) ** 0.5
+    return (
+        "\n".join(lines)
+        + f"\n\nFractions of the six pairs: {fractions}. Latent share between two pairs, fitted: {shares}. "
+        f"{record['replicates']} simulated runs a cell (Monte Carlo standard error {100 * error:.1f} points); "
+        "† outside 94-96.5% by more than two standard errors.\n"
+    )
+
+
+def _calibration_fit(path: Path) -> str:
+    """The dependence the simulation was given: fitted to the run's per-query outcomes."""
+    record = json.loads(path.read_text())
+    lags = ("1", "2", "5", "10")
+    lines = [
+        "| outcomes | evaluations | a | phi | share | "
+        + " | ".join(f"autocorr. lag {lag}: run / fitted" for lag in lags)
+        + " | learners' correlation |",
+        "|---|---|---|---|---|" + "---|" * (len(lags) + 1),
+    ]
+    for kind, fit in record["fitted"].items():
+        d = fit["dependence"]
+        cells = [
+            f"{fit['autocorrelation_measured'][lag]:.2f} / {fit['autocorrelation_fitted'][lag]:.2f}" for lag in lags
+        ]
+        lines.append(
+            f"| {kind} | {fit['evaluations']} | {d['a']:.2f} | {d['phi']:.2f} | {d['share']:.2f} | "
+            + " | ".join(cells)
+            + f" | {fit['learner_correlation_measured']:.2f} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+# docs/write_tables.py's tables of this study's records, the statistics' real coverage and error
+# rates on simulated routes (docs/statistics.md): name -> (record, snapshot, how it is written)
+TABLES = {
+    **{
+        name: ("benchmarks/results/check_calibration.json", "check_calibration.json", writer)
+        for name, writer in (
+            ("calibration_fit", _calibration_fit),
+            ("calibration_coverage", _calibration_coverage),
+            ("calibration_false_positives", _calibration_false_positives),
+            ("calibration_power", _calibration_power),
+            ("calibration_difference_coverage", _calibration_difference_coverage),
+            ("calibration_llsw", _calibration_llsw),
+        )
+    },
+    "calibration_means": (
+        "benchmarks/results/check_calibration_means.json",
+        "check_calibration_means.json",
+        _calibration_means,
+    ),
+}
 
 
 if __name__ == "__main__":

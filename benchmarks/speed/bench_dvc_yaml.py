@@ -6,7 +6,7 @@ stage; from ruamel.yaml 0.19 its C parser is used only when ruamel.yaml.clib is 
 dependency of this project for that reason). The pure parser is forced in a process of its own by
 clearing ruamel.yaml's C classes before DVC starts; everything else is the same installation.
 
-A workspace with the end-to-end tests' one-learner params (tests/workspaces.py DATA_PATH, 16
+A workspace with the end-to-end tests' one-learner params (tools/small_runs.py DATA_PATH, 16
 stages) is run once, then, for each parser in turn, `repeats` times:
 - `dvc status`: DVC's start-up and its reading of every stage;
 - `dvc repro` with every stage up to date;
@@ -15,7 +15,7 @@ stages) is run once, then, for each parser in turn, `repeats` times:
 - `dvc repro --force`: every stage's command run again (what a test or a user pays).
 The dvc.lock each parser restores must be byte-identical.
 
-    python benchmarks/bench_dvc_yaml.py [--repeats 3]
+    python -m benchmarks.speed.bench_dvc_yaml [--repeats 3]
 
 Writes benchmarks/results/bench_dvc_yaml.json; the headline line is printed last. Nothing else
 should run meanwhile (the load before and after is recorded).
@@ -32,13 +32,13 @@ from pathlib import Path
 
 import yaml
 
-from _bench_common import REPO, copy_repository, load_note, machine, save_and_report
+from benchmarks.common import copy_repository, headline_table, load_note, save_and_report
+from tools.records import machine
 
 # DVC's command line with ruamel.yaml's C classes cleared first: YAML(typ="safe") then picks the
 # pure-Python parser and emitter, as when ruamel.yaml.clib is not installed
 PURE = "import sys, ruamel.yaml.main as m; m.CParser = m.CEmitter = None; from dvc.cli import main; sys.exit(main())"
 C_PARSER = "import sys; from dvc.cli import main; sys.exit(main())"
-sys.path.insert(0, str(REPO / "tests"))  # tests/workspaces.py: the tests' params and tool environment
 PARSERS = {"pure": PURE, "c": C_PARSER}
 COMMANDS = {
     "status": ["status"],
@@ -60,8 +60,8 @@ def check_c_parser() -> None:
 
 def dvc(root: Path, parser: str, *args: str) -> float:
     """Wall seconds of one DVC command in root run with `parser`; stops on a failure. The stages it
-    runs find this Python first on PATH (tests/workspaces.py tool_env), venv activated or not."""
-    from workspaces import tool_env
+    runs find this Python first on PATH (tools/repository.py tool_env), venv activated or not."""
+    from tools.repository import tool_env
 
     start = time.perf_counter()
     done = subprocess.run(
@@ -75,7 +75,8 @@ def dvc(root: Path, parser: str, *args: str) -> float:
 
 def make_workspace(root: Path) -> int:
     """The repository at root with the tests' one-learner params, run once; its number of stages."""
-    from workspaces import DATA_PATH, commit_all, write_params
+    from tools.repository import commit_all, write_params
+    from tools.small_runs import DATA_PATH
 
     copy_repository(root)
     write_params(root, DATA_PATH)
@@ -119,7 +120,7 @@ def main() -> None:
     measured_on = machine()
     with tempfile.TemporaryDirectory(prefix="dvc-yaml-") as folder:
         stages = make_workspace(Path(folder))
-        print(f"{stages} stages (tests/workspaces.py DATA_PATH)")
+        print(f"{stages} stages (tools/small_runs.py DATA_PATH)")
         seconds, identical = measure(Path(folder), args.repeats)
     ratios = {command: by_parser["pure"] / by_parser["c"] for command, by_parser in seconds.items()}
     restored = seconds["repro_restored"]
@@ -145,6 +146,10 @@ def main() -> None:
     save_and_report("bench_dvc_yaml", record, measured_on)
     if not identical:
         raise SystemExit("the restored dvc.lock differs between the two parsers")
+
+
+# docs/write_tables.py's table of this benchmark's record: name -> (record, snapshot, how it is written)
+TABLES = {"bench_dvc_yaml": ("benchmarks/results/bench_dvc_yaml.json", "bench_dvc_yaml.json", headline_table)}
 
 
 if __name__ == "__main__":

@@ -11,7 +11,7 @@ Descriptors: seeded random scenes, database = scene + noise, queries = scene + m
 --dim, the full preset's ICA / whitened PCA length 512); truth: aligned within 7 places (the
 Patch-NetVLAD protocol's).
 
-    python benchmarks/bench_large_pair.py [--n-queries 27592] [--n-database 27592] [--side-by-side 6000]
+    python -m benchmarks.speed.bench_large_pair [--n-queries 27592] [--n-database 27592] [--side-by-side 6000]
 
 Writes benchmarks/results/bench_large_pair.json.
 """
@@ -24,10 +24,13 @@ import resource
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
-from _bench_common import REPO, load_note, machine, write_result
+from benchmarks.common import load_note, where_measured
+from tools.records import machine, write_result
+from tools.repository import REPO
 
 MATCHERS = ("single", "sequence")
 TOLERANCE = 7  # Patch-NetVLAD's radius of 10 on (i, i) coordinates
@@ -73,7 +76,7 @@ def child(n_queries: int, n_database: int, dim: int, matcher: str, path: str, me
 def run_child(n_queries: int, n_database: int, dim: int, matcher: str, path: str, metric: str) -> dict:
     spec = json.dumps([n_queries, n_database, dim, matcher, path, metric])
     result = subprocess.run(
-        [sys.executable, __file__, "--child", spec], cwd=REPO, capture_output=True, text=True, check=False
+        [sys.executable, "-m", __spec__.name, "--child", spec], cwd=REPO, capture_output=True, text=True, check=False
     )
     if result.returncode != 0:
         raise SystemExit(f"{path} {matcher} {n_queries} x {n_database} failed:\n{result.stderr[-2000:]}")
@@ -135,6 +138,38 @@ def main() -> None:
         "load_note": note,
     }
     print(f"wrote {write_result('bench_large_pair', record, measured_on)}")
+
+
+def _bench_large_pair(path: Path) -> str:
+    """benchmarks/speed/bench_large_pair.py's record: each run's seconds and peak memory, the blocked
+    path at the protocols' size and both paths side by side at a size the whole matrix fits."""
+    record = json.loads(path.read_text())
+    lines = [
+        "| path | matcher | queries x database | seconds | peak memory MB (before it: descriptors, imports) | R@1 |",
+        "|---|---|---|---|---|---|",
+    ]
+    side = record["side_by_side_places"]
+    runs = [(record["size"], "blocks", matcher, run) for matcher, run in record["large"].items()]
+    runs += [
+        ([side, side], path_name, matcher, run)
+        for matcher, paths in record["side_by_side"].items()
+        for path_name, run in paths.items()
+    ]
+    for (n_queries, n_database), path_name, matcher, run in runs:
+        lines.append(
+            f"| {path_name} | {matcher} | {n_queries:,} x {n_database:,} | {run['seconds']:.1f} "
+            f"| {run['peak_rss_mb']:,.0f} ({run['before_mb']:,.0f}) | {run['metrics']['recall_at_1']:.4f} |"
+        )
+    same = all(paths["whole"]["metrics"] == paths["blocks"]["metrics"] for paths in record["side_by_side"].values())
+    return (
+        "\n".join(lines)
+        + f"\n\nD = {record['dim']}, {record['metric']} distance, correct within {record['tolerance']} places; "
+        + f"metrics of the two paths identical at {side:,} x {side:,}: {same}. {where_measured(record)}\n"
+    )
+
+
+# docs/write_tables.py's table of this benchmark's record: name -> (record, snapshot, how it is written)
+TABLES = {"bench_large_pair": ("benchmarks/results/bench_large_pair.json", "bench_large_pair.json", _bench_large_pair)}
 
 
 if __name__ == "__main__":

@@ -1,7 +1,7 @@
 """Replicate routes: the pipeline on several synthetic routes, and which conclusions hold on all.
 
-    python benchmarks/replicate_routes.py run --seeds 1 2 3 4 [--jobs 1]
-    python benchmarks/replicate_routes.py collect
+    python -m tools.replicate_routes run --seeds 1 2 3 4 [--jobs 1]
+    python -m tools.replicate_routes collect
 
 `run` queues one DVC experiment per seed, everything else as in params.yaml
 (`dvc exp run --queue -n route-<seed> -S synthetic.seed=<seed>`), runs the queue
@@ -32,7 +32,6 @@ from typing import Any
 import yaml
 from tqdm import tqdm
 
-from _bench_common import REPO, git_state, machine, write_result
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.params.seasons import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
@@ -43,6 +42,8 @@ from seasonloop.reporting.replicates import (
     fraction_spread,
     pooled_comparisons,
 )
+from tools.records import git_state, machine, write_result
+from tools.repository import REPO
 
 PREFIX = "route-"
 FETCHED = ("metrics/summary.json", "metrics/comparisons.json", "metrics/training_seasons.json", "data/outcomes")
@@ -221,6 +222,122 @@ def main() -> None:
     if args.action == "run":
         save_queue(args.seeds, args.jobs, queue_routes(args.seeds, args.jobs))
     print(collect(measured_on))
+
+
+def _routes_line(record: dict) -> str:
+    """Which routes a replicate record stands on, and what their queue cost."""
+    seeds = ", ".join(str(route["seed"]) for route in record["routes"].values())
+    cost = (
+        f"; the queue of the {len(record['routes']) - 1} extra routes took {record['queue_seconds'] / 60:.0f} min, "
+        f"{record['jobs']} at a time, on {record['machine']['cpu']}"
+        if record.get("queue_seconds")
+        else ""
+    )
+    return f"{len(record['routes'])} routes (synthetic.seed {seeds}){cost}."
+
+
+def _spread_cell(spread: dict) -> str:
+    """A fraction correct's spread over the routes (replicates.fraction_spread), in %: "mean ± std [lowest, highest]"."""
+    return (
+        f"{100 * spread['mean']:.1f} ± {100 * spread['std']:.1f} [{100 * spread['min']:.0f}, {100 * spread['max']:.0f}]"
+    )
+
+
+def _replicate_spread(path: Path) -> str:
+    """Fraction correct over the replicate routes, under the main distance: mean ± standard
+    deviation [lowest, highest], in %."""
+    record = json.loads(path.read_text())
+    pairs = record["pairs"]
+    lines = [_routes_line(record), "", "| method | " + " | ".join(pairs) + " |", "|---|" + "---|" * len(pairs)]
+    for label in record["order"]["labels"]:
+        by_pair = record["fraction_correct"][label]
+        if "@" in label:
+            continue
+        cells = [_spread_cell(by_pair[pair]) for pair in pairs]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _replicate_training_seasons(path: Path) -> str:
+    """The training-season ablation over the replicate routes: per label and training set, fraction
+    correct mean ± standard deviation [lowest, highest] (%); in how many routes the largest training
+    set is above, below or equal to the smallest."""
+    record = json.loads(path.read_text())
+    spread, changes = record["training_seasons"]["fraction_correct"], record["training_seasons"]["first_to_last"]
+    sets = sorted(next(iter(spread.values())), key=lambda name: name.count("+"))
+    lines = [
+        _routes_line(record),
+        "",
+        "| method | " + " | ".join(sets) + " | largest set against smallest |",
+        "|---|" + "---|" * (len(sets) + 1),
+    ]
+    for label, by_set in spread.items():
+        cells = [_spread_cell(by_set[name]) for name in sets]
+        change = changes[label]
+        cells.append(f"above in {change['up']}, below in {change['down']}, equal in {change['same']}")
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _replicate_totals(cells: list[dict], routes: int) -> str:
+    """A claim over every route-pair cell: ahead / significant counts of all, and on how many pairs
+    its pooled verdict is significant each way."""
+    if "ahead" not in cells[0]:  # a whole table
+        better, worse, of = (sum(cell[f"pooled_{key}"] for cell in cells) for key in ("better", "worse", "of"))
+        return f"pooled ▲ {better} ▼ {worse} of {of} comparisons"
+    pooled_better = sum(cell["pooled_verdict"] == "better" for cell in cells)
+    pooled_worse = sum(cell["pooled_verdict"] == "worse" for cell in cells)
+    pooled = f"pooled ▲ on {pooled_better}, ▼ on {pooled_worse} of {len(cells)} pairs"
+    total = routes * len(cells)
+    ahead, better, worse = (sum(cell[key] for cell in cells) for key in ("ahead", "better", "worse"))
+    return f"ahead in {ahead}/{total}, ▲ {better} ▼ {worse}; {pooled}"
+
+
+def _replicate_claims(path: Path) -> str:
+    """Each claim of docs/claims.yaml over the replicate routes: per pair, in how many routes it
+    points each way and is significant, and its pooled verdict."""
+    record = json.loads(path.read_text())
+    pairs, routes = record["pairs"], len(record["routes"])
+    lines = [
+        _routes_line(record),
+        "",
+        "| claim | compares | " + " | ".join(pairs) + " | all pairs |",
+        "|---|---|" + "---|" * (len(pairs) + 1),
+    ]
+    for name in record["order"]["claims"]:
+        by_pair = record["claims"][name]
+        cells = []
+        for pair in pairs:
+            counts = by_pair[pair]
+            if "ahead" in counts:
+                routes_cell = f"ahead in {counts['ahead']}/{routes}, ▲ {counts['better']} ▼ {counts['worse']}"
+            else:
+                better = f"{counts['least_better']}-{counts['most_better']}"
+                worse = f"{counts['least_worse']}-{counts['most_worse']}"
+                routes_cell = f"▲ {better} ▼ {worse} per route"
+            cells.append(f"{routes_cell}; pooled {counts['pooled']}")
+        cells.append(_replicate_totals([by_pair[pair] for pair in pairs], routes))
+        lines.append(f"| {name} | {record['claims_says'][name]} | " + " | ".join(cells) + " |")
+    legend = (
+        "Cells: in how many routes the first side's point estimate is ahead, and in how many it is "
+        "significantly better (▲) or worse (▼) by that route's own paired test (for a whole table: the "
+        "range over the routes of its significant comparisons each way); all pairs: the same counted over "
+        "every route and pair; pooled: every route's queries of the pair together, the same paired test "
+        "and Holm correction as in one run, each route's variance along it its own "
+        "(seasonloop.reporting.replicates; a statement about these routes' queries)."
+    )
+    return "\n".join(lines) + "\n\n" + legend + "\n"
+
+
+# docs/write_tables.py's tables of the replicate routes' record: name -> (record, snapshot, how it is written)
+TABLES = {
+    name: ("benchmarks/results/replicate_routes.json", "replicate_routes.json", writer)
+    for name, writer in (
+        ("replicate_spread", _replicate_spread),
+        ("replicate_claims", _replicate_claims),
+        ("replicate_training_seasons", _replicate_training_seasons),
+    )
+}
 
 
 if __name__ == "__main__":

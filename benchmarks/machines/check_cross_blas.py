@@ -10,7 +10,7 @@ each run is its own `dvc repro` in its own copy of the repository) and compares 
 by file: every metrics/eval file of the learners below, and the data and models on the way.
 Measurements only: never set these variables in tests or CI.
 
-    python benchmarks/check_cross_blas.py [--keep DIR]
+    python -m benchmarks.machines.check_cross_blas [--keep DIR]
 
 Takes a few minutes (two runs of the data stages and five learners on the default params).
 Writes benchmarks/results/check_cross_blas.json; the headline line is printed last; exit status 1
@@ -29,7 +29,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from _bench_common import ISA_CAP, capped_environment, copy_repository, machine, write_result
+from benchmarks.common import capped_environment, copy_repository
+from tools.records import ISA_CAP, machine, write_result
 
 # the learners whose metrics must not depend on the CPU (the auto-encoders may: documented)
 LEARNERS = ("raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw")
@@ -163,6 +164,38 @@ def main() -> None:
     print(f"wrote {path}")
     print(f"HEADLINE: {headline}")
     sys.exit(0 if len(same) == len(LEARNERS) else 1)
+
+
+def _check_cross_blas(path: Path) -> str:
+    """benchmarks/machines/check_cross_blas.py's record: per learner, whether model, descriptors and every
+    metrics file are the same under this CPU's kernels and an AVX2-only CPU's."""
+    record = json.loads(path.read_text())
+    lines = [
+        f"`python -m benchmarks.machines.check_cross_blas` on {record['machine']['cpu']}, capped run with "
+        + " ".join(f"`{key}={value}`" for key, value in record["avx2_only"].items())
+        + ":",
+        "",
+        "| learner | model bytes | descriptors (largest relative difference) | metrics files identical |",
+        "|---|---|---|---|",
+    ]
+    for learner, row in record["learners"].items():
+        identical = row["metrics_files"] - len(row["metrics_files_differ"])
+        lines.append(
+            f"| {learner} | {'identical' if row['model_identical'] else 'differ'} | "
+            f"{'identical' if row['features_identical'] else 'differ'} "
+            f"({row['largest_relative_descriptor_difference']:.2g}) | {identical} of {row['metrics_files']} |"
+        )
+    stages = record["stage_outputs"]
+    same = sum(row["files"] - len(row["differ"]) for row in stages.values())
+    lines += [
+        "",
+        f"Data stages on the way ({', '.join(stages)}): {same} of {sum(r['files'] for r in stages.values())} files identical.",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+# docs/write_tables.py's table of this check's record: name -> (record, snapshot, how it is written)
+TABLES = {"check_cross_blas": ("benchmarks/results/check_cross_blas.json", "check_cross_blas.json", _check_cross_blas)}
 
 
 if __name__ == "__main__":

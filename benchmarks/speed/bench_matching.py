@@ -5,7 +5,7 @@ Descriptors: seeded random database vectors, queries = database + noise (so best
 mostly but not always right), 3569 x 3569 places of D = 200 by default (the study's test set, the
 pca learner's descriptor length).
 
-    python benchmarks/bench_matching.py [--n-places 3569] [--dim 200] [--metric cosine]
+    python -m benchmarks.speed.bench_matching [--n-places 3569] [--dim 200] [--metric cosine]
 
 Writes benchmarks/results/bench_matching.json; the headline line is printed last.
 """
@@ -16,9 +16,10 @@ import argparse
 
 import numpy as np
 
-from _bench_common import load_note, machine, save_and_report, timed
+from benchmarks.common import headline_table, load_note, save_and_report, timed
 from seasonloop.evaluation.distances import METRICS, best_matches, distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
+from tools.records import machine
 
 
 def parse_args() -> argparse.Namespace:
@@ -106,6 +107,10 @@ def main() -> None:
     save_and_report("bench_matching", record, measured_on)
     if not identical:
         raise SystemExit("best matches differ between the vectorised and the loop implementation")
+
+
+# docs/write_tables.py's table of this benchmark's record: name -> (record, snapshot, how it is written)
+TABLES = {"bench_matching": ("benchmarks/results/bench_matching.json", "bench_matching.json", headline_table)}
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@ CAE, at Table 5's width and at the default run's (`--cae-widths`), on the CPU an
 on CUDA; then the quality check: validation loss after the same number of epochs from the same
 seed in each variant, and the fraction correct on summer-fall.
 
-    python benchmarks/bench_autoencoders.py [--fae-images 4096] [--cae-images 64] [--cae-widths 1,0.0625]
+    python -m benchmarks.speed.bench_autoencoders [--fae-images 4096] [--cae-images 64] [--cae-widths 1,0.0625]
         [--plateau-images 2048]
 
 A speed-up counts only at equal quality (validation loss within 2% relative of the float32
@@ -20,18 +20,21 @@ correct. Writes benchmarks/results/bench_autoencoders.json; the headline line is
 from __future__ import annotations
 
 import argparse
+import json
 import os
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import torch
 
-from _bench_common import HEIGHT, WIDTH, load_note, machine, pair_images, timed, training_images, write_result
+from benchmarks.common import HEIGHT, WIDTH, load_note, pair_images, timed, training_images
 from seasonloop.ablations.cae_widths import width_channels, width_label
 from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
 from seasonloop.models.core.arithmetic import cpu_has_native_bfloat16
 from seasonloop.models.registry import get_learner
+from tools.records import machine, write_result
 
 
 @dataclass(frozen=True)
@@ -338,6 +341,88 @@ def main() -> None:
             )
             + ")"
         )
+
+
+def _bench_autoencoders(path: Path) -> str:
+    """benchmarks/speed/bench_autoencoders.py's record: one row per network and variant, then the
+    to-the-plateau comparison where the run made it."""
+    record = json.loads(path.read_text())
+    args = record["args"]
+    lines = [
+        f"`python -m benchmarks.speed.bench_autoencoders --fae-images {args['fae_images']} --cae-images "
+        f"{args['cae_images']} --cae-widths {args['cae_widths']} --quality-images {args['quality_images']} "
+        f"--quality-epochs {args['quality_epochs']} --pair-places {args['pair_places']}"
+        + (f" --plateau-images {args['plateau_images']}" if args.get("plateau_images") else "")
+        + f"` on {record['machine']['cpu']}, {record['machine']['torch_threads']} threads"
+        + (f" ({record['load_note']})" if record.get("load_note") else "")
+        + ":",
+        "",
+        "| network | variant | train images/s | describe images/s | train / describe vs float32 | "
+        f"validation loss after {args['quality_epochs']} epoch(s) (vs float32) | summer-fall % |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    # the FAE first, and in each network the float32 reference first (the JSON's keys are sorted)
+    for network, devices in sorted(record["results"].items(), key=lambda item: (item[0] != "fae", item[0])):
+        for device, runs in devices.items():
+            if device.endswith("to_plateau"):
+                continue
+            for variant, run in sorted(runs.items(), key=lambda item: (not item[0].startswith("float32"), item[0])):
+                quality = run["quality"]
+                checked = (
+                    "not checked (emulated)"
+                    if quality is None
+                    else (f"{quality['final_validation_loss']:.5f} ({quality['validation_loss_change']:+.1%})")
+                )
+                correct = "" if quality is None else f"{100 * quality['fraction_correct']:.1f}"
+                lines.append(
+                    f"| {network} ({device}) | {variant} | {run['train_images_per_s']:.1f} | "
+                    f"{run['describe_images_per_s']:.1f} | {run['speedup_vs_float32']['train']:.2f}x / "
+                    f"{run['speedup_vs_float32']['describe']:.2f}x | {checked} | {correct} |"
+                )
+    plateau = {
+        network: devices["cpu_to_plateau"]
+        for network, devices in record["results"].items()
+        if "cpu_to_plateau" in devices
+    }
+    if plateau:
+        lines += [
+            "",
+            f"Each trained to its validation plateau on {args['plateau_images']} images (the pipeline's "
+            "stopping rule), channels_last:",
+            "",
+            "| network | precision | seconds | epochs | converged | best validation loss | summer-fall % |",
+            "|---|---|---|---|---|---|---|",
+        ]
+        for network, runs in plateau.items():
+            for precision, run in sorted(runs.items(), key=lambda item: item[0] != "float32"):
+                lines.append(
+                    f"| {network} | {precision} | {run['training_seconds']:.0f} | {run['epochs_run']} | "
+                    f"{str(run['converged']).lower()} | {run['best_validation_loss']:.5f} | "
+                    f"{100 * run['fraction_correct']:.1f} |"
+                )
+    return "\n".join(lines) + "\n"
+
+
+# docs/write_tables.py's tables of this benchmark's record: name -> (record, its snapshot in
+# docs/results/, how it is written); three runs (the record is rewritten by each): Table 5's width,
+# the default width, and the default width trained to its plateau in float32 and bfloat16
+TABLES = {
+    "bench_autoencoders_table5": (
+        "benchmarks/results/bench_autoencoders.json",
+        "bench_autoencoders_table5.json",
+        _bench_autoencoders,
+    ),
+    "bench_autoencoders_width16": (
+        "benchmarks/results/bench_autoencoders.json",
+        "bench_autoencoders_width16.json",
+        _bench_autoencoders,
+    ),
+    "bench_autoencoders_plateau": (
+        "benchmarks/results/bench_autoencoders.json",
+        "bench_autoencoders_plateau.json",
+        _bench_autoencoders,
+    ),
+}
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """Every ICA solver side by side on the same images, to the same stationarity measure.
 
-    python benchmarks/bench_ica.py [--sizes default full] [--full-max-iter 100] [--sweep-components 512 1024]
+    python -m benchmarks.speed.bench_ica [--sizes default full] [--full-max-iter 100] [--sweep-components 512 1024]
 
 Sizes: "default" is the default run's scale (12,080 training images of 2,048 pixels, 128
 components, ica.max_iter iterations at most); "full" the study's (16,000 images, all 2,048
@@ -38,9 +38,10 @@ from typing import Any
 import numpy as np
 import yaml
 
-from _bench_common import load_note, machine, save_and_report, timed, training_images
+from benchmarks.common import load_note, save_and_report, timed, training_images, where_measured
 from seasonloop.models.core.ica_stationarity import amari_distance, relative_gradient
 from seasonloop.models.registry import get_learner
+from tools.records import machine
 
 # (name, ica.solver, ica.precision): every solver, the torch ones in both precisions
 SOLVERS = (
@@ -133,7 +134,9 @@ def fit_in_child(settings: dict, folder: Path) -> dict:
     settings_path, result_path = folder / "settings.json", folder / "result.json"
     settings_path.write_text(json.dumps(settings))
     subprocess.run(
-        [sys.executable, __file__, "--child", str(settings_path), str(result_path)], check=True, cwd=Path.cwd()
+        [sys.executable, "-m", __spec__.name, "--child", str(settings_path), str(result_path)],
+        check=True,
+        cwd=Path.cwd(),
     )
     return json.loads(result_path.read_text())
 
@@ -326,6 +329,61 @@ def main() -> None:
         "headline": " | ".join(lines),
     }
     save_and_report("bench_ica", record, measured_on)
+
+
+def _bench_ica(path: Path) -> str:
+    """benchmarks/speed/bench_ica.py's record: one row per size and solver (and per components of the
+    sweep), the equal-gradient ratios it states, and where it ran."""
+    record = json.loads(path.read_text())
+    lines = [
+        "| size | solver | components | seconds | iterations | relative gradient | converged (< tol) "
+        "| own stopping test met | peak memory GiB | Amari, known sources |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    rows = [
+        (size, name, measured["n_components"], fit)
+        for size, measured in record["sizes"].items()
+        for name, fit in measured["fits"].items()
+    ]
+    sweep = record.get("components_sweep") or {"fits": {}}
+    rows += [("full, sweep", "picard", int(k), fit) for k, fit in sweep["fits"].items()]
+    for size, name, components, fit in rows:
+        info = fit["record"]
+        amari = fit.get("amari_known_sources")
+        lines.append(
+            f"| {size} | {name} | {components} | {fit['seconds']:.1f} | {info['n_iter']} | {info['gradient']:.1e} "
+            f"| {str(info['converged']).lower()} | {str(info['own_criterion']['met']).lower()} "
+            f"| {fit['peak_rss_bytes'] / 2**30:.2f} | {'' if amari is None else f'{amari:.4f}'} |"
+        )
+    ratios = "\n\n".join(record["headline"].split(" | "))
+    return "\n".join(lines) + "\n\n" + _bench_ica_times(record) + ratios + "\n\n" + where_measured(record) + "\n"
+
+
+def _bench_ica_times(record: dict) -> str:
+    """Seconds (whitening included) until each solver's gradient stays below each target, per size;
+    '-' where it never does (records of before the traces were kept: nothing)."""
+    lines: list[str] = []
+    for size, measured in record["sizes"].items():
+        table = measured.get("seconds_to_stay_below")
+        if not table:
+            continue
+        targets = list(next(iter(table.values())))
+        lines += [
+            f"{size}: seconds until the gradient stays below each target ('-': never)",
+            "",
+            "| solver | " + " | ".join(targets) + " |",
+            "|---|" + "---|" * len(targets),
+        ]
+        for name, times in table.items():
+            lines.append(
+                f"| {name} | " + " | ".join("-" if times[t] is None else f"{times[t]:.1f}" for t in targets) + " |"
+            )
+        lines.append("")
+    return "\n".join(lines) + ("\n" if lines else "")
+
+
+# docs/write_tables.py's table of this benchmark's record: name -> (record, snapshot, how it is written)
+TABLES = {"bench_ica": ("benchmarks/results/bench_ica.json", "bench_ica.json", _bench_ica)}
 
 
 if __name__ == "__main__":

@@ -1,6 +1,5 @@
-"""Shared helpers of the benchmark scripts (run from the repository root; not a pytest module).
-Not named _common: stages/_common.py is imported under that name, and a test process that imports
-both would get whichever came first.
+"""Shared helpers of the benchmarks (run from the repository root as modules:
+`python -m benchmarks.speed.bench_pca`).
 
 Data: the pipeline's preprocessed images when `dvc repro` has written data/split/, otherwise
 images rendered by seasonloop.data.synthetic and preprocessed by seasonloop.data.preprocess.
@@ -8,32 +7,24 @@ images rendered by seasonloop.data.synthetic and preprocessed by seasonloop.data
 
 from __future__ import annotations
 
+import json
 import os
-import platform
-import subprocess
-import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import torch
 
 from seasonloop.data.augment import augment_training_set
 from seasonloop.data.preprocess import enhance_image_contrast, to_gray
 from seasonloop.data.synthetic import SyntheticRoute
-from seasonloop.io import read_json, write_json
-from seasonloop.machine import cpu_model
-from seasonloop.models.core.learner import to_json_value
+from seasonloop.io import read_json
 from seasonloop.params.seasons import SEASONS
+from tools.records import cpu_busy_fraction, write_result
+from tools.repository import commit_all, copy_sources
 
-# the variables, and their values, that make this CPU run an AVX2-only CPU's kernels (torch's,
-# oneDNN's, OpenBLAS's): an estimate of the slowest CPU the project meets
-ISA_CAP = {"ATEN_CPU_CAPABILITY": "avx2", "ONEDNN_MAX_CPU_ISA": "AVX2", "OPENBLAS_CORETYPE": "Haswell"}
 SPLIT_DIR = Path("data/split")
-REPO = Path(__file__).resolve().parents[1]
-RESULTS_DIR = Path("benchmarks/results")
 # Fallback synthetic route: frames at the pipeline's storage size, then its preprocessing defaults.
 FRAME_HEIGHT, FRAME_WIDTH, HEIGHT, WIDTH = 72, 128, 32, 64
 SYNTHETIC_PLACES = 1000
@@ -92,50 +83,11 @@ def timed(function: Callable[[], Any]) -> tuple[Any, float]:
     return result, time.perf_counter() - start
 
 
-def cpu_busy_fraction(seconds: float = 1.0) -> float | None:
-    """Fraction of all cores busy over `seconds` while this process sleeps, i.e. other work
-    (from /proc/stat; None where it does not exist)."""
-
-    def snapshot() -> tuple[int, int] | None:
-        try:
-            fields = [int(value) for value in Path("/proc/stat").read_text().split("\n")[0].split()[1:]]
-        except OSError:
-            return None
-        idle = fields[3] + fields[4]  # idle + iowait
-        return sum(fields) - idle, sum(fields)
-
-    first = snapshot()
-    time.sleep(seconds)
-    second = snapshot()
-    if first is None or second is None or second[1] == first[1]:
-        return None
-    return (second[0] - first[0]) / (second[1] - first[1])
-
-
 def capped_environment(cap: dict[str, str], capped: bool) -> dict[str, str]:
     """This process's environment for a child process: with `cap`'s variables set if `capped`,
     without any of them otherwise (whatever this shell had set)."""
     env = {key: value for key, value in os.environ.items() if key not in cap}
     return {**env, **cap} if capped else env
-
-
-def machine() -> dict[str, Any]:
-    """What the timings are measured on, how busy the CPU is with other work just now, and the
-    source measured (git_state: taken here, at the start, as a commit made during a long run
-    is not what ran)."""
-    return {
-        "source": git_state(),
-        "cpu": cpu_model(),
-        # an ISA cap (ATEN_CPU_CAPABILITY=avx2 ONEDNN_MAX_CPU_ISA=AVX2 OPENBLAS_CORETYPE=Haswell)
-        # estimates an AVX2-only CPU
-        "isa_cap": {key: os.environ.get(key) for key in ISA_CAP},
-        "cpu_count": os.cpu_count(),
-        "torch_threads": torch.get_num_threads(),
-        "cuda": torch.cuda.get_device_name(0) if torch.cuda.is_available() else None,
-        "other_cpu_busy_fraction": cpu_busy_fraction(),
-        "python": platform.python_version(),
-        "torch": torch.__version__,
-    }
 
 
 def load_note(before: dict[str, Any]) -> str:
@@ -145,23 +97,6 @@ def load_note(before: dict[str, Any]) -> str:
         shown = ", ".join(f"{key} {value:.0%}" for key, value in busy.items() if value is not None)
         return f"NOTE: other work kept the CPU busy ({shown} of all cores): these timings may be slowed"
     return ""
-
-
-def git_state() -> dict[str, Any]:
-    """The commit this checkout is at, and whether it has uncommitted changes (what was measured)."""
-
-    def git(*args: str) -> str:
-        return subprocess.run(["git", *args], cwd=REPO, capture_output=True, text=True).stdout.strip()
-
-    return {"commit": git("rev-parse", "--short", "HEAD") or None, "dirty": bool(git("status", "--porcelain", "-uno"))}
-
-
-def write_result(name: str, record: dict[str, Any], measured_on: dict[str, Any]) -> Path:
-    """Write benchmarks/results/<name>.json with `measured_on` (machine(), taken at the start) and
-    the commit measured (at the start), and return its path."""
-    path = RESULTS_DIR / f"{name}.json"
-    write_json(path, to_json_value({**record, "machine": measured_on, **measured_on.get("source", git_state())}))
-    return path
 
 
 def save_and_report(name: str, record: dict[str, Any], measured_on: dict[str, Any]) -> Path:
@@ -177,9 +112,31 @@ def save_and_report(name: str, record: dict[str, Any], measured_on: dict[str, An
 
 def copy_repository(root: Path) -> None:
     """The repository's source files (as a fresh clone has them, plus uncommitted changes) in a new
-    git repository at root, for a run that starts from nothing: the tests' own copy (tests/workspaces.py)."""
-    sys.path.insert(0, str(REPO / "tests"))
-    from workspaces import commit_all, copy_sources
-
+    git repository at root, for a run that starts from nothing (as the tests' workspaces)."""
     copy_sources(root)
     commit_all(root)
+
+
+def machine_line(record: dict) -> str:
+    """The CPU a benchmark ran on, its threads, and whether its instruction set was capped."""
+    machine = record["machine"]
+    capped = any((machine.get("isa_cap") or {}).values())
+    return f"{machine['cpu']}, {machine['torch_threads']} threads, instruction set " + (
+        "capped to AVX2 (an estimate for an AVX2-only CPU)" if capped else "not capped"
+    )
+
+
+def headline_table(path: Path) -> str:
+    """A CPU benchmark's own headline (ratio, convergence and quality, as the script states them) and
+    where it ran (docs/write_tables.py's table of a benchmark whose headline says it all)."""
+    record = json.loads(path.read_text())
+    load = record.get("load_note") or "nothing else running"
+    return (
+        f"| result | measured on | load |\n|---|---|---|\n| {record['headline']} | {machine_line(record)} | {load} |\n"
+    )
+
+
+def where_measured(record: dict) -> str:
+    """The sentence under a benchmark's table: the CPU, threads, instruction set and load."""
+    load = record.get("load_note") or "nothing else running"
+    return f"Measured on {machine_line(record)}; {load}."

@@ -6,7 +6,7 @@ every pair of evaluate.pairs. A faster setting counts only at equal quality: con
 validation loss no higher than the reference's (+2%), fraction correct within the spread the
 reference itself shows between seeds.
 
-    python benchmarks/bench_training_schedule.py [--learners fae,cae] [--seeds 0,1]
+    python -m benchmarks.speed.bench_training_schedule [--learners fae,cae] [--seeds 0,1]
         [--settings "cae=learning_rate=0.002,batch_size=64;max_train_images=1024"]
         [--settings "fae=adam=per_tensor" --settings "cae=upsampling=separate"]
 
@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import json
 import multiprocessing
 import sys
 import time
@@ -40,7 +41,7 @@ import numpy as np
 import torch
 import yaml
 
-from _bench_common import REPO, load_note, machine, write_result
+from benchmarks.common import load_note, where_measured
 from seasonloop.data import datasets
 from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
@@ -49,6 +50,8 @@ from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.core import torch_learner, training
 from seasonloop.models.core.upsampling import UpsampledConv2d
 from seasonloop.models.registry import get_learner
+from tools.records import machine, write_result
+from tools.repository import REPO
 
 sys.path.insert(0, str(REPO / "stages"))
 import _datasets as stage_datasets  # noqa: E402  (the stages' binding of params to data/split, data/augmented)
@@ -238,6 +241,44 @@ def main() -> None:
     write_result("bench_training_schedule", results, measured_on)
     print("\n".join(headline))
     print(f"Measured on {measured_on['cpu']}, ISA cap {measured_on['isa_cap']}. {results['load_note']}")
+
+
+def _bench_training_schedule(path: Path) -> str:
+    """Every run of the auto-encoders' training settings, then the script's verdicts."""
+    record = json.loads(path.read_text())
+    lines = [
+        f"`python -m benchmarks.speed.bench_training_schedule --learners {record['args']['learners']} "
+        f"--seeds {record['args']['seeds']}"
+        + "".join(f' --settings "{setting}"' for setting in record["args"]["settings"])
+        + "`:",
+        "",
+        "| learner | setting | seed | seconds | epochs | s / epoch | stop | best validation loss | fraction correct % |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for name, measured in record["learners"].items():
+        for run in measured["runs"]:
+            lines.append(
+                f"| {name} | {run['setting']} | {run['seed']} | {run['seconds']:.0f} | {run['epochs_run']} "
+                f"| {run['seconds_per_epoch']:.2f} | {run['stop_reason']} | {run['best_validation_loss']:.5f} "
+                f"| {run['mean_fraction_correct']:.1f} |"
+            )
+    verdicts = "\n".join(f"- {line}" for line in record["headline"])
+    return "\n".join(lines) + "\n\n" + verdicts + "\n\n" + where_measured(record) + "\n"
+
+
+# docs/write_tables.py's tables of this benchmark's record: name -> (record, snapshot, how it is
+# written); five runs (the record is rewritten by each): halved training sets, the settings between
+# those and params.yaml's, then the training's kernels (fused Adam, denormals flushed, the CAE's
+# sub-pixel up-sampling) against the ones before, and three more seeds of the CAE
+TABLES = {
+    name: ("benchmarks/results/bench_training_schedule.json", f"{name}.json", _bench_training_schedule)
+    for name in (
+        "bench_training_schedule",
+        "bench_training_schedule_subsets",
+        "bench_training_kernels",
+        "bench_training_kernels_cae_seeds",
+    )
+}
 
 
 if __name__ == "__main__":

@@ -10,7 +10,7 @@ in float32 and in bfloat16, capped and uncapped, each in its own process (the va
 once, at start-up). It prints, per learner and precision, whether the weights are byte-identical
 across the instruction sets, and how far apart they and their validation losses are.
 
-    python benchmarks/check_cross_isa.py [--images 512] [--epochs 3]
+    python -m benchmarks.machines.check_cross_isa [--images 512] [--epochs 3]
 
 Writes benchmarks/results/check_cross_isa.json; the headline line is printed last.
 """
@@ -38,7 +38,7 @@ def fit_once(name: str, precision: str, images: int, epochs: int, out: Path) -> 
     """(child process) fit one learner and save its weights as .npz with its losses."""
     import torch
 
-    from _bench_common import training_images
+    from benchmarks.common import training_images
     from seasonloop.models.registry import get_learner
 
     data, _ = training_images(images, seed=0)
@@ -73,7 +73,8 @@ def run_child(name: str, precision: str, capped: bool, args: argparse.Namespace,
     subprocess.run(
         [
             sys.executable,
-            __file__,
+            "-m",
+            __spec__.name,
             "--child",
             name,
             precision,
@@ -101,7 +102,7 @@ def main() -> None:
         name, precision, out = args.child
         fit_once(name, precision, args.images, args.epochs, Path(out))
         return
-    from _bench_common import machine, write_result
+    from tools.records import machine, write_result
 
     measured_on = machine()
     print(f"CPU: {measured_on['cpu']}; {args.images} images, {args.epochs} epochs from seed 0")
@@ -137,6 +138,30 @@ def main() -> None:
         "HEADLINE: same bytes across the instruction sets of this CPU: "
         + ", ".join(f"{key} {'yes' if same else 'no'}" for key, same in identical.items())
     )
+
+
+def _check_cross_isa(path: Path) -> str:
+    record = json.loads(path.read_text())
+    lines = [
+        f"`python -m benchmarks.machines.check_cross_isa --images {record['args']['images']} --epochs "
+        f"{record['args']['epochs']}` on {record['machine']['cpu']}:",
+        "",
+        "| learner and precision | kernels (uncapped / capped) | weights byte-identical | largest weight "
+        "difference | final validation loss (uncapped / capped) |",
+        "|---|---|---|---|---|",
+    ]
+    for name, row in record["results"].items():
+        loss = row["validation_loss"]
+        lines.append(
+            f"| {name} | {row['cpu_capability']['native']} / {row['cpu_capability']['capped']} | "
+            f"{'yes' if row['identical'] else 'no'} | {row['largest_weight_difference']:.2g} | "
+            f"{loss['native'][-1]:.6f} / {loss['capped'][-1]:.6f} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+# docs/write_tables.py's table of this check's record: name -> (record, snapshot, how it is written)
+TABLES = {"check_cross_isa": ("benchmarks/results/check_cross_isa.json", "check_cross_isa.json", _check_cross_isa)}
 
 
 if __name__ == "__main__":

@@ -1,12 +1,12 @@
 """The study's scale in one piece: a preset's `dvc repro` in a folder of its own, timed stage by
 stage (seconds and peak memory), resumable across sessions.
 
-    python benchmarks/bench_full_run.py FOLDER [--preset presets/full.yaml] [--capped]
+    python -m benchmarks.speed.bench_full_run FOLDER [--preset presets/full.yaml] [--capped]
 
 The first call makes FOLDER a copy of this repository as a fresh clone has it (uncommitted changes
 included) with the preset applied to its params.yaml (python -m seasonloop.preset), committed once, and records the commit it was made
 from; every later call with the same FOLDER goes on where the last one stopped (DVC restarts at the
-first unfinished stage, and benchmarks/_pipeline_run.py keeps the stages timed before), so the
+first unfinished stage, and benchmarks/pipeline_run.py keeps the stages timed before), so the
 whole run is one commit's. When `dvc repro` finishes, writes benchmarks/results/bench_full_run.json
 (each stage's seconds and peak memory, their sum, every call's machine and load, the learners'
 convergence) and prints the command that writes docs/full-scale.md's tables from FOLDER's outputs.
@@ -23,19 +23,12 @@ from typing import Any
 
 import yaml
 
-from _bench_common import (
-    ISA_CAP,
-    REPO,
-    capped_environment,
-    copy_repository,
-    git_state,
-    load_note,
-    machine,
-    write_result,
-)
-from _pipeline_run import timed_repro
+from benchmarks.common import capped_environment, copy_repository, load_note
+from benchmarks.pipeline_run import timed_repro
 from seasonloop.fit_ending import how_fit_ended
 from seasonloop.preset import apply_preset, composed_params
+from tools.records import ISA_CAP, git_state, machine, write_result
+from tools.repository import REPO
 
 SOURCE = "bench_source.json"  # in FOLDER: the commit it was made from, and each call's machine
 FULL_SCALE_TABLES = (
@@ -140,6 +133,43 @@ def main() -> None:
     print(
         f"tables: python docs/write_tables.py --snapshot full_run_stages && python docs/write_tables.py --snapshot {FULL_SCALE_TABLES} --from {result['folder']}"
     )
+
+
+def _cell(value: object) -> str:
+    """A value in a table: booleans lower case, floats to 3 significant digits."""
+    if isinstance(value, bool):
+        return str(value).lower()
+    return f"{value:.3g}" if isinstance(value, float) else str(value)
+
+
+def _full_run_stages(path: Path) -> str:
+    """benchmarks/speed/bench_full_run.py's record: the headline, each call, and every stage's seconds and peak memory."""
+    record = json.loads(path.read_text())
+    calls = "; ".join(
+        f"{call['seconds'] / 60:.0f} min on {call['machine']['cpu']}{' (' + call['load_note'] + ')' if call['load_note'] else ''}"
+        for call in record["calls"]
+    )
+    lines = [
+        f"{record['headline']}. Calls: {calls}.",
+        "",
+        "| stage | seconds | share | peak memory MB |",
+        "|---|---|---|---|",
+    ]
+    total = record["total_seconds"]
+    for stage, measured in sorted(record["stages"].items(), key=lambda item: -item[1]["seconds"]):
+        lines.append(
+            f"| {stage} | {measured['seconds']:.0f} | {100 * measured['seconds'] / total:.0f}% | {measured['peak_rss_mb']:.0f} |"
+        )
+    lines += ["", "| learner | how its fit ended |", "|---|---|"]
+    for learner, ended in record["convergence"].items():
+        shown = ", ".join(f"{key} {_cell(value)}" for key, value in ended.items()) or "closed form (no iterations)"
+        lines.append(f"| {learner} | {shown} |")
+    return "\n".join(lines) + "\n"
+
+
+# docs/write_tables.py's table of this run's timing record (its outputs are tables of the run's own
+# folder, written with --from FOLDER): name -> (record, snapshot, how it is written)
+TABLES = {"full_run_stages": ("benchmarks/results/bench_full_run.json", "bench_full_run.json", _full_run_stages)}
 
 
 if __name__ == "__main__":

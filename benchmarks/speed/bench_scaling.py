@@ -1,7 +1,7 @@
 """Cost against size: presets/full.yaml's pipeline at fractions of the study's places, stage by
 stage (wall time and peak memory), and how each stage grows.
 
-    python benchmarks/bench_scaling.py ROOT [--fractions 0.125 0.25 0.5] [--capped]
+    python -m benchmarks.speed.bench_scaling ROOT [--fractions 0.125 0.25 0.5] [--capped]
 
 Each fraction f runs the full preset with synthetic.seconds = 35,768 f places a season and
 split.section_length = 3,000 f (the same 12 sections, so the test fraction keeps its meaning) in its
@@ -21,9 +21,11 @@ from pathlib import Path
 
 import numpy as np
 
-from _bench_common import REPO, RESULTS_DIR, write_result
-from bench_full_run import run
+from benchmarks.common import where_measured
+from benchmarks.speed.bench_full_run import run
 from seasonloop.preset import composed_params
+from tools.records import RESULTS_DIR, write_result
+from tools.repository import REPO
 
 PRESET = REPO / "presets" / "full.yaml"
 SUPERLINEAR = 1.15  # a slope this far above 1 over an 8x range is more than timing noise
@@ -111,6 +113,44 @@ def main() -> None:
     result = {"places": sizes, "runs": {str(size): runs[size] for size in sizes}, "stages": table, "headline": headline}
     path = write_result("bench_scaling", result, runs[sizes[0]]["calls"][-1]["machine"])
     print(f"wrote {path}\nHEADLINE: {headline}")
+
+
+def _bench_scaling(path: Path) -> str:
+    """benchmarks/speed/bench_scaling.py's record: every stage's seconds and peak memory against places,
+    its growth exponents and share of the full run, the commit each size ran from, and where."""
+    record = json.loads(path.read_text())
+    places = record["places"]
+    lines = [
+        "| stage | "
+        + " | ".join(f"s at {size:,}" for size in places)
+        + " | time exponent | peak MB at "
+        + f"{places[0]:,} / {places[-1]:,} | memory exponent | share of the full run |",
+        "|---|" + "---|" * (len(places) + 4),
+    ]
+    for stage, row in sorted(record["stages"].items(), key=lambda item: -item[1]["seconds"][-1]):
+
+        def exponent(value: float | None) -> str:
+            return "-" if value is None else f"{value:.2f}"
+
+        lines.append(
+            f"| {stage} | "
+            + " | ".join(f"{value:.0f}" for value in row["seconds"])
+            + f" | {exponent(row['time_exponent'])} | {row['peak_rss_mb'][0]:,.0f} / {row['peak_rss_mb'][-1]:,.0f} "
+            + f"| {exponent(row['memory_exponent'])} | {100 * row['share_of_full_run']:.1f}% |"
+        )
+    runs = [(size, record["runs"][str(size)]) for size in places]
+    made_from = ", ".join(f"{size:,}: {run.get('made_from', {}).get('commit', '?')}" for size, run in runs)
+    notes = [f"{size:,}: {call['load_note']}" for size, run in runs for call in run["calls"] if call.get("load_note")]
+    where = where_measured({**record["runs"][str(places[-1])]["calls"][-1], "load_note": "; ".join(notes)})
+    return (
+        "\n".join(lines)
+        + f"\n\n{record['headline']}. Places a season per run and the commit its folder was made from: "
+        + f"{made_from}. {where}\n"
+    )
+
+
+# docs/write_tables.py's table of this benchmark's record: name -> (record, snapshot, how it is written)
+TABLES = {"bench_scaling": ("benchmarks/results/bench_scaling.json", "bench_scaling.json", _bench_scaling)}
 
 
 if __name__ == "__main__":

@@ -1,0 +1,7 @@
+"""The repository's own commands and helpers, beside the library (src/seasonloop knows nothing of
+git or DVC; these drive both): copies of the repository and its small configurations for runs that
+start from nothing (repository.py, small_runs.py), what a measured record says about where it was
+measured (records.py), and the command that runs the pipeline on more synthetic routes:
+
+    python -m tools.replicate_routes run --seeds 1 2 3 4
+"""

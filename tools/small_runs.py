@@ -1,0 +1,48 @@
+"""Small configurations of the pipeline (overrides of params.yaml): runs that still have every stage
+but take seconds to a minute on 2 cores, for the end-to-end tests (tests/workspaces.py) and the
+benchmarks that measure what those tests pay (benchmarks/speed/bench_dvc_yaml.py)."""
+
+from __future__ import annotations
+
+# Small enough for CI on 2 cores, large enough that every stage has real work: three seasons
+# (so pairs are filtered to the seasons present), every learner, both matchers.
+TINY = {
+    "data": {"seasons": ["summer", "fall", "winter"]},
+    "train": {"seasons": ["summer", "fall", "winter"]},
+    "synthetic": {"seconds": 300, "fps": 2, "width": 128, "height": 72},
+    "extract": {"height": 36, "width": 64},
+    "split": {"section_length": 100, "test_fraction": 0.3, "gap": 3},
+    "pca": {"n_discard": 3, "n_keep": 20},
+    "pca_whiten": {"n_keep": 16},
+    "ica": {"n_components": 16, "max_iter": 200},
+    "ica_bovw": {"n_train_patches": 3000, "n_components": 15, "n_words": 20},
+    "fae": {"hidden": 32, "max_epochs": 2},
+    "cae": {
+        "channels": [3, 8, 12],
+        "kernels": [5, 3, 3],
+        "max_epochs": 1,
+        "max_train_images": 64,
+        "max_validation_images": 16,
+    },
+    # 1/32 is the CAE's own width (reused from fit@cae), 1/16 is trained by the sweep
+    "cae_widths": {"widths": [0.03125, 0.0625]},
+    "ablation": {"training_seasons": [["summer"], ["summer", "winter"]], "pair": "summer-fall"},
+}
+
+# the smallest run that still has every stage: two learners, one ablation learner, and the CAE
+# width sweep skipped (its stage writes that it was; TINY's run trains it, test_pipeline checks it):
+# a sweep's torch import and fit are ~4 s of a ~20 s tiny run, in every workspace
+SMALL = {
+    **{key: value for key, value in TINY.items() if key != "ablation"},
+    "learners": ["raw_patchnorm", "pca"],
+    "ablation": {"methods": ["pca"], "pair": "summer-fall", "training_seasons": [["summer"]]},
+    "cae_widths": {"widths": []},
+}
+
+# the tests of other data (test_real_frames, test_other_datasets): nothing is restored for them, so
+# the fewest stages that still go through the report: one learner, which the ablation also trains
+DATA_PATH = {
+    **SMALL,
+    "learners": ["raw_patchnorm"],
+    "ablation": {"methods": ["raw_patchnorm"], "pair": "summer-fall", "training_seasons": [["summer"]]},
+}

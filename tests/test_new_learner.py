@@ -88,16 +88,6 @@ def test_a_learner_added_in_three_places_runs_through_dvc_repro(tmp_path, small_
         "src/seasonloop/models/registry.py",
     ]
 
-    # its declared params are checked before any stage works, naming the key
-    params = yaml.safe_load((root / "params.yaml").read_text())
-    params["random_projection"] = {"n_dim": 24}
-    (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
-    result = repro(root)
-    assert result.returncode != 0
-    assert "random_projection.n_dim: unknown key (known: n_dims)" in result.stdout + result.stderr
-    params["random_projection"] = {"n_dims": 24}
-    (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
-
     result = repro(root)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     fitted = yaml.safe_load((root / "models/random_projection/learner.json").read_text())
@@ -105,3 +95,18 @@ def test_a_learner_added_in_three_places_runs_through_dvc_repro(tmp_path, small_
     summary = yaml.safe_load((root / "metrics/mean_fraction_correct.json").read_text())
     assert {"random_projection", "random_projection+seq"} <= set(summary)
     assert "random_projection" in (root / "plots/report.html").read_text()
+
+    # its declared params are what params.yaml's check (the first thing every stage does) reads
+    params = yaml.safe_load((root / "params.yaml").read_text())
+    params["random_projection"] = {"n_dim": 24}
+    (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
+    check = "import yaml; from seasonloop.params.schema import check_whole; check_whole(yaml.safe_load(open('params.yaml')))"
+    result = subprocess.run(
+        [sys.executable, "-c", check],
+        cwd=root,
+        env=tool_env(PYTHONPATH=str(root / "src")),
+        capture_output=True,
+        text=True,
+    )
+    assert result.returncode != 0
+    assert "random_projection.n_dim: unknown key (known: n_dims)" in result.stderr

@@ -21,7 +21,7 @@ import pytest
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import SeasonRide, render_route
-from tools.repository import dvc
+from tools.repository import dvc, git
 from tools.small_runs import DATA_PATH, TINY
 from workspaces import make_workspace
 
@@ -88,9 +88,17 @@ def test_the_synthetic_route_ridden_at_different_speeds_with_positions(tmp_path)
 
 
 @pytest.mark.e2e
-def test_frames_with_a_positions_csv_and_precomputed_descriptors(tmp_path):
+def test_frames_with_positions_precomputed_descriptors_or_a_ground_truth_matrix(tmp_path):
+    # one set of frames and one workspace for both kinds of truth (rendering and DVC's start-up are
+    # much of what each costs): positions from a csv with descriptors computed elsewhere, then a matrix
     data = tmp_path / "route"  # outside the repository, given by absolute path as the README says
     distances = write_rides(data)
+    root = make_workspace(tmp_path / "repo", BASE)
+    positions_csv_and_precomputed_descriptors(root, data, distances)
+    a_ground_truth_matrix(root, data, distances)
+
+
+def positions_csv_and_precomputed_descriptors(root: Path, data: Path, distances: dict[str, np.ndarray]) -> None:
     for season, metres in distances.items():
         # latitude/longitude along a meridian, keyed by file name, rows shuffled
         table = pd.DataFrame(
@@ -102,7 +110,6 @@ def test_frames_with_a_positions_csv_and_precomputed_descriptors(tmp_path):
         images = [cv2.imread(str(data / season / f"{i + 1}.png"), cv2.IMREAD_GRAYSCALE) for i in range(len(metres))]
         (data / "descriptors").mkdir(exist_ok=True)
         np.save(data / "descriptors" / f"{season}.npy", np.stack([cv2.resize(im, (16, 8)).ravel() for im in images]))
-    root = make_workspace(tmp_path / "repo", BASE)
     result = run(
         root,
         "data.source=frames",
@@ -134,17 +141,14 @@ def test_frames_with_a_positions_csv_and_precomputed_descriptors(tmp_path):
     assert (root / "data/features/precomputed/fall.npy").read_bytes() == kept
 
 
-@pytest.mark.e2e
-def test_frames_with_a_ground_truth_matrix(tmp_path):
-    data = tmp_path / "route"
-    distances = write_rides(data)
+def a_ground_truth_matrix(root: Path, data: Path, distances: dict[str, np.ndarray]) -> None:
+    assert git(root, "checkout", "params.yaml").returncode == 0  # the committed params, not the run's above
     (data / "truth").mkdir()
     for database in SEASONS:
         for query in SEASONS:
             if database != query:
                 gap = np.abs(distances[database][:, None] - distances[query][None, :])
                 np.savez(data / "truth" / f"{database}-{query}.npz", hard=gap <= 15, soft=gap <= 40)
-    root = make_workspace(tmp_path / "repo", BASE)
     settings = ["data.source=frames", f"data.frames_dir={data}", "data.ground_truth=matrix"]
     result = run(root, *settings, f"data.ground_truth_dir={data / 'truth'}")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]

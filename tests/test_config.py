@@ -153,11 +153,11 @@ def test_every_registry_a_check_reads_is_there():
 
 def test_checking_params_imports_no_heavy_module():
     # every stage checks the whole params.yaml first, reading the registries and every learner's
-    # declared params: that must not import torch, scikit-learn or pandas (seconds a stage)
+    # declared params: that must not import torch, scikit-learn, pandas or OpenCV (seconds a stage)
     code = (
         "import sys, yaml; from seasonloop.params.schema import check_whole; "
         "check_whole(yaml.safe_load(open('params.yaml'))); "
-        "print(sorted({'torch', 'sklearn', 'pandas', 'joblib'} & set(sys.modules)))"
+        "print(sorted({'torch', 'sklearn', 'pandas', 'joblib', 'cv2'} & set(sys.modules)))"
     )
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=REPO)
     assert result.stdout.strip() == "[]"

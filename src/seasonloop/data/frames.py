@@ -11,9 +11,10 @@ import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path, PurePosixPath
 
-import cv2
 import numpy as np
-from tqdm import tqdm
+
+# cv2 and tqdm are imported in the functions that read: every stage's params check imports this
+# module (data.source's registry, seasonloop.data.sources), and most stages read no frame
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff")
 
@@ -23,6 +24,8 @@ _FRAME_COUNT_SLACK = 0.01
 
 
 def _resize(frame: np.ndarray, height: int, width: int) -> np.ndarray:
+    import cv2
+
     # INTER_AREA averages source pixels: the right filter for shrinking.
     return cv2.resize(frame, (width, height), interpolation=cv2.INTER_AREA)
 
@@ -32,6 +35,9 @@ def sample_video(path: Path, fps: float, height: int, width: int, progress: bool
 
     Sample k is the video frame nearest to time k / fps.
     """
+    import cv2
+    from tqdm import tqdm
+
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: video not found")
@@ -75,6 +81,8 @@ def sample_video(path: Path, fps: float, height: int, width: int, progress: bool
 
 def video_sample_count(path: Path, fps: float) -> int:
     """How many samples sample_video takes of the video at `path` at `fps` (from its header)."""
+    import cv2
+
     capture = cv2.VideoCapture(str(path))
     try:
         video_fps, n_frames = capture.get(cv2.CAP_PROP_FPS), int(capture.get(cv2.CAP_PROP_FRAME_COUNT))
@@ -173,6 +181,9 @@ def read_frame_files(
     files: Sequence[Path], height: int, width: int, progress: bool = True, desc: str = "read"
 ) -> np.ndarray:
     """The images `files`, in that order, resized to height x width."""
+    import cv2
+    from tqdm import tqdm
+
     frames = np.empty((len(files), height, width, 3), dtype=np.uint8)
     for i, file in enumerate(tqdm(files, desc=desc, unit="frame", disable=not progress)):
         image = cv2.imread(str(file), cv2.IMREAD_COLOR)

@@ -8,14 +8,18 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-import cv2
 import numpy as np
+
+# cv2 is imported in the functions that use it: every stage's params check imports this module
+# (its CONTRASTS), and most stages touch no image
 
 
 def to_gray(frames: np.ndarray, height: int, width: int) -> np.ndarray:
     """(N, h, w, 3) BGR uint8 -> (N, height, width) uint8 grayscale, shrunk with area averaging."""
     if frames.ndim != 4 or frames.shape[-1] != 3:
         raise ValueError(f"expected colour frames of shape (N, h, w, 3), got {frames.shape}")
+    import cv2
+
     out = np.empty((len(frames), height, width), dtype=np.uint8)
     for i, frame in enumerate(frames):
         gray = cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY)
@@ -33,10 +37,14 @@ def _no_contrast(images: np.ndarray, clahe_clip: float, clahe_grid: int) -> np.n
 
 
 def _equalize(images: np.ndarray, clahe_clip: float, clahe_grid: int) -> np.ndarray:
+    import cv2
+
     return np.stack([cv2.equalizeHist(image) for image in images]) if len(images) else images.copy()
 
 
 def _clahe(images: np.ndarray, clahe_clip: float, clahe_grid: int) -> np.ndarray:
+    import cv2
+
     clahe = cv2.createCLAHE(clipLimit=float(clahe_clip), tileGridSize=(int(clahe_grid), int(clahe_grid)))
     return np.stack([clahe.apply(image) for image in images]) if len(images) else images.copy()
 

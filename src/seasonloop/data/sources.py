@@ -18,7 +18,6 @@ from pathlib import Path
 import numpy as np
 
 from seasonloop.data.frames import align_frame_files, list_frame_files, read_frame_files, sample_video
-from seasonloop.data.synthetic import RouteDifficulty, SeasonRide, render_route
 from seasonloop.params.settings import DataConfig, SyntheticConfig
 
 
@@ -66,6 +65,9 @@ def _video_files(seasons: Sequence[str], data: DataConfig) -> dict[str, Path]:
 def _render_synthetic(
     out: Path, seasons: Sequence[str], data: DataConfig, synthetic: SyntheticConfig
 ) -> dict[str, Path]:
+    # here: every stage's params check imports this module (its SOURCES), and only acquire renders
+    from seasonloop.data.synthetic import RouteDifficulty, SeasonRide, render_route
+
     # the difficulty knobs are keys of the synthetic section with RouteDifficulty's field names
     difficulty = RouteDifficulty(**{knob: getattr(synthetic, knob) for knob in RouteDifficulty.knobs()})
     # seasons without a ride ride the reference; rides of seasons not rendered are not used

@@ -18,7 +18,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main
-from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
+from seasonloop.data.extract import check_sources, copy_from_dataset, extract_seasons, preview_grid
 from seasonloop.data.positions import RENDERED, PositionFiles
 from seasonloop.data.truth_kinds import truth_kind
 from seasonloop.io import read_json, staged_dir, write_json
@@ -66,6 +66,8 @@ def main() -> None:
             stop_threshold=float(param(params, "split.stop_threshold")),
         )
         record["ground_truth"] = data.ground_truth
+        if kind.file_in_dataset:
+            copy_from_dataset(Path(data.frames_dir) / kind.file_in_dataset, out)
         write_json(out / "frames.json", record)
         grid, row_labels = preview_grid(out, seasons, record["places_per_season"], PREVIEW_PLACES)
         plot_image_grid(

@@ -18,6 +18,7 @@ from pathlib import Path
 
 from _common import load_params, param, stage_main, train_seasons
 from _datasets import training_images, training_places
+from seasonloop.data.datasets import trained_on
 from seasonloop.io import staged_dir, write_json
 from seasonloop.models.registry import get_learner
 
@@ -27,7 +28,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("method")
     method = parser.parse_args().method
-    params = load_params("seed", "data.seasons", "train", "augment.copies")
+    params = load_params("seed", "data.seasons", "train", "augment.copies", "split.test_fraction")
     learner_class = get_learner(method)
     seasons = train_seasons(params)
     # the learner checks its own section before the training images are loaded
@@ -63,6 +64,7 @@ def main() -> None:
             "fit_seconds": fit_seconds,
             "n_train_images": len(images),
             "train_seasons": seasons,
+            "trained_on": trained_on(learner_class.learns, seasons, param(params, "split.test_fraction") == 1),
             "info": info,
             "environment": {
                 # None: the learner did not use torch (not imported here: 1.5 s of every fit's start-up)

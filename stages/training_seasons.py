@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from _common import data_seasons, load_params, stage_main
+from _common import data_seasons, load_params, param, stage_main
 from seasonloop.ablations.training_seasons import (
     plan_ablation,
     read_learner_intervals,
@@ -27,10 +27,11 @@ FIGURE = Path("plots/training_seasons.png")
 
 @stage_main
 def main() -> None:
-    params = load_params("data.seasons", "ablation", "evaluate")
+    params = load_params("data.seasons", "ablation", "evaluate", "split.test_fraction")
     ablation = AblationConfig.from_params(params)
     evaluate = EvaluateConfig.from_params(params)
-    plan = plan_ablation(data_seasons(params), ablation.pair, ablation.training_seasons, evaluate.pairs)
+    whole_route = param(params, "split.test_fraction") == 1
+    plan = plan_ablation(data_seasons(params), ablation.pair, ablation.training_seasons, evaluate.pairs, whole_route)
     if plan.skipped:
         print(f"training_seasons: {plan.skipped}")
         write_ablation(plan, None, RECORD, FIGURE)

@@ -44,12 +44,14 @@ def main() -> None:
         "evaluate",
         "sequence",
         "statistics",
+        "split.test_fraction",
     )
     ablation = AblationConfig.from_params(params)
     if method not in ablation.methods:
         raise ValueError(f"ablation.methods: '{method}' is not one of {list(ablation.methods)}")
     evaluate = EvaluateConfig.from_params(params)
-    plan = plan_ablation(data_seasons(params), ablation.pair, ablation.training_seasons, evaluate.pairs)
+    whole_route = param(params, "split.test_fraction") == 1
+    plan = plan_ablation(data_seasons(params), ablation.pair, ablation.training_seasons, evaluate.pairs, whole_route)
     for note in plan.notes:
         print(f"training_seasons_fit@{method}: {note}")
     record = RECORDS / f"{method}.json"

@@ -16,6 +16,7 @@ from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 
+SEASONS4 = ["summer", "spring", "fall", "winter"]
 STUDY_SETS = [["summer"], ["summer", "winter"], ["summer", "winter", "spring"], ["summer", "winter", "spring", "fall"]]
 PAIRS = ["summer-fall", "summer-spring", "spring-fall", "winter-summer", "winter-fall", "winter-spring"]
 
@@ -85,6 +86,25 @@ class MeanLearner:
 
     def describe(self, images, batch_size=1024):
         return images.mean(axis=2)
+
+
+def test_a_whole_route_leaves_out_lists_that_hold_the_query_traverse():
+    # split.test_fraction 1: every place is a test place, so a list with the pair's query is left out
+    plan = plan_ablation(SEASONS4, "winter-summer", STUDY_SETS, PAIRS, whole_route=True)
+    assert plan.skipped is not None and "one is left at most (none)" in plan.skipped
+    sets = [["spring"], ["spring", "fall"], ["spring", "fall", "summer"]]
+    plan = plan_ablation(SEASONS4, "winter-summer", sets, PAIRS, whole_route=True)
+    assert plan.skipped is None and plan.labels == ["spring", "spring+fall"]
+    assert plan.notes == [
+        "ablation.training_seasons: spring+fall+summer left out: summer is the query traverse, and "
+        "split.test_fraction 1 trains on every place"
+    ]
+    # two traverses, a reference and its queries: one training set, nothing to compare
+    plan = plan_ablation(["ref", "query"], "ref-query", [["ref"], ["ref", "query"]], ["ref-query"], whole_route=True)
+    assert plan.skipped == (
+        "skipped: it compares training sets, and with split.test_fraction 1 and query the query traverse "
+        "one is left at most (ref)"
+    )
 
 
 def pair_context(test, evaluate, sequence) -> EvaluationContext:

@@ -121,9 +121,26 @@ def test_seasons_that_are_not_aligned_sample_their_own_test_places():
     assert split.season("summer").test.tolist() == list(range(20, 40))
 
 
-def test_a_whole_route_refuses_to_train_on_an_evaluated_season(params):
+def test_a_whole_route_tests_every_frame_those_without_a_reference_place_too():
+    # VPR-Bench's queries without a correct reference are evaluated (a miss), not left out
+    stats = {f"{season}_{kind}": np.full(10, 100.0) for season in ("ref", "query") for kind in ("brightness", "change")}
+    config = SplitConfig(section_length=10, test_fraction=1, gap=0, dark_threshold=0, stop_threshold=0, test_every={})
+    placed = {"ref": np.arange(10), "query": np.array([0, 1, 2, -1, 4, 5, 6, 7, 8, 9])}
+    split = split_seasons(stats, ["ref", "query"], config, placed)
+    assert split.season("query").test.tolist() == list(range(10))
+    partial = SplitConfig(
+        section_length=10, test_fraction=0.5, gap=0, dark_threshold=0, stop_threshold=0, test_every={}
+    )
+    assert 3 not in split_seasons(stats, ["ref", "query"], partial, placed).season("query").test.tolist()
+
+
+def test_a_whole_route_trains_on_a_database_traverse_never_on_a_query_one(params):
+    # every place tested and trained on: the map (a database traverse) may be learned, the queries not
     params["split"]["test_fraction"] = 1
-    with pytest.raises(ValueError, match=r"^train.seasons: fall, spring, summer, winter is also evaluated"):
+    with pytest.raises(
+        ValueError,
+        match=r"^train.seasons: fall, spring, summer is the query traverse of summer-fall, summer-spring, winter-summer",
+    ):
         check_whole(params)
     protocol = copy.deepcopy(params)
     protocol["train"]["seasons"] = ["spring", "fall"]
@@ -133,12 +150,14 @@ def test_a_whole_route_refuses_to_train_on_an_evaluated_season(params):
     protocol["ablation"]["pair"] = "winter-summer"
     protocol["ablation"]["training_seasons"] = [["spring"], ["spring", "fall"]]
     check_whole(protocol)
+    protocol["train"]["seasons"] = ["winter"]  # the database traverse: the map
+    check_whole(protocol)
     for key, value, message in (
-        ("report.example_pair", "summer-fall", "train.seasons: fall is also evaluated"),
-        ("cae_widths.pairs", ["spring-fall"], "train.seasons: fall, spring is also evaluated"),
-        ("ablation.training_seasons", [["summer"]], "ablation.training_seasons: summer is also evaluated"),
+        ("report.example_pair", "spring-fall", "train.seasons: fall is the query traverse of spring-fall"),
+        ("cae_widths.pairs", ["fall-winter"], "train.seasons: winter is the query traverse of fall-winter"),
     ):
         bad = copy.deepcopy(protocol)
+        bad["train"]["seasons"] = ["spring", "fall"] if key == "report.example_pair" else ["winter"]
         section, name = key.split(".")
         bad[section][name] = value
         with pytest.raises(ValueError, match=message):

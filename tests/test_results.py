@@ -102,7 +102,8 @@ def test_load_evaluations_names_a_missing_file(result_dirs):
 
 def test_load_runtime(tmp_path):
     for method, seconds in (("pca", 1.5), ("ica", 20)):
-        write_json(tmp_path / "fit" / f"{method}.json", {"fit_seconds": seconds, "n_train_images": 100})
+        fit = {"fit_seconds": seconds, "n_train_images": 100, "trained_on": "the training places of summer"}
+        write_json(tmp_path / "fit" / f"{method}.json", fit)
         for season, ms in (("summer", 1.0), ("fall", 2.0)):
             write_json(tmp_path / "features" / method / f"{season}.json", {"ms_per_image": ms, "dimension": 16})
     runtime = load_runtime(tmp_path / "fit", tmp_path / "features", ["ica", "pca"], ["summer", "fall"])
@@ -112,8 +113,15 @@ def test_load_runtime(tmp_path):
         "n_train_images": 100,
         "feature_ms_per_image": 1.5,
         "descriptor_dimension": 16,
+        "trained_on": "the training places of summer",
     }
-    assert list(runtime["ica"]) == ["fit_seconds", "n_train_images", "feature_ms_per_image", "descriptor_dimension"]
+    assert list(runtime["ica"]) == [
+        "fit_seconds",
+        "n_train_images",
+        "feature_ms_per_image",
+        "descriptor_dimension",
+        "trained_on",
+    ]
 
 
 def test_ordered_names_what_is_missing():

@@ -3,7 +3,8 @@
 The study's defaults name all four seasons; a run on a subset (one real pair, say) keeps what it
 can: the pair if both its seasons are present, else the first of evaluate.pairs that is; each list
 of training seasons cut to the seasons present, repeats dropped. With fewer than two seasons
-there is no pair to evaluate and the ablation is skipped, with the reason. run_ablation fits and
+there is no pair to evaluate, and on a whole route (split.test_fraction 1) no list may hold the
+pair's query traverse; an ablation left with nothing to compare is skipped, with the reason. run_ablation fits and
 evaluates the plan, one learner at a time (one pipeline stage per learner, so that a learner's
 change refits only its own ablation); write_learner_record and read_learner_records keep each
 learner's result, write_ablation writes the combined record and figure.
@@ -51,9 +52,14 @@ class AblationPlan:
 
 
 def plan_ablation(
-    seasons: Sequence[str], pair: str, training_seasons: Sequence[Sequence[str]], evaluate_pairs: Sequence[str]
+    seasons: Sequence[str],
+    pair: str,
+    training_seasons: Sequence[Sequence[str]],
+    evaluate_pairs: Sequence[str],
+    whole_route: bool = False,
 ) -> AblationPlan:
-    """The pair and training-season lists to run with `seasons` present (see the module doc)."""
+    """The pair and training-season lists to run with `seasons` present (the module doc); on a
+    whole route (split.test_fraction 1) without the lists that hold the pair's query traverse."""
     parse_pair(pair, "ablation.pair", known=seasons)
     # names are checked against the data's and the study's seasons, so a typo is an error, not a
     # silently dropped list
@@ -82,6 +88,16 @@ def plan_ablation(
         return AblationPlan(
             None, [], notes, skipped="skipped: no list of ablation.training_seasons has a season of data.seasons"
         )
+    if whole_route:  # every place tested and trained on: no list may hold the query traverse
+        held = [chosen for chosen in season_sets if query in chosen]
+        season_sets = [chosen for chosen in season_sets if query not in chosen]
+        if held:
+            notes.append(f"ablation.training_seasons: {', '.join('+'.join(c) for c in held)} left out: {query} is the "
+                         "query traverse, and split.test_fraction 1 trains on every place")  # fmt: skip
+        if len(season_sets) < 2:
+            left = "+".join(season_sets[0]) if season_sets else "none"
+            skipped = f"skipped: it compares training sets, and with split.test_fraction 1 and {query} the query "
+            return AblationPlan(None, [], notes, skipped=skipped + f"traverse one is left at most ({left})")
     return AblationPlan((database, query), season_sets, notes)
 
 

@@ -81,6 +81,17 @@ def test_images(split_dir: Path, seasons: Sequence[str]) -> dict[str, np.ndarray
     return {season: load_array(split_images_file(split_dir, season, "test")) for season in seasons}
 
 
+def trained_on(learns: bool, seasons: Sequence[str], whole_route: bool) -> str:
+    """What a learner was fitted on, in words, for the runtime table and the report: nothing (a
+    training-free descriptor), every place of the training traverses (a whole-route protocol, which
+    allows database traverses only: seasonloop.params.across), or their training places."""
+    if not learns:
+        return "nothing (training-free)"
+    if whole_route:
+        return f"every place of {', '.join(seasons)} (the map; no query traverse)"
+    return f"the training places of {', '.join(seasons)}"
+
+
 def training_images(split_dir: Path, augmented_dir: Path | None, seasons: Sequence[str]) -> np.ndarray:
     """The concatenated training images of `seasons`: the augmented sets of `augmented_dir`, or the
     split's originals when it is None."""

@@ -7,6 +7,7 @@ path); seasonloop.data.sources reads them, seasonloop.data.alignment measures an
 
 from __future__ import annotations
 
+import shutil
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -170,3 +171,13 @@ def preview_grid(
             shown[season] = (places / max(1, places_per_season[first] - 1) * (places_per_season[season] - 1)).round()
     grid = [[stored[season][int(shown[season][row])][..., ::-1] for season in seasons] for row in range(len(places))]
     return grid, [f"{first} place {p}" if len(set(places_per_season.values())) > 1 else f"place {p}" for p in places]
+
+
+def copy_from_dataset(path: Path, out: Path) -> None:
+    """A file of the dataset's own (its ground truth) copied into the extraction's output, so that
+    the stages after it read it from there, as they read the frames."""
+    if not path.is_file():
+        raise FileNotFoundError(
+            f"{path}: not found (data.frames_dir holds the dataset: its traverses' folders and this file)"
+        )
+    shutil.copy2(path, out / path.name)

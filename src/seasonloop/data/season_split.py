@@ -141,15 +141,20 @@ def split_seasons(
     test_block, gap, train = split_masks(
         n_reference, int(config.section_length), float(config.test_fraction), int(config.gap)
     )
+    # a whole route (test_fraction 1, the field's protocols) tests every frame, those without a
+    # correct reference place too (as VPR-Bench's queries without a row: never a correct match);
+    # otherwise such a frame has no place on the reference route's split and is left out
+    whole_route = float(config.test_fraction) == 1
     splits = {}
     for season in seasons:
         place = reference_place[season]
         mapped = place >= 0
+        unplaced = ~mapped if whole_route else np.zeros_like(mapped)
         at = np.where(mapped, place, 0)
         splits[season] = masks_to_split(
-            test_block[at] & mapped,
+            (test_block[at] & mapped) | unplaced,
             gap[at] & mapped,
-            train[at] & mapped,
+            (train[at] & mapped) | unplaced,
             own_tunnel[season] | (tunnel[at] & mapped),
             own_stop[season] | (stop[at] & mapped),
         )

@@ -34,6 +34,9 @@ class TruthKind:
     name: ClassVar[str]
     aligned: ClassVar[bool] = False  # frame i of every season is the same place (one route, one split)
     reads_positions: ClassVar[bool] = False  # extraction writes each place's position
+    # a ground-truth file that sits in the dataset's folder beside its traverses' folders (in
+    # data.frames_dir): extraction copies it beside the frames, where this kind reads it
+    file_in_dataset: ClassVar[str | None] = None
 
     def reference_places(
         self, seasons: Sequence[str], counts: Mapping[str, int], frames_dir: Path, truth_dir: Path, tolerance_m: float
@@ -128,12 +131,21 @@ class Matrix(TruthKind):
 
 
 class VprBench(Matrix):
-    """VPR-Bench's ground_truth_new.npy: one file for its two traverses, data.seasons [reference, query]."""
+    """VPR-Bench's ground_truth_new.npy: one file for its two traverses, data.seasons [reference,
+    query], in the dataset's folder beside ref/ and query/ (data.frames_dir; data.ground_truth_dir
+    is not read)."""
 
     name = "vpr_bench"
+    file_in_dataset = "ground_truth_new.npy"
 
     def traverses(self, seasons: Sequence[str]) -> tuple[str, str] | None:
         return seasons[0], seasons[1]
+
+    def reference_places(self, seasons, counts, frames_dir, truth_dir, tolerance_m) -> dict[str, np.ndarray]:
+        return super().reference_places(seasons, counts, frames_dir, frames_dir, tolerance_m)
+
+    def pair_builder(self, seasons, test, counts, evaluate, frames_dir, truth_dir) -> PairBuilder:
+        return super().pair_builder(seasons, test, counts, evaluate, frames_dir, frames_dir)
 
     def describe(self, evaluate: EvaluateConfig) -> str:
         return "the reference places VPR-Bench's ground_truth_new.npy lists for the query"

@@ -57,7 +57,7 @@ def read_vpr_bench(path: Path, n_reference: int, n_query: int) -> np.ndarray:
     places) matrix; a query without a row, or whose row lists no reference, has no correct place.
     Anything else is one line naming the file and row. The format is a pickled object array: read only files you trust."""
     if not Path(path).is_file():
-        raise FileNotFoundError(f"{path}: VPR-Bench ground truth not found (data.ground_truth_dir)")
+        raise FileNotFoundError(f"{path}: VPR-Bench ground truth not found (ground_truth_new.npy in data.frames_dir)")
     try:
         rows = np.load(path, allow_pickle=True)
     except (*UNREADABLE, ImportError) as error:  # a pickle naming a missing module: ImportError

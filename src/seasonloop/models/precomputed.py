@@ -22,6 +22,7 @@ class PrecomputedDescriptors(FeatureLearner):
     """Rows of <dir>/<season>.npy, looked up by place."""
 
     name = "precomputed"
+    learns = False
     PARAMS = {"dir": Param("data/nordland/descriptors", text)}
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:

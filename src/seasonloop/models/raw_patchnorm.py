@@ -16,6 +16,7 @@ class RawPatchNorm(FeatureLearner):
     """No learning: descriptor = patch_normalise(image).ravel()."""
 
     name = "raw_patchnorm"
+    learns = False
     PARAMS = {"patch_size": Param(8, integer(1)), "mode": Param("zscore", one_of(*PATCH_NORM_MODES))}
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:

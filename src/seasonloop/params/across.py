@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from typing import Any
 
 from seasonloop.params.seasons import parse_pair
@@ -15,31 +15,32 @@ def check_across(params: Mapping[str, Any]) -> None:
 
 
 def check_whole_route(params: Mapping[str, Any]) -> None:
-    """split.test_fraction 1 tests every place and trains on every place: a season that is both
-    trained on and evaluated would be matched against images the learner was fitted on."""
+    """split.test_fraction 1 tests every place and trains on every place: the learners may train on
+    a database traverse (the map a robot has before it drives) but not on a query traverse of an
+    evaluated pair, whose images they would then match. (The training-season ablation leaves such
+    lists out itself, saying so: seasonloop.ablations.training_seasons.)"""
     if params["split"]["test_fraction"] != 1:
         return
     seasons = list(params["data"]["seasons"])
-
-    def evaluated(pairs: Sequence[Any]) -> set[str]:
-        # a pair not both in data.seasons is skipped, so not evaluated
-        parsed = [parse_pair(entry, "evaluate.pairs", seasons) for entry in pairs]
-        return {season for pair in parsed if set(pair) <= set(seasons) for season in pair}
-
-    fits = [("train.seasons", params["train"]["seasons"], evaluated(params["evaluate"]["pairs"]))]
-    fits.append(("train.seasons", params["train"]["seasons"], evaluated([params["report"]["example_pair"]])))
+    evaluated = [
+        ("evaluate.pairs", params["evaluate"]["pairs"]),
+        ("report.example_pair", [params["report"]["example_pair"]]),
+    ]
     if params["cae_widths"]["widths"]:
-        fits.append(("train.seasons", params["train"]["seasons"], evaluated(params["cae_widths"]["pairs"])))
-    if params["ablation"]["methods"]:
-        tested = evaluated([params["ablation"]["pair"]])
-        fits += [("ablation.training_seasons", listed, tested) for listed in params["ablation"]["training_seasons"]]
-    for key, trained, tested in fits:
-        both = sorted(set(trained) & tested)
-        if both:
-            raise ValueError(
-                f"{key}: {', '.join(both)} is also evaluated, and split.test_fraction 1 trains on every place "
-                "(the learners would see the test images); train on other seasons"
-            )
+        evaluated.append(("cae_widths.pairs", params["cae_widths"]["pairs"]))
+    tested: dict[str, str] = {}  # query traverse -> the first evaluated pair it is the query of
+    for key, pairs in evaluated:
+        for database, query in (parse_pair(entry, key, seasons) for entry in pairs):
+            # a pair not both in data.seasons is skipped, so not evaluated
+            if {database, query} <= set(seasons):
+                tested.setdefault(query, f"{database}-{query}")
+    seen = sorted(set(params["train"]["seasons"]) & set(tested))
+    if seen:
+        raise ValueError(
+            f"train.seasons: {', '.join(seen)} is the query traverse of {', '.join(tested[q] for q in seen)}, and "
+            "split.test_fraction 1 trains on every place (the learners would see the queries); train on the "
+            "database traverse (the map) or on other seasons"
+        )
 
 
 def check_sampled_sequences(params: Mapping[str, Any]) -> None:

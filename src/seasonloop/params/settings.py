@@ -152,7 +152,8 @@ class SplitConfig(Section):
     NAME = "split"
     section_length: int = setting(integer(3))
     # more test than training places per section is no longer a training split; 1: the whole
-    # route is tested (a protocol's), the learners train on other seasons (check_whole_route)
+    # route is tested (a protocol's), the learners train on other seasons or on a database
+    # traverse, never on a query one (check_whole_route)
     test_fraction: float = setting(test_fraction)
     gap: int = setting(integer(0))
     dark_threshold: float = setting(number(0, 255))

@@ -74,7 +74,7 @@ def load_runtime(
     fit_dir: Path, features_dir: Path, methods: Sequence[str], seasons: Sequence[str]
 ) -> dict[str, dict[str, Any]]:
     """method -> fit seconds and training images (study Table 6), feature milliseconds per image
-    averaged over `seasons` (Table 7) and the descriptor dimension."""
+    averaged over `seasons` (Table 7), the descriptor dimension and what it was trained on."""
     runtime = {}
     for method in methods:
         fit = read_json(fit_dir / f"{method}.json")
@@ -84,6 +84,7 @@ def load_runtime(
             "n_train_images": fit["n_train_images"],
             "feature_ms_per_image": float(np.mean([s["ms_per_image"] for s in per_season])),
             "descriptor_dimension": per_season[0]["dimension"],
+            "trained_on": fit["trained_on"],
         }
     return runtime
 

@@ -32,6 +32,7 @@ RUNTIME_COLUMNS = {
     "n_train_images": "training images",
     "feature_ms_per_image": "features (ms / image)",
     "descriptor_dimension": "descriptor dimension",
+    "trained_on": "trained on",
 }
 
 

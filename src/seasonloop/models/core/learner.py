@@ -119,6 +119,8 @@ class FeatureLearner(ABC):
     LIBRARIES: ClassVar[tuple[str, ...]] = ()
     # whether fit() reports epochs to its on_epoch callback (the stage logs them with dvclive)
     trains_in_epochs: ClassVar[bool] = False
+    # False: a descriptor that learns nothing from the training images (fit records their size only)
+    learns: ClassVar[bool] = True
 
     def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
         self.check_params(params or {})

@@ -1,9 +1,12 @@
-"""Stage fit@<method>: fit one feature learner on the training images of train.seasons.
+"""Stage fit@<method>: fit one feature learner on the training images of train.seasons, or, with
+train.fitted: elsewhere, take the learner already fitted in train.models_dir/<method> (another
+run's models/, another dataset: as the field's published methods are trained elsewhere).
 
 Writes models/<method>/ (the fitted learner), logs/<method>/ (dvclive training and validation
 curves of the learners that train in epochs; an empty folder for the others) and metrics/fit/<method>.json (fit time, training-set
-size, the learner's fit report such as ICA convergence or why an auto-encoder stopped, and the
-torch threads and library versions, so that a different result elsewhere can be traced).
+size, what it was trained on, the learner's fit report such as ICA convergence or why an
+auto-encoder stopped, and the torch threads and library versions, so that a different result
+elsewhere can be traced).
 """
 
 from __future__ import annotations
@@ -15,22 +18,21 @@ import time
 from contextlib import ExitStack
 from importlib.metadata import version
 from pathlib import Path
+from typing import Any
+
+import numpy as np
 
 from _common import load_params, param, stage_main, train_seasons
-from _datasets import training_images, training_places
-from seasonloop.data.datasets import trained_on
+from _datasets import SPLIT, training_images, training_places
+from seasonloop.data.datasets import split_images_file, trained_on
 from seasonloop.io import staged_dir, write_json
-from seasonloop.models.registry import get_learner
+from seasonloop.models.core.learner import FeatureLearner
+from seasonloop.models.registry import get_learner, load_learner
 
 
-@stage_main
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("method")
-    method = parser.parse_args().method
-    params = load_params("seed", "data.seasons", "train", "augment.copies", "split.test_fraction")
+def fit_here(method: str, params: dict[str, Any], seasons: list[str]) -> tuple[FeatureLearner, dict, dict]:
+    """The learner fitted on this run's training images; (learner, its fit info, the record's facts)."""
     learner_class = get_learner(method)
-    seasons = train_seasons(params)
     # the learner checks its own section before the training images are loaded
     learner = learner_class(param(params, method), seed=int(param(params, "seed")))
     images = training_images(params, seasons)
@@ -56,15 +58,56 @@ def main() -> None:
         start = time.perf_counter()
         info = learner.fit(images, progress=True, on_epoch=on_epoch, places=places)
         fit_seconds = time.perf_counter() - start
+    whole_route = param(params, "split.test_fraction") == 1
+    facts = {
+        "fit_seconds": fit_seconds,
+        "n_train_images": len(images),
+        "train_seasons": seasons,
+        "trained_on": trained_on(learner_class.learns, seasons, whole_route),
+    }
+    return learner, info, facts
+
+
+def fitted_elsewhere(method: str, models_dir: Path, season: str) -> tuple[FeatureLearner, dict, dict]:
+    """The learner fitted in models_dir/<method>, checked to be that learner and to take this run's
+    image size; nothing is fitted here."""
+    learner = load_learner(models_dir / method)
+    if learner.name != method:
+        raise ValueError(f"{models_dir / method}: holds a '{learner.name}' learner, not '{method}' (train.models_dir)")
+    size = tuple(np.load(split_images_file(SPLIT, season, "test"), mmap_mode="r").shape[1:])
+    if learner.image_shape != size:
+        raise ValueError(
+            f"{models_dir / method}: fitted on {learner.image_shape[0]}x{learner.image_shape[1]} images, this run's "
+            f"are {size[0]}x{size[1]} (preprocess.height, preprocess.width)"
+        )
+    Path("logs", method).mkdir(parents=True, exist_ok=True)  # a declared output, empty: nothing trained here
+    assert learner.fit_info is not None, "a loaded learner carries its fit record"
+    facts = {
+        "fit_seconds": None,
+        "n_train_images": None,
+        "train_seasons": [],
+        "trained_on": f"elsewhere: {models_dir / method} (not this dataset; its own params)",
+    }
+    return learner, learner.fit_info, facts
+
+
+@stage_main
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("method")
+    method = parser.parse_args().method
+    params = load_params("seed", "data.seasons", "train", "augment.copies", "split.test_fraction")
+    seasons = train_seasons(params)
+    if param(params, "train.fitted") == "elsewhere":
+        learner, info, facts = fitted_elsewhere(method, Path(param(params, "train.models_dir")), seasons[0])
+    else:
+        learner, info, facts = fit_here(method, params, seasons)
     with staged_dir(Path("models") / method) as out:
         learner.save(out)
     write_json(
         Path("metrics/fit") / f"{method}.json",
         {
-            "fit_seconds": fit_seconds,
-            "n_train_images": len(images),
-            "train_seasons": seasons,
-            "trained_on": trained_on(learner_class.learns, seasons, param(params, "split.test_fraction") == 1),
+            **facts,
             "info": info,
             "environment": {
                 # None: the learner did not use torch (not imported here: 1.5 s of every fit's start-up)

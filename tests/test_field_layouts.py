@@ -21,6 +21,7 @@ import pytest
 
 from seasonloop.data.frames import list_frame_files, sample_video
 from seasonloop.data.synthetic import SeasonRide, render_route
+from seasonloop.models.registry import get_learner
 from tools.repository import dvc
 from tools.small_runs import DATA_PATH
 from workspaces import make_workspace
@@ -125,6 +126,22 @@ def test_a_vpr_bench_dataset_runs_with_one_command_on_every_query(tmp_path):
     assert fit["train_seasons"] == ["ref"] and fit["trained_on"].startswith("every place of ref")
     assert evaluation(root, "pca", "ref-query")["n_queries"] == n_query
     # (training on the query traverse is refused: tests/test_protocols.py)
+
+    # (c) fitted elsewhere, as published methods are: learners another run fitted (here on other
+    # images of the same size, noise) applied unchanged, nothing fitted on this dataset
+    elsewhere = tmp_path / "fitted_elsewhere"
+    images = np.random.default_rng(0).integers(0, 256, (64, 32, 64), dtype=np.uint8)
+    for name, params in (("raw_patchnorm", {}), ("pca", {"n_discard": 2, "n_keep": 8})):
+        learner = get_learner(name)(params, seed=0)
+        learner.fit(images, progress=False)
+        learner.save(elsewhere / name)
+    settings = ("train.fitted=elsewhere", f"train.models_dir={elsewhere}", f"data.frames_dir={data}")
+    result = dvc(root, "exp", "run", *(part for setting in settings for part in ("-S", setting)))
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    fit = json.loads((root / "metrics/fit/pca.json").read_text())
+    assert fit["trained_on"].startswith("elsewhere: ") and fit["n_train_images"] is None
+    assert evaluation(root, "pca", "ref-query")["n_queries"] == n_query
+    assert "elsewhere: " in (root / "plots/report.html").read_text()
 
 
 @pytest.mark.e2e

@@ -152,6 +152,9 @@ def test_a_whole_route_trains_on_a_database_traverse_never_on_a_query_one(params
     check_whole(protocol)
     protocol["train"]["seasons"] = ["winter"]  # the database traverse: the map
     check_whole(protocol)
+    elsewhere = copy.deepcopy(params)  # learners fitted by another run train on nothing here
+    elsewhere["train"]["fitted"] = "elsewhere"
+    check_whole(elsewhere)
     for key, value, message in (
         ("report.example_pair", "spring-fall", "train.seasons: fall is the query traverse of spring-fall"),
         ("cae_widths.pairs", ["fall-winter"], "train.seasons: winter is the query traverse of fall-winter"),

@@ -11,6 +11,8 @@ from seasonloop.params.checks import Check, number
 # '@<utm_east>@<utm_north>@...' layout)
 POSITION_SOURCES = ("csv", "image_names")
 POSITION_UNITS = ("metres", "degrees")
+# train.fitted: on this dataset, or elsewhere (learners fitted by another run, in train.models_dir)
+WHERE_FITTED = ("here", "elsewhere")
 
 # SeqSLAM's contrast-enhancement window spans at least 2 database columns
 MIN_SEQUENCE_WINDOW = 2

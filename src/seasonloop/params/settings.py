@@ -33,7 +33,14 @@ from seasonloop.params.checks import (
     test_fraction,
     text,
 )
-from seasonloop.params.choices import MIN_SEQUENCE_WINDOW, POSITION_SOURCES, POSITION_UNITS, RIDE_SCHEMA, WINDOW_RULES
+from seasonloop.params.choices import (
+    MIN_SEQUENCE_WINDOW,
+    POSITION_SOURCES,
+    POSITION_UNITS,
+    RIDE_SCHEMA,
+    WHERE_FITTED,
+    WINDOW_RULES,
+)
 from seasonloop.params.registries import LEARNERS, registered
 from seasonloop.params.seasons import SEASONS
 
@@ -176,6 +183,8 @@ class TrainConfig(Section):
     NAME = "train"
     seasons: tuple[str, ...] = setting(seasons)
     augmented: bool = setting(boolean)
+    fitted: str = setting(one_of(*WHERE_FITTED))
+    models_dir: str = setting(text)
 
 
 @dataclass(frozen=True)

@@ -14,58 +14,43 @@ in one of DOCUMENTS.
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
+import pkgutil
 import re
 import shutil
 import subprocess
 import sys
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT / "src"), str(ROOT)]  # the library, and the benchmarks' and tools' tables
 
-from benchmarks.machines import check_cross_blas, check_cross_isa  # noqa: E402
-from benchmarks.speed import (  # noqa: E402
-    bench_autoencoders,
-    bench_default_run,
-    bench_dvc_yaml,
-    bench_full_run,
-    bench_ica,
-    bench_large_pair,
-    bench_matching,
-    bench_pca,
-    bench_scaling,
-    bench_training_schedule,
-)
-from benchmarks.studies import check_calibration, compare_window_rules  # noqa: E402
 from seasonloop.ablations.cae_widths import width_table  # noqa: E402
 from seasonloop.machine import cpu_model  # noqa: E402
 from seasonloop.reporting.comparisons import claim_cell, claims_markdown, legend  # noqa: E402
 from seasonloop.reporting.readings import READINGS, claims_beside  # noqa: E402
 from seasonloop.reporting.summary import percent_cell  # noqa: E402
-from tools import replicate_routes  # noqa: E402
 
-# the modules whose records have tables (TABLES): the benchmarks and the replicate routes
-MEASURED = (
-    bench_autoencoders,
-    bench_default_run,
-    bench_dvc_yaml,
-    bench_full_run,
-    bench_ica,
-    bench_large_pair,
-    bench_matching,
-    bench_pca,
-    bench_scaling,
-    bench_training_schedule,
-    check_cross_blas,
-    check_cross_isa,
-    check_calibration,
-    compare_window_rules,
-    replicate_routes,
-)
+
+def measured_modules() -> list[Any]:
+    """The modules of benchmarks/ and tools/ whose records have tables: those that declare TABLES
+    (a new benchmark's tables need no line here)."""
+    import benchmarks
+    import tools
+
+    names = [
+        info.name
+        for package in (benchmarks, tools)
+        for info in pkgutil.walk_packages(package.__path__, f"{package.__name__}.")
+    ]
+    return [module for module in map(importlib.import_module, sorted(names)) if hasattr(module, "TABLES")]
+
+
 RESULTS = ROOT / "docs" / "results"
 README = ROOT / "README.md"
 # the documents whose tables this script writes
@@ -322,7 +307,7 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "full_cae_widths": ("metrics/cae_widths.json", "full_cae_widths_sweep.json", _cae_widths),
     "full_ica_basis": ("metrics/fit/ica.json", "full_ica_fit.json", _ica_fit),
     "full_claims": ("metrics/comparisons.json", "full_comparisons.json", _claims_of("full")),
-    **{name: table for module in MEASURED for name, table in module.TABLES.items()},
+    **{name: table for module in measured_modules() for name, table in module.TABLES.items()},
 }
 
 

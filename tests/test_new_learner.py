@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from tools.repository import git, tool_env
+from tools.repository import dvc, git, tool_env
 from tools.small_runs import SMALL
 from workspaces import make_workspace
 
@@ -66,17 +66,6 @@ def add_learner(root: Path) -> None:
     (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
 
 
-def repro(root: Path) -> subprocess.CompletedProcess:
-    """`dvc repro` with the copy's own library (the installed one is this checkout's)."""
-    return subprocess.run(
-        [str(Path(sys.executable).parent / "dvc"), "repro"],
-        cwd=root,
-        env=tool_env(PYTHONPATH=str(root / "src")),
-        capture_output=True,
-        text=True,
-    )
-
-
 @pytest.mark.e2e
 def test_a_learner_added_in_three_places_runs_through_dvc_repro(tmp_path, small_seed_cache):
     root = make_workspace(tmp_path / "workspace", SMALL, small_seed_cache)
@@ -88,7 +77,8 @@ def test_a_learner_added_in_three_places_runs_through_dvc_repro(tmp_path, small_
         "src/seasonloop/models/registry.py",
     ]
 
-    result = repro(root)
+    # the copy's own library (the installed one is this checkout's)
+    result = dvc(root, "repro", env=tool_env(PYTHONPATH=str(root / "src")))
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     fitted = yaml.safe_load((root / "models/random_projection/learner.json").read_text())
     assert fitted["params"] == {"n_dims": 24}

@@ -73,8 +73,12 @@ def tool_env(**extra: str) -> dict[str, str]:
     return dict(env, **extra, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
 
 
-def dvc(root: Path, *args: str) -> subprocess.CompletedProcess:
-    env = tool_env()
+def dvc(root: Path, *args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess:
+    """A dvc command in root, with tool_env() (or `env`, e.g. tool_env(PYTHONPATH=...))."""
     return subprocess.run(
-        [str(Path(sys.executable).parent / "dvc"), *args], cwd=root, env=env, capture_output=True, text=True
+        [str(Path(sys.executable).parent / "dvc"), *args],
+        cwd=root,
+        env=env or tool_env(),
+        capture_output=True,
+        text=True,
     )

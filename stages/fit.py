@@ -115,7 +115,7 @@ def main() -> None:
                 "python": platform.python_version(),
                 **{
                     package: version(package)
-                    for package in ("numpy", "scikit-learn", "torch", "opencv-python-headless")
+                    for package in ("numpy", "scikit-learn", "torch", "opencv-contrib-python-headless")
                 },
             },
         },

@@ -83,10 +83,15 @@ def test_a_bad_section_is_checked_by_the_schema_naming_the_key(change, message):
 
 
 def test_the_matcher_registry():
-    assert list(MATCHERS) == list(MATCHER_REGISTRY) and MATCHERS == {"single": "", "sequence": "+seq"}
+    assert list(MATCHERS) == list(MATCHER_REGISTRY) and MATCHERS == {
+        "single": "",
+        "sequence": "+seq",
+        "delta": "+delta",
+        "smoothed": "+smoothed",
+    }
     with pytest.raises(ValueError) as error:
         get_matcher("seq")
-    assert str(error.value) == "evaluate.matchers: unknown matcher 'seq' (known: single, sequence)"
+    assert str(error.value) == "evaluate.matchers: unknown matcher 'seq' (known: single, sequence, delta, smoothed)"
     with pytest.raises(ValueError, match="evaluate.matchers: unknown matcher 'seq'"):
         match_distances(np.ones((3, 3)), aligned_truth(np.arange(3), np.arange(3), 0), "seq", EVALUATE, SEQUENCE)
 

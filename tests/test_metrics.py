@@ -8,6 +8,7 @@ from seasonloop.evaluation.metrics import (
     auc_pr_vpr_tutorial,
     correct_matches,
     evaluate_pair,
+    extended_precision,
     pr_curve,
     recall_at_n,
 )
@@ -114,6 +115,8 @@ def test_evaluate_pair_hand_example():
     assert metrics["recall_at_100_precision"] == pytest.approx(0.4)
     assert metrics["auc_pr"] == pytest.approx(EXPECTED_AUC)
     assert metrics["auc_pr_vpr_tutorial"] == pytest.approx(0.4 + 0.1 * (2 / 3 + 0.75))
+    # T T F T F: precision 1 at the top, 2 of the 3 correct matches before the first wrong one
+    assert metrics["extended_precision"] == pytest.approx((1 + 2 / 3) / 2)
     # @1: q1 q3 q4; @5: + q0 (rank 2); @10: + q2 (rank 8)
     assert metrics["recall_at_1"] == pytest.approx(0.6)
     assert metrics["recall_at_5"] == pytest.approx(0.8)
@@ -190,3 +193,47 @@ def test_auc_pr_is_scikit_learns_area_bit_for_bit():
         assert np.all(np.diff(recall) >= 0)
         expected = float(auc(np.concatenate(([0.0], recall)), np.concatenate(([precision[0]], precision))))
         assert metrics["auc_pr"] == expected
+
+
+def vpr_bench_extended_precision(correct: np.ndarray, confidence: np.ndarray) -> float:
+    """VPR-Bench's performance_comparison.py: compute_precision_recall then compute_extendedprecision."""
+    from sklearn.metrics import precision_recall_curve
+
+    precision, recall, _ = precision_recall_curve(correct.astype(int), confidence)
+    precision_at_recall_zero = precision[-2]
+    if precision_at_recall_zero < 1:
+        recall_at_precision_one = 0
+    else:
+        recall_at_precision_one = recall[min(np.argwhere(precision == 1))]
+    return float(np.squeeze((precision_at_recall_zero + recall_at_precision_one) / 2))
+
+
+def test_extended_precision_is_vpr_benchs_on_random_cases_with_ties():
+    rng = np.random.default_rng(5)
+    checked = 0
+    for case in range(300):
+        n = int(rng.integers(2, 40))
+        # few distinct confidences in some cases: ties, which VPR-Bench accepts together
+        confidence = rng.integers(0, 4 if case % 3 == 0 else 1000, n).astype(float)
+        correct = rng.random(n) < rng.uniform(0.05, 0.95)
+        if case % 5 == 0:  # the most confident matches right: R_P100 > 0
+            correct[np.argsort(-confidence, kind="stable")[: n // 3]] = True
+        if not correct.any() or len(np.unique(confidence)) < 2:
+            continue  # sklearn's recall is 0/0 there; VPR-Bench has no value to compare
+        assert extended_precision(confidence, correct) == pytest.approx(
+            vpr_bench_extended_precision(correct, confidence), abs=1e-12
+        ), (confidence, correct)
+        checked += 1
+    assert checked > 200
+
+
+def test_extended_precision_hand_cases():
+    # most confident first: T T F T -> P_R0 = 1, precision 1 up to 2 of the 3 correct matches
+    assert extended_precision(np.array([4.0, 3.0, 2.0, 1.0]), np.array([True, True, False, True])) == pytest.approx(
+        (1 + 2 / 3) / 2
+    )
+    # the most confident match wrong: R_P100 = 0, EP = P_R0 / 2
+    assert extended_precision(np.array([4.0, 3.0]), np.array([False, True])) == 0.0
+    # a tie at the top: both accepted together, precision 1/2
+    assert extended_precision(np.array([4.0, 4.0, 1.0]), np.array([True, False, True])) == pytest.approx(0.25)
+    assert extended_precision(np.array([2.0, 1.0]), np.array([False, False])) == 0.0

@@ -81,7 +81,17 @@ def nearest_neighbour_same_family(descriptors: np.ndarray, labels: np.ndarray) -
 
 
 def test_registry_lists_every_learner():
-    assert list(LEARNERS) == ["raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw", "fae", "cae", "precomputed"]
+    assert list(LEARNERS) == [
+        "raw_patchnorm",
+        "hog",
+        "pca",
+        "pca_whiten",
+        "ica",
+        "ica_bovw",
+        "fae",
+        "cae",
+        "precomputed",
+    ]
     for name, class_name in LEARNERS.items():
         learner_class = get_learner(name)
         assert learner_class.name == name and learner_class.__name__ == class_name

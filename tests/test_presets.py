@@ -26,25 +26,39 @@ def apply_in_a_process(name: str, params: Path, presets: Path) -> subprocess.Com
     return subprocess.run(command, capture_output=True, text=True)
 
 
-def full_copy(name: str) -> dict | None:
-    """presets/<name>.yaml as it was when presets were full copies, or None without that history."""
-    shown = subprocess.run(
-        ["git", "-C", str(REPO), "show", f"{FULL_COPIES}:presets/{name}.yaml"], capture_output=True, text=True
-    )
+def at_full_copies(path: str) -> dict | None:
+    """A YAML file as it was when presets were full copies, or None without that history."""
+    shown = subprocess.run(["git", "-C", str(REPO), "show", f"{FULL_COPIES}:{path}"], capture_output=True, text=True)
     return yaml.safe_load(shown.stdout) if shown.returncode == 0 else None
 
 
 @pytest.mark.parametrize("name", REPLACED)
 def test_each_preset_composes_to_the_full_copy_it_replaced(name):
-    before = full_copy(name)
-    if before is None:
+    before, defaults_before = at_full_copies(f"presets/{name}.yaml"), at_full_copies("params.yaml")
+    if before is None or defaults_before is None:
         pytest.skip(f"no git history of {FULL_COPIES} in this clone")
+    defaults = yaml.safe_load((REPO / "params.yaml").read_text())
     composed = composed_params(name, REPO / "params.yaml", REPO / "presets")
     for section, values in before.items():
-        # a key added since takes params.yaml's value; every key the full copy had is the same
+        # a key added since takes params.yaml's value; every key the full copy had is the same, but
+        # for a default changed since that the preset did not set (it follows params.yaml)
         now = {key: composed[section][key] for key in values} if isinstance(values, dict) else composed[section]
-        assert now == values, section
-    assert composed.keys() == before.keys()
+        expected = (
+            {
+                key: defaults[section][key]
+                if value == defaults_before[section].get(key) != defaults[section].get(key)
+                else value
+                for key, value in values.items()
+            }
+            if isinstance(values, dict)
+            else defaults[section]
+            if values == defaults_before[section] != defaults[section]
+            else values
+        )
+        assert now == expected, section
+    # sections added to params.yaml since (a new learner's) are in every preset
+    assert composed.keys() - before.keys() == defaults.keys() - defaults_before.keys()
+    assert before.keys() <= composed.keys()
 
 
 @pytest.mark.parametrize("name", PRESETS)

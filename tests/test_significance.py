@@ -236,6 +236,23 @@ def test_comparison_tables_of_a_run():
     ]
     assert tables["matchers@cityblock+seq"][1] == ("ica@cityblock+seq", "ica@cityblock")
     assert tables["distances@cityblock+seq"][2] == ("cae@cityblock+seq", "cae+seq")
+    # every matcher against each one before it, under its metric
+    more = comparison_tables(
+        ["pca"],
+        [
+            ("cosine", "single", ""),
+            ("cosine", "sequence", "+seq"),
+            ("cosine", "delta", "+delta"),
+            ("cityblock", "sequence", "@cityblock+seq"),
+            ("cityblock", "delta", "@cityblock+delta"),
+        ],
+    )
+    assert {name: rows for name, rows in more.items() if name.startswith("matchers")} == {
+        "matchers+seq": [("pca+seq", "pca")],
+        "matchers+delta": [("pca+delta", "pca")],
+        "matchers+delta vs +seq": [("pca+delta", "pca+seq")],
+        "matchers@cityblock+delta vs +seq": [("pca@cityblock+delta", "pca@cityblock+seq")],
+    }
     # a run without sequences or extra distances has only its learners' table
     assert list(comparison_tables(["pca", "ica"], variants[:1])) == ["learners"]
 

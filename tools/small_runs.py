@@ -29,12 +29,15 @@ TINY = {
     "ablation": {"training_seasons": [["summer"], ["summer", "winter"]], "pair": "summer-fall"},
 }
 
-# the smallest run that still has every stage: two learners, one ablation learner, and the CAE
-# width sweep skipped (its stage writes that it was; TINY's run trains it, test_pipeline checks it):
+# the smallest run that still has every stage: two learners, two matchers, one distance, one
+# ablation learner, and the CAE width sweep skipped (its stage writes that it was; TINY's run
+# trains it, test_pipeline checks it):
 # a sweep's torch import and fit are ~4 s of a ~20 s tiny run, in every workspace
 SMALL = {
     **{key: value for key, value in TINY.items() if key != "ablation"},
     "learners": ["raw_patchnorm", "pca"],
+    # single images and SeqSLAM under one distance: TINY's run evaluates every matcher and distance
+    "evaluate": {"matchers": ["single", "sequence"], "extra_metrics": []},
     "ablation": {"methods": ["pca"], "pair": "summer-fall", "training_seasons": [["summer"]]},
     "cae_widths": {"widths": []},
 }

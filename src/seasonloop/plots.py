@@ -25,15 +25,32 @@ def save_figure(figure: Figure, path) -> None:
     figure.savefig(path, format="png", dpi=120, bbox_inches="tight")
 
 
+# how the variants of a learner ("pca+seq", "pca+delta", ...) are told apart, in the order they first
+# appear among the labels (single images: solid lines, plain bars)
+VARIANT_LINESTYLES = ("--", ":", "-.")
+VARIANT_HATCHES = ("//", "..", "xx")
+
+
 def series_styles(labels: Sequence[str]) -> dict[str, dict]:
-    """One colour per learner, shared by its variants ("pca" and "pca+seq"); variants are dashed
-    lines / hatched bars, so a dozen series stay tellable apart."""
+    """One colour per learner, shared by its variants ("pca" and "pca+seq"); each variant its own
+    line style and bar hatch (VARIANT_LINESTYLES, VARIANT_HATCHES), so a dozen series stay tellable
+    apart."""
     bases = list(dict.fromkeys(str(label).split("+")[0] for label in labels))
+    variants = [
+        suffix for suffix in dict.fromkeys(str(label)[len(str(label).split("+")[0]) :] for label in labels) if suffix
+    ]
     palette = matplotlib.colormaps["tab10" if len(bases) <= 10 else "tab20"]
-    return {
-        label: {"color": palette(bases.index(str(label).split("+")[0])), "variant": "+" in str(label)}
-        for label in labels
-    }
+    styles = {}
+    for label in labels:
+        base = str(label).split("+")[0]
+        suffix = str(label)[len(base) :]
+        index = variants.index(suffix) if suffix else None
+        styles[label] = {
+            "color": palette(bases.index(base)),
+            "linestyle": "-" if index is None else VARIANT_LINESTYLES[index % len(VARIANT_LINESTYLES)],
+            "hatch": None if index is None else VARIANT_HATCHES[index % len(VARIANT_HATCHES)],
+        }
+    return styles
 
 
 def plot_pr_curves(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], title: str, path) -> None:
@@ -56,7 +73,7 @@ def plot_pr_curves(curves: Mapping[str, tuple[np.ndarray, np.ndarray]], title: s
             label=label,
             linewidth=1.5,
             color=styles[label]["color"],
-            linestyle="--" if styles[label]["variant"] else "-",
+            linestyle=styles[label]["linestyle"],
         )
     axes.set_xlim(0.0, 1.0)
     axes.set_ylim(0.0, 1.02)

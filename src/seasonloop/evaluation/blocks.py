@@ -118,8 +118,23 @@ def evaluate_descriptors(
     metric: str | None = None,
 ) -> PairEvaluation:
     """One pair's descriptors evaluated under `metric` (default evaluate.metric) with one matcher, in blocks of query rows (evaluate_in_blocks)."""
-    distance_rows = pair_distances(database, queries, evaluate.metric if metric is None else metric)
+    distance_rows = matched_distances(
+        database, queries, truth, matcher, evaluate.metric if metric is None else metric, sequence
+    )
     return evaluate_in_blocks(distance_rows, len(database), truth, matcher, evaluate, sequence)
+
+
+def matched_distances(
+    database: np.ndarray, queries: np.ndarray, truth: PairTruth, matcher: str, metric: str, sequence: SequenceConfig
+) -> Callable[[slice], np.ndarray]:
+    """pair_distances between the descriptors `matcher` takes (Matcher.described: each traverse's
+    own, or its sequence descriptors over the truth's place ids)."""
+    taken = get_matcher(matcher)
+    return pair_distances(
+        taken.described(database, truth.database_places, sequence),
+        taken.described(queries, truth.query_places, sequence),
+        metric,
+    )
 
 
 def pair_distances(

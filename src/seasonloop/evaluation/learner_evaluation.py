@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth, truth_file
-from seasonloop.evaluation.blocks import evaluate_in_blocks, pair_distances
-from seasonloop.evaluation.matchers import evaluations
+from seasonloop.evaluation.blocks import evaluate_in_blocks, matched_distances
+from seasonloop.evaluation.matchers import evaluations, get_matcher
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.io import load_array, save_array, write_json
 from seasonloop.params.seasons import pair_name
@@ -47,9 +47,9 @@ def evaluate_learner(
         descriptors = [load_array(features / f"{season}.npy") for season in (database, query)]
         truth = PairTruth.load(truth_file(truths, database, query))
         check_rows(descriptors, truth, features, (database, query))
-        for metric in dict.fromkeys(metric for metric, _, _ in variants):
-            distance_rows = pair_distances(descriptors[0], descriptors[1], metric)
-            for _, matcher, suffix in (variant for variant in variants if variant[0] == metric):
+        for metric, matchers in distance_groups(variants):
+            distance_rows = matched_distances(descriptors[0], descriptors[1], truth, matchers[0][0], metric, sequence)
+            for matcher, suffix in matchers:
                 name = pair_name(database, query) + suffix
                 evaluation = evaluate_in_blocks(distance_rows, len(descriptors[0]), truth, matcher, evaluate, sequence)
                 intervals = metric_intervals(evaluation.outcomes, statistics)
@@ -57,6 +57,17 @@ def evaluate_learner(
                 evaluation.pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
                 save_array(similarity_dir / f"{name}.npy", evaluation.thumbnail)
                 evaluation.outcomes.to_csv(outcomes_dir / f"{name}.csv")
+
+
+def distance_groups(variants: Sequence[tuple[str, str, str]]) -> list[tuple[str, list[tuple[str, str]]]]:
+    """The evaluations (metric, matcher, suffix) grouped by the distances they share, one metric
+    between the same descriptors (the traverses' own, or one kind of sequence descriptors): each
+    group's metric and its (matcher, suffix) in table order. Only one group's distances are held
+    at a time."""
+    groups: dict[tuple[str, object], list[tuple[str, str]]] = {}
+    for metric, matcher, suffix in variants:
+        groups.setdefault((metric, get_matcher(matcher).describe), []).append((matcher, suffix))
+    return [(metric, matchers) for (metric, _), matchers in groups.items()]
 
 
 def check_rows(descriptors: Sequence[np.ndarray], truth: PairTruth, features: Path, seasons: Sequence[str]) -> None:

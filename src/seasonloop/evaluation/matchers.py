@@ -5,10 +5,13 @@ of `evaluate.extra_metrics`, each with every matcher of `evaluate.matchers`. Res
 suffix in file names and table labels: "@<metric>" for an extra metric (none for the main one),
 then the matcher's ("+seq" for sequence matching), e.g. "pca", "pca+seq", "pca@cityblock+seq".
 
-MATCHER_REGISTRY holds the matchers (name -> suffix and the function that turns descriptor
-distances into the distances matched on, a block of query rows at a time); MATCHERS is its name -> suffix view. The params are
-checked once, by the sections' checks (seasonloop.params.settings) when EvaluateConfig / SequenceConfig are built: this
-module only computes.
+MATCHER_REGISTRY holds the matchers: name -> the suffix its results carry, what it makes of each
+traverse's descriptors before distances are taken (sequence descriptors: delta, smoothed; nothing
+for single and sequence), and the function that turns those distances into the distances matched
+on, a block of query rows at a time (SeqSLAM's sequence scores; the distances themselves
+otherwise). MATCHERS is its name -> suffix view. The params are checked once, by the sections'
+checks (seasonloop.params.settings) when EvaluateConfig / SequenceConfig are built: this module
+only computes.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth
+from seasonloop.evaluation.descriptor_sequences import delta_descriptors, smoothed_descriptors
 from seasonloop.evaluation.metrics import evaluate_truth
 from seasonloop.evaluation.sequence import sequence_distance_blocks
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
@@ -36,12 +40,25 @@ MatchBlocks = Callable[
 ]
 
 
+# What a matcher makes of one traverse's descriptors before distances are taken: (descriptors (n, d),
+# their place ids (n,), sequence) -> descriptors (n, d')
+Describe = Callable[[np.ndarray, np.ndarray, SequenceConfig], np.ndarray]
+
+
 @dataclass(frozen=True)
 class Matcher:
-    """One value of evaluate.matchers: the suffix its results carry, and what it matches on."""
+    """One value of evaluate.matchers: the suffix its results carry, what tables and figures call
+    it, what it matches on, and what it makes of the descriptors first (None: they are matched as
+    they are)."""
 
     suffix: str
+    title: str
     blocks: MatchBlocks
+    describe: Describe | None = None
+
+    def described(self, descriptors: np.ndarray, places: np.ndarray, sequence: SequenceConfig) -> np.ndarray:
+        """The descriptors this matcher takes distances between."""
+        return descriptors if self.describe is None else self.describe(descriptors, places, sequence)
 
 
 def row_blocks(n_rows: int, rows_per_block: int) -> list[slice]:
@@ -77,10 +94,26 @@ def _sequence(
     )
 
 
-# A new matcher is one function plus one line here (evaluate.matchers is checked against it).
-MATCHER_REGISTRY: dict[str, Matcher] = {"single": Matcher("", _single_image), "sequence": Matcher("+seq", _sequence)}
+def _delta(descriptors: np.ndarray, places: np.ndarray, sequence: SequenceConfig) -> np.ndarray:
+    return delta_descriptors(descriptors, places, int(sequence.length))
+
+
+def _smoothed(descriptors: np.ndarray, places: np.ndarray, sequence: SequenceConfig) -> np.ndarray:
+    return smoothed_descriptors(descriptors, places, int(sequence.length))
+
+
+# A new matcher is one function plus one line here (evaluate.matchers is checked against it). The
+# sequence descriptors take SeqSLAM's sequence.length frames: every sequence matcher sees as many.
+MATCHER_REGISTRY: dict[str, Matcher] = {
+    "single": Matcher("", "single-image matching", _single_image),
+    "sequence": Matcher("+seq", "sequence matching (SeqSLAM)", _sequence),
+    "delta": Matcher("+delta", "Delta descriptors (Garg et al. 2020)", _single_image, _delta),
+    "smoothed": Matcher("+smoothed", "smoothed descriptors (the window's mean)", _single_image, _smoothed),
+}
 # matcher -> the suffix its results carry in file names and tables ("pca" vs "pca+seq")
 MATCHERS: dict[str, str] = {name: matcher.suffix for name, matcher in MATCHER_REGISTRY.items()}
+# a result suffix -> what its matcher is called ("+seq": "sequence matching (SeqSLAM)")
+MATCHER_TITLES: dict[str, str] = {matcher.suffix: matcher.title for matcher in MATCHER_REGISTRY.values()}
 
 
 def get_matcher(name: str) -> Matcher:
@@ -109,7 +142,7 @@ def match_distances(
     distances: np.ndarray, truth: PairTruth, matcher: str, evaluate: EvaluateConfig, sequence: SequenceConfig
 ) -> tuple[dict[str, Any], pd.DataFrame, np.ndarray]:
     """(metrics, PR curve, distance matrix used for matching) from one pair's descriptor distances
-    and its ground truth (whose place ids tell the sequence matcher where the route breaks), the
+    (between the descriptors the matcher takes: Matcher.described) and its ground truth (whose place ids tell the sequence matcher where the route breaks), the
     whole matrix as one block (blocks.evaluate_in_blocks: a large pair in blocks).
 
     evaluate gives the confidence and ratio exclusion; sequence the sequence matcher's settings.

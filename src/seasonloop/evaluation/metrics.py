@@ -25,6 +25,7 @@ METRIC_KEYS = (
     "recall_at_100_precision",
     "auc_pr",
     "auc_pr_vpr_tutorial",
+    "extended_precision",
     "recall_at_1",
     "recall_at_5",
     "recall_at_10",
@@ -138,6 +139,30 @@ def auc_pr_vpr_tutorial(
     return float(np.trapezoid(precision, recall))
 
 
+def extended_precision(confidence: np.ndarray, correct: np.ndarray) -> float:
+    """Extended Precision (Ferrarini et al., RA-L 2020) as VPR-Bench computes it
+    (performance_comparison.py compute_extendedprecision over sklearn's precision_recall_curve of
+    each query's best match, labelled correct or not, scored by its confidence):
+    (P_R0 + R_P100) / 2, where P_R0 is the precision at the highest confidence (the queries tied
+    at it accepted together: sklearn's thresholds are the distinct scores) and R_P100 the largest
+    recall at which precision is still 1, 0 when P_R0 < 1. Recall here is VPR-Bench's: correct
+    matches accepted / correct matches in all (not / queries, as pr_curve's), so R_P100 is 1
+    when every correct match is more confident than every wrong one. 0 when no match is correct.
+    """
+    confidence = np.asarray(confidence, dtype=np.float64)
+    correct = np.asarray(correct, dtype=bool)
+    order = np.argsort(-confidence, kind="stable")
+    sorted_confidence = confidence[order]
+    threshold_ends = np.flatnonzero(np.append(sorted_confidence[1:] != sorted_confidence[:-1], True))
+    true_positives = np.cumsum(correct[order], dtype=np.int64)[threshold_ends]
+    precision = true_positives / (threshold_ends + 1)
+    n_correct = int(correct.sum())
+    if n_correct == 0 or precision[0] < 1.0:
+        return float(precision[0]) / 2
+    perfect = precision == 1.0  # a prefix: once a wrong match is accepted precision stays < 1
+    return float(precision[0] + true_positives[perfect][-1] / n_correct) / 2
+
+
 def recall_at_n(
     distances: np.ndarray, database_places, query_places, tolerance: int, ns: Sequence[int] = (1, 5, 10)
 ) -> dict[int, float]:
@@ -222,7 +247,7 @@ def summarise_records(
     recall reaches 1) with a leading point at recall 0 that carries the precision of the first
     threshold; auc_pr_vpr_tutorial, the same area in VPR_Tutorial's convention (recall = TP / N,
     ending at the fraction of matchable queries matched correctly; see auc_pr_vpr_tutorial), so at
-    most recall_at_1; recall_at_1/5/10 over the queries that have a correct place (as VPR_Tutorial;
+    most recall_at_1; extended_precision, VPR-Bench's headline metric (extended_precision); recall_at_1/5/10 over the queries that have a correct place (as VPR_Tutorial;
     fraction_correct counts every query, so the two differ when some have none; an all-soft query
     has none); n_queries; n_database. The PR DataFrame has columns recall, precision (one row per
     distinct confidence).
@@ -246,6 +271,7 @@ def summarise_records(
         "recall_at_100_precision": recall_at_100_precision,
         "auc_pr": auc_pr,
         "auc_pr_vpr_tutorial": auc_pr_vpr_tutorial(match_confidence, correct, n_positives=int(has_match.sum())),
+        "extended_precision": extended_precision(match_confidence, correct),
         "recall_at_1": recalls[1],
         "recall_at_5": recalls[5],
         "recall_at_10": recalls[10],

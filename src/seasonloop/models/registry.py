@@ -18,6 +18,7 @@ from seasonloop.models.core.learner import FeatureLearner, read_learner_record
 # learner name (= its params section and its module under seasonloop.models) -> its class name
 LEARNERS: dict[str, str] = {
     "raw_patchnorm": "RawPatchNorm",
+    "hog": "HOG",
     "pca": "PCALearner",
     "pca_whiten": "WhitenedPCALearner",
     "ica": "ICALearner",

@@ -11,6 +11,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
+from seasonloop.evaluation.matchers import MATCHER_TITLES
 from seasonloop.plots import save_figure, series_styles
 
 
@@ -65,20 +66,35 @@ def plot_fraction_correct(
     grid[0, 0].invert_yaxis()
     for axes in grid[-1]:
         axes.set_xlabel("Correct matches (%)")
-    names = {"": "single image", "+seq": "+seq (SeqSLAM sequences)"}
-    handles: list[Artist] = [
-        Patch(facecolor="grey", hatch="//" if v else None, edgecolor="white" if v else None, label=names.get(v, v))
-        for v in variants
-    ]
-    if intervals is not None:
-        handles.append(Line2D([], [], marker="|", color="black", label="95% interval (along the route)"))
-    if reference is not None:
-        handles.append(Line2D([], [], marker="D", linestyle="", markerfacecolor="none", color="black", label="study"))
+    handles = _legend_handles(bases, variants, intervals is not None, reference is not None)
     figure.suptitle(title)
     # below the panels, so it covers no bar
     figure.legend(handles=handles, loc="lower center", ncol=len(handles), frameon=False, bbox_to_anchor=(0.5, 0.0))
     figure.tight_layout(rect=(0.0, 0.4 / height, 1.0, 1.0))
     save_figure(figure, path)
+
+
+def _legend_handles(bases: list[str], variants: list[str], intervals: bool, reference: bool) -> list[Artist]:
+    """A patch per variant (its matcher's title and hatch), then the interval and study markers drawn."""
+    names = {
+        "": "single image",
+        **{suffix: f"{suffix} ({title})" for suffix, title in MATCHER_TITLES.items() if suffix},
+    }
+    hatches = series_styles([bases[0] + variant for variant in variants])
+    handles: list[Artist] = [
+        Patch(
+            facecolor="grey",
+            hatch=hatches[bases[0] + v]["hatch"],
+            edgecolor="white" if v else None,
+            label=names.get(v, v),
+        )
+        for v in variants
+    ]
+    if intervals:
+        handles.append(Line2D([], [], marker="|", color="black", label="95% interval (along the route)"))
+    if reference:
+        handles.append(Line2D([], [], marker="D", linestyle="", markerfacecolor="none", color="black", label="study"))
+    return handles
 
 
 def _fraction_panel(
@@ -99,8 +115,8 @@ def _fraction_panel(
             method = base + variant
             if method not in percent.index:
                 continue
-            color, hatched = styles[method]["color"], styles[method]["variant"]
-            kind = {"hatch": "//", "edgecolor": "white"} if hatched else {}
+            color, hatch = styles[method]["color"], styles[method]["hatch"]
+            kind = {"hatch": hatch, "edgecolor": "white"} if hatch else {}
             axes.barh(row + offset, float(percent[method]), bar_height, color=color, **kind)
             if bounds is not None and np.isfinite(bounds[0][method]):
                 value = float(percent[method])

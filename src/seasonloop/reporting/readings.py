@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from seasonloop.reporting.comparisons import FLIPPED
-from seasonloop.reporting.replicates import claim_value_in
+from seasonloop.reporting.replicates import claim_value_in, record_holds
 
 
 def claim_direction(value: Mapping[str, Any]) -> str:
@@ -67,3 +67,12 @@ def claims_beside(
             )
             beside[name][pair] = {"values": values, "reading": reading}
     return beside
+
+
+def claims_every_record_holds(
+    records: Sequence[Mapping[str, Any]], claims: Mapping[str, Mapping[str, str]]
+) -> tuple[dict[str, Mapping[str, str]], list[str]]:
+    """(the claims every record has numbers for, the names of the others): a run made before a
+    claim's learner or matcher existed cannot be read beside the others on it."""
+    held = {name: claim for name, claim in claims.items() if all(record_holds(r, name, claim) for r in records)}
+    return held, [name for name in claims if name not in held]

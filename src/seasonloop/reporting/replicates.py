@@ -155,6 +155,18 @@ def claims_across_routes(
     return across
 
 
+def record_holds(record: Mapping[str, Any], name: str, claim: Mapping[str, str]) -> bool:
+    """Whether a record (claim_value_in's) has the claim's numbers: a run made before the claim's
+    learner or matcher existed has not."""
+    if "routes" in record:
+        return name in record["claims"]
+    try:
+        claim_values(record, claim)
+    except ValueError:
+        return False
+    return True
+
+
 def claim_value_in(record: Mapping[str, Any], name: str, claim: Mapping[str, str], pair: str) -> dict[str, Any]:
     """A claim's numbers on one pair as claim_values gives them ({difference, verdict} or {better,
     worse, of}): of one run's comparisons record, or pooled, of a replicate routes' record."""

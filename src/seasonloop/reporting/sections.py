@@ -13,11 +13,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from seasonloop.evaluation.matchers import MATCHERS
+from seasonloop.evaluation.matchers import MATCHER_TITLES, MATCHERS
 from seasonloop.reporting.html import Block, Image, Png, Section, Table, Text
 from seasonloop.reporting.summary import fraction_correct_table, interval_tables, study_table, with_interval
 
-MATCHER_NAMES = {"single": "single-image matching", "sequence": "sequence matching (SeqSLAM)"}
 RECALL_COLUMNS = {
     "recall_at_1": "recall@1",
     "recall_at_5": "recall@5",
@@ -25,6 +24,7 @@ RECALL_COLUMNS = {
     "recall_at_100_precision": "recall at 100% precision",
     "auc_pr": "AUC-PR",
     "auc_pr_vpr_tutorial": "AUC-PR (VPR_Tutorial)",
+    "extended_precision": "Extended Precision (VPR-Bench)",
 }
 DATASET_COLUMNS = {"frames": "places (frames)", "train": "train", "train_augmented": "train, augmented", "test": "test"}
 RUNTIME_COLUMNS = {
@@ -159,7 +159,7 @@ def fraction_correct_section(
             distance = f", {metric} distance" if metric else ""
             blocks.append(
                 Table(
-                    f"Fraction correct (%), {MATCHER_NAMES[matcher]}{distance}",
+                    f"Fraction correct (%), {MATCHER_TITLES[MATCHERS[matcher]]}{distance}",
                     _beside_study(
                         fraction_correct_table(subset, pairs),
                         study_table(labels, pairs),

@@ -5,8 +5,10 @@ A table is a family of comparisons whose p-values are Holm-corrected together
 (seasonloop.significance.paired.with_verdicts), on one season pair:
 - "learners<suffix>": every two learners under one evaluation (suffix "" = evaluate.metric, single
   images; "+seq"; "@cityblock"; ...), the first in `learners` order first;
-- "matchers<suffix>": each learner's sequence matching against its single-image matching under
-  one metric ("matchers+seq", "matchers@cityblock+seq");
+- "matchers<suffix>": each learner's matcher against its single-image matching under one metric
+  ("matchers+seq", "matchers@cityblock+seq"), and "matchers<suffix> vs <other>" against each
+  matcher before it in evaluate.matchers ("matchers+delta vs +seq": Delta descriptors against
+  SeqSLAM);
 - "distances<suffix>": each learner under an extra metric against evaluate.metric, one matcher
   ("distances@cityblock", "distances@cityblock+seq").
 Labels are <learner><suffix>, as everywhere (seasonloop.evaluation.matchers.result_suffix).
@@ -30,16 +32,23 @@ def comparison_tables(methods: Sequence[str], variants: Sequence[Variant]) -> di
     """table name -> the (first, second) labels it compares; variants in evaluations' order (the
     main metric's first, single images before sequences). A variant is compared with its reference
     (the same metric's first matcher; the same matcher under the main metric) in table
-    "matchers<its suffix>" ("matchers+seq", "matchers@cityblock+seq") or "distances<its suffix>"."""
+    "matchers<its suffix>" ("matchers+seq", "matchers@cityblock+seq") or "distances<its suffix>",
+    and with every matcher before it under its metric in "matchers<its suffix> vs <that matcher's
+    suffix>" ("matchers+delta vs +seq")."""
     suffix = {(metric, matcher): suffix for metric, matcher, suffix in variants}
     main_metric, first_matcher = variants[0][0], variants[0][1]
     tables: dict[str, list[tuple[str, str]]] = {}
     for _, _, variant_suffix in variants:
         tables[f"learners{variant_suffix}"] = list(combinations([method + variant_suffix for method in methods], 2))
     for (metric, matcher), variant_suffix in suffix.items():
-        if matcher != first_matcher and (metric, first_matcher) in suffix:
-            reference = suffix[(metric, first_matcher)]
-            tables[f"matchers{variant_suffix}"] = [(method + variant_suffix, method + reference) for method in methods]
+        metric_part = "" if metric == main_metric else f"@{metric}"
+        earlier = [other for (other_metric, other), _ in suffix.items() if other_metric == metric]
+        for other in earlier[: earlier.index(matcher)]:
+            reference = suffix[(metric, other)]
+            name = f"matchers{variant_suffix}" + (
+                "" if other == first_matcher else f" vs {reference[len(metric_part) :]}"
+            )
+            tables[name] = [(method + variant_suffix, method + reference) for method in methods]
     for (metric, matcher), variant_suffix in suffix.items():
         if metric != main_metric and (main_metric, matcher) in suffix:
             reference = suffix[(main_metric, matcher)]

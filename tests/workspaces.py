@@ -94,20 +94,26 @@ PHASES = {"small": SMALL, "tiny": TINY}
 
 def _build_phases(folder: Path, upto: str) -> None:
     """Run the phases not done yet, in order, up to and including `upto`; after each, a frozen
-    hard-linked copy of the cache (folder/cache-<phase>) and the file folder/done-<phase>."""
-    repo = folder / "repo"
+    hard-linked copy of the cache (folder/cache-<phase>) and the file folder/done-<phase>.
+
+    Each phase runs in a fresh workspace of its own, starting from the cache of the phase before
+    (whose stages its run cache restores), as a test's workspace does: run on top of the phase
+    before, the .gitignore files DVC keeps beside its outputs (data/outcomes/.gitignore, ...) would
+    list the learners in the order the phases ran them, not in `learners` order, and a folder
+    dep's hash reads them (the stages after evaluate would then not be restored in a workspace)."""
+    previous = None
     for phase, overrides in PHASES.items():
+        repo = folder / f"repo-{phase}"
         if not (folder / f"done-{phase}").exists():
-            if not (repo / ".git").exists():
-                shutil.rmtree(repo, ignore_errors=True)
-                make_workspace(repo, overrides)
-            write_params(repo, overrides)
+            shutil.rmtree(repo, ignore_errors=True)
+            make_workspace(repo, overrides, cache=previous)
             result = dvc(repo, "repro")
             assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
             # a copy that no later phase writes into: workspaces copy it while the next phase runs
             shutil.rmtree(folder / f"cache-{phase}", ignore_errors=True)
             shutil.copytree(repo / ".dvc" / "cache", folder / f"cache-{phase}", copy_function=os.link)
             (folder / f"done-{phase}").write_text("")
+        previous = folder / f"cache-{phase}"
         if phase == upto:
             return
 

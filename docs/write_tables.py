@@ -64,9 +64,21 @@ def _fraction_correct(path: Path) -> str:
 
 
 def _headline(path: Path) -> str:
-    """The fraction-correct table's rows under the main distance (no @<metric> rows)."""
-    rows = _fraction_correct(path).splitlines()
-    return "\n".join(row for row in rows if "@" not in row.split("|")[1]) + "\n"
+    """The fraction-correct table under the main distance (no @<metric> rows), a row per learner and
+    a column per pair and matcher ("winter-summer", "winter-summer+seq", ...)."""
+    header, _, *rows = _fraction_correct(path).splitlines()
+    pairs = [cell.strip() for cell in header.split("|")[2:-1]]
+    cells: dict[str, dict[str, str]] = {}
+    for row in rows:
+        label, *values = [cell.strip() for cell in row.split("|")[1:-1]]
+        if "@" in label:
+            continue
+        learner, suffix = label.split("+")[0], label[len(label.split("+")[0]) :]
+        cells.setdefault(learner, {}).update({pair + suffix: value for pair, value in zip(pairs, values)})
+    columns = list(dict.fromkeys(column for by_column in cells.values() for column in by_column))
+    lines = ["| method | " + " | ".join(columns) + " |", "|---|" + "---|" * len(columns)]
+    lines += [f"| {learner} | " + " | ".join(row.get(c, "") for c in columns) + " |" for learner, row in cells.items()]
+    return "\n".join(lines) + "\n"
 
 
 def _autoencoder_training(path: Path) -> str:

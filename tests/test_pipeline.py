@@ -58,9 +58,10 @@ def test_repro_writes_every_result(workspace):
 
 @pytest.mark.e2e
 def test_learners_metrics_and_plots_exist(workspace):
-    learners = ["raw_patchnorm", "pca", "pca_whiten", "ica", "ica_bovw", "fae", "cae"]
+    learners = ["raw_patchnorm", "hog", "pca", "pca_whiten", "ica", "ica_bovw", "fae", "cae"]
     pairs = ["summer-fall", "winter-summer", "winter-fall"]  # the study's pairs among 3 seasons
-    suffixes = ("", "+seq", "@cityblock", "@cityblock+seq")  # evaluate.extra_metrics: [cityblock]
+    # every matcher, under evaluate.metric and evaluate.extra_metrics: [cityblock]
+    suffixes = [metric + matcher for metric in ("", "@cityblock") for matcher in ("", "+seq", "+delta", "+smoothed")]
     for learner in learners:
         assert (workspace / f"models/{learner}/learner.json").is_file()
         for pair in pairs:
@@ -68,6 +69,7 @@ def test_learners_metrics_and_plots_exist(workspace):
                 metrics = json.loads((workspace / f"metrics/eval/{learner}/{pair}{suffix}.json").read_text())
                 assert 0 <= metrics["fraction_correct"] <= 1
                 assert metrics["precision_at_full_recall"] == pytest.approx(metrics["fraction_correct"])
+                assert 0 <= metrics["extended_precision"] <= 1
                 interval = metrics["intervals"]["fraction_correct"]["route"]
                 assert interval["low"] is None or interval["low"] <= metrics["fraction_correct"] <= interval["high"]
                 assert (workspace / f"plots/pr/{learner}/{pair}{suffix}.csv").is_file()

@@ -137,3 +137,12 @@ def test_pr_landmarks_set_ours_beside_the_study():
     assert table.loc[("summer-fall", "pca", "precision at 100% recall"), "ours"] == pytest.approx(90.0)
     assert table.loc[("summer-fall", "ica", "precision at 100% recall"), "study (S)"] == pytest.approx(91.05)
     assert np.isnan(table.loc[("summer-fall", "ica", "recall at 100% precision"), "ours"])
+
+
+def test_cityblock_distances_are_the_same_on_any_number_of_threads(monkeypatch):
+    rng = np.random.default_rng(3)
+    database, queries = rng.normal(size=(40, 300)), rng.normal(size=(37, 300))
+    monkeypatch.setenv("OMP_NUM_THREADS", "1")
+    one = distance_matrix(database, queries, metric="cityblock")
+    monkeypatch.setenv("OMP_NUM_THREADS", "3")
+    assert np.array_equal(distance_matrix(database, queries, metric="cityblock"), one)

@@ -63,14 +63,36 @@ def _euclidean(database: np.ndarray) -> BatchDistances:
     return distances
 
 
+def compute_threads() -> int:
+    """Threads for the distance loops: OMP_NUM_THREADS where set (the tests set 1: two workers
+    share two cores), else every CPU this process may run on."""
+    import os
+
+    given = os.environ.get("OMP_NUM_THREADS", "")
+    return max(1, int(given)) if given.isdigit() else len(os.sched_getaffinity(0))
+
+
 def _cityblock(database: np.ndarray) -> BatchDistances:
     # scipy's loop, not torch.cdist: the same sums on every CPU (no kernel picked per instruction
     # set), faster on 2 cores (3.0 s vs 4.4 s for 1,500 x 1,500 x 2,048 in float64, identical values)
-    # and a 0.3 s import instead of torch's 1.5 s at every evaluate stage's start
+    # and a 0.3 s import instead of torch's 1.5 s at every evaluate stage's start. cdist releases the
+    # GIL, so threads over blocks of query rows run it on every core, each row's sums unchanged
+    # (hog's 35,721-dimensional descriptors: 0.45 -> 0.23 s for 158 x 158 on 2 cores)
+    from concurrent.futures import ThreadPoolExecutor
+
     from scipy.spatial.distance import cdist
 
     def distances(batch: np.ndarray) -> np.ndarray:
-        return cdist(batch, database, metric="cityblock")
+        threads = min(compute_threads(), len(batch))
+        if threads == 1:
+            return cdist(batch, database, metric="cityblock")
+        bounds = np.linspace(0, len(batch), threads + 1).astype(int)
+        with ThreadPoolExecutor(threads) as pool:
+            parts = pool.map(
+                lambda rows: cdist(batch[rows], database, metric="cityblock"),
+                [slice(a, b) for a, b in zip(bounds[:-1], bounds[1:])],
+            )
+            return np.concatenate(list(parts))
 
     return distances
 

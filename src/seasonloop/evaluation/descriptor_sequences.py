@@ -39,14 +39,16 @@ def sequence_windows(places: np.ndarray, length: int) -> tuple[np.ndarray, np.nd
     return start, stop - start
 
 
-def _window_sums(descriptors: np.ndarray, start: np.ndarray, stop: np.ndarray) -> np.ndarray:
-    """Each row's sum of descriptors[start:stop] (float64), a block of columns at a time."""
-    sums = np.empty((len(start), descriptors.shape[1]))
+def _window_sums(descriptors: np.ndarray, *windows: tuple[np.ndarray, np.ndarray]) -> list[np.ndarray]:
+    """Each row's sum of descriptors[start:stop] (float64) for each (start, stop) of `windows`, from
+    one cumulative sum a block of columns at a time."""
+    sums = [np.empty((len(start), descriptors.shape[1])) for start, _ in windows]
     for column in range(0, descriptors.shape[1], _COLUMNS_PER_BLOCK):
         block = descriptors[:, column : column + _COLUMNS_PER_BLOCK].astype(np.float64)
         cumulative = np.zeros((len(block) + 1, block.shape[1]))
         np.cumsum(block, axis=0, out=cumulative[1:])
-        sums[:, column : column + _COLUMNS_PER_BLOCK] = cumulative[stop] - cumulative[start]
+        for total, (start, stop) in zip(sums, windows):
+            total[:, column : column + _COLUMNS_PER_BLOCK] = cumulative[stop] - cumulative[start]
     return sums
 
 
@@ -58,7 +60,8 @@ def _unit_rows(vectors: np.ndarray) -> np.ndarray:
 def smoothed_descriptors(descriptors: np.ndarray, places: np.ndarray, length: int) -> np.ndarray:
     """Each row's window mean (sequence_windows), L2-normalised; float32 (n, d)."""
     start, size = sequence_windows(places, length)
-    return _unit_rows(_window_sums(np.asarray(descriptors), start, start + size) / size[:, None])
+    [total] = _window_sums(np.asarray(descriptors), (start, start + size))
+    return _unit_rows(total / size[:, None])
 
 
 def delta_descriptors(descriptors: np.ndarray, places: np.ndarray, length: int) -> np.ndarray:
@@ -69,7 +72,6 @@ def delta_descriptors(descriptors: np.ndarray, places: np.ndarray, length: int) 
     A window of one row has no change to measure: a zero descriptor (cosine distance 1 to all)."""
     start, size = sequence_windows(places, length)
     first = size // 2
-    descriptors = np.asarray(descriptors)
-    later = _window_sums(descriptors, start + first, start + size) / (size - first)[:, None]
-    earlier = _window_sums(descriptors, start, start + first) / np.maximum(first, 1)[:, None]
-    return _unit_rows(np.where((first > 0)[:, None], later - earlier, 0.0))
+    later, earlier = _window_sums(np.asarray(descriptors), (start + first, start + size), (start, start + first))
+    change = later / (size - first)[:, None] - earlier / np.maximum(first, 1)[:, None]
+    return _unit_rows(np.where((first > 0)[:, None], change, 0.0))

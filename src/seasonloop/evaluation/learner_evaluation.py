@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth, truth_file
-from seasonloop.evaluation.blocks import evaluate_in_blocks, matched_distances
+from seasonloop.evaluation.blocks import evaluate_in_blocks, pair_distances
 from seasonloop.evaluation.matchers import evaluations, get_matcher
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.io import load_array, save_array, write_json
@@ -47,27 +47,37 @@ def evaluate_learner(
         descriptors = [load_array(features / f"{season}.npy") for season in (database, query)]
         truth = PairTruth.load(truth_file(truths, database, query))
         check_rows(descriptors, truth, features, (database, query))
-        for metric, matchers in distance_groups(variants):
-            distance_rows = matched_distances(descriptors[0], descriptors[1], truth, matchers[0][0], metric, sequence)
-            for matcher, suffix in matchers:
-                name = pair_name(database, query) + suffix
-                evaluation = evaluate_in_blocks(distance_rows, len(descriptors[0]), truth, matcher, evaluate, sequence)
-                intervals = metric_intervals(evaluation.outcomes, statistics)
-                write_json(metrics_dir / f"{name}.json", {**evaluation.metrics, "intervals": intervals})
-                evaluation.pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
-                save_array(similarity_dir / f"{name}.npy", evaluation.thumbnail)
-                evaluation.outcomes.to_csv(outcomes_dir / f"{name}.csv")
+        for describing, by_metric in distance_groups(variants):
+            # each traverse's descriptors as the matchers of this group take them, once for every metric
+            taken = get_matcher(describing)
+            database_taken = taken.described(descriptors[0], truth.database_places, sequence)
+            queries_taken = taken.described(descriptors[1], truth.query_places, sequence)
+            for metric, matchers in by_metric:
+                distance_rows = pair_distances(database_taken, queries_taken, metric)
+                for matcher, suffix in matchers:
+                    name = pair_name(database, query) + suffix
+                    evaluation = evaluate_in_blocks(
+                        distance_rows, len(descriptors[0]), truth, matcher, evaluate, sequence
+                    )
+                    intervals = metric_intervals(evaluation.outcomes, statistics)
+                    write_json(metrics_dir / f"{name}.json", {**evaluation.metrics, "intervals": intervals})
+                    evaluation.pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
+                    save_array(similarity_dir / f"{name}.npy", evaluation.thumbnail)
+                    evaluation.outcomes.to_csv(outcomes_dir / f"{name}.csv")
 
 
-def distance_groups(variants: Sequence[tuple[str, str, str]]) -> list[tuple[str, list[tuple[str, str]]]]:
-    """The evaluations (metric, matcher, suffix) grouped by the distances they share, one metric
-    between the same descriptors (the traverses' own, or one kind of sequence descriptors): each
-    group's metric and its (matcher, suffix) in table order. Only one group's distances are held
-    at a time."""
-    groups: dict[tuple[str, object], list[tuple[str, str]]] = {}
+def distance_groups(
+    variants: Sequence[tuple[str, str, str]],
+) -> list[tuple[str, list[tuple[str, list[tuple[str, str]]]]]]:
+    """The evaluations (metric, matcher, suffix) grouped by what they share: the descriptors their
+    matchers take (the traverses' own, or one kind of sequence descriptors: one matcher of the group
+    names it), then under each metric the distances; the (matcher, suffix) of each in table order.
+    Only one group's descriptors and one metric's distances are held at a time."""
+    groups: dict[object, tuple[str, dict[str, list[tuple[str, str]]]]] = {}
     for metric, matcher, suffix in variants:
-        groups.setdefault((metric, get_matcher(matcher).describe), []).append((matcher, suffix))
-    return [(metric, matchers) for (metric, _), matchers in groups.items()]
+        _, by_metric = groups.setdefault(get_matcher(matcher).describe, (matcher, {}))
+        by_metric.setdefault(metric, []).append((matcher, suffix))
+    return [(describing, list(by_metric.items())) for describing, by_metric in groups.values()]
 
 
 def check_rows(descriptors: Sequence[np.ndarray], truth: PairTruth, features: Path, seasons: Sequence[str]) -> None:

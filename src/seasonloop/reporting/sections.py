@@ -169,9 +169,11 @@ def fraction_correct_section(
             )
     blocks.append(
         Table(
-            "Recall@N, recall at 100% precision and area under the PR curve, all in % (AUC-PR in the "
-            "study's convention, where recall reaches 100%; AUC-PR (VPR_Tutorial) with recall = TP / "
-            "queries, which ends at the fraction correct)",
+            "Recall@N, recall at 100% precision, area under the PR curve and Extended Precision, all in % "
+            "(AUC-PR in the study's convention, where recall reaches 100%; AUC-PR (VPR_Tutorial) with recall "
+            "= TP / queries, which ends at the fraction correct; Extended Precision as VPR-Bench computes it: "
+            "the precision of the most confident matches plus the recall at 100% precision over the correct "
+            "matches, halved, so on a few hundred queries it turns on whether the most confident match is right)",
             _recall_table(results, pairs),
         )
     )

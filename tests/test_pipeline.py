@@ -83,17 +83,26 @@ def test_learners_metrics_and_plots_exist(workspace):
     ablation = json.loads((workspace / "metrics/training_seasons.json").read_text())
     assert set(ablation["fraction_correct"]["pca"]) == {"summer", "summer+winter"}
     assert set(ablation["intervals"]["pca"]) == {"summer", "summer+winter"}
-    # every learner against every other on every pair, and each learner's +seq and L1 against its reference
+    # every learner against every other on every pair; each learner's matchers against single images
+    # and against each matcher before them; L1 against its reference
     comparisons = json.loads((workspace / "metrics/comparisons.json").read_text())
     assert comparisons["order"]["pairs"] == pairs
     tables = comparisons["pairs"]["summer-fall"]
-    assert set(tables) == {f"learners{suffix}" for suffix in suffixes} | {
-        "matchers+seq",
-        "matchers@cityblock+seq",
-        "distances@cityblock",
-        "distances@cityblock+seq",
+    matchers = {
+        f"matchers{metric}{matcher}{versus}"
+        for metric in ("", "@cityblock")
+        for matcher, versus in [
+            ("+seq", ""),
+            ("+delta", ""),
+            ("+delta", " vs +seq"),
+            ("+smoothed", ""),
+            ("+smoothed", " vs +seq"),
+            ("+smoothed", " vs +delta"),
+        ]
     }
-    assert len(tables["learners"]) == 21 and len(tables["matchers+seq"]) == 7
+    distances = {f"distances@cityblock{matcher}" for matcher in ("", "+seq", "+delta", "+smoothed")}
+    assert set(tables) == {f"learners{suffix}" for suffix in suffixes} | matchers | distances
+    assert len(tables["learners"]) == 28 and len(tables["matchers+delta vs +seq"]) == 8
     for figure in (
         "fig02_pca_projection",
         "fig12_patch_ica_filters",
@@ -135,7 +144,7 @@ def test_learners_metrics_and_plots_exist(workspace):
     # the one declared metrics file: fraction correct per learner and matcher, averaged over the
     # pairs, one short column each for `dvc exp show`; not the union of every per-pair file's keys
     assert shown.returncode == 0 and header[1:] == sorted(
-        f"{learner}{matcher}" for learner in learners for matcher in ("", "+seq")
+        f"{learner}{matcher}" for learner in learners for matcher in ("", "+seq", "+delta", "+smoothed")
     ), header
     # the per-pair files are still there for `dvc metrics show <path>`
     detail = dvc(workspace, "metrics", "show", "metrics/eval/pca")

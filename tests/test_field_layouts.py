@@ -22,9 +22,8 @@ import pytest
 from seasonloop.data.frames import list_frame_files, sample_video
 from seasonloop.data.synthetic import SeasonRide, render_route
 from seasonloop.models.registry import get_learner
-from tools.repository import dvc
 from tools.small_runs import DATA_PATH
-from workspaces import make_workspace
+from workspaces import make_workspace, repro_with
 
 SECONDS = 240
 
@@ -42,14 +41,15 @@ def rendered(folder: Path, seasons: list[str], rides: dict | None = None) -> dic
 
 
 def preset_run(tmp_path: Path, preset: str, data: Path, *settings: str) -> Path:
-    """The layout's documented command in a new workspace: `python -m seasonloop.preset <preset>`,
-    then `dvc exp run -S data.frames_dir=<data>` (and `settings`); the workspace's root."""
+    """The layout's documented commands in a new workspace: `python -m seasonloop.preset <preset>`,
+    then `dvc exp run -S data.frames_dir=<data>` (and `settings`; as repro_with runs it); the
+    workspace's root."""
     root = make_workspace(tmp_path / "repo", DATA_PATH)
     applied = subprocess.run(
         [sys.executable, "-m", "seasonloop.preset", preset], cwd=root, capture_output=True, text=True
     )
     assert applied.returncode == 0, applied.stderr
-    result = dvc(root, "exp", "run", "-S", f"data.frames_dir={data}", *settings)
+    result = repro_with(root, f"data.frames_dir={data}", *settings)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     return root
 
@@ -120,7 +120,8 @@ def test_a_vpr_bench_dataset_runs_with_one_command_on_every_query(tmp_path):
     assert "it compares training sets" in report and "The CAE width sweep was skipped" in report
 
     # (b) a learner that learns, trained on the reference traverse only: the queries never seen
-    result = dvc(root, "exp", "run", "-S", f"data.frames_dir={data}", "-S", "learners=[raw_patchnorm,pca]")
+    # (up to its evaluation: (c) runs the stages after it)
+    result = repro_with(root, "learners=[raw_patchnorm,pca]", targets=("evaluate@pca",))
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     fit = json.loads((root / "metrics/fit/pca.json").read_text())
     assert fit["train_seasons"] == ["ref"] and fit["trained_on"].startswith("every place of ref")
@@ -136,7 +137,7 @@ def test_a_vpr_bench_dataset_runs_with_one_command_on_every_query(tmp_path):
         learner.fit(images, progress=False)
         learner.save(elsewhere / name)
     settings = ("train.fitted=elsewhere", f"train.models_dir={elsewhere}", f"data.frames_dir={data}")
-    result = dvc(root, "exp", "run", *(part for setting in settings for part in ("-S", setting)))
+    result = repro_with(root, *settings)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     fit = json.loads((root / "metrics/fit/pca.json").read_text())
     assert fit["trained_on"].startswith("elsewhere: ") and fit["n_train_images"] is None

@@ -3,8 +3,9 @@ user runs them.
 
 Each test makes its own small data: the synthetic route ridden at a different speed in each season
 (so frame i of one season is not frame i of another), written as frame folders with a positions
-CSV, a ground-truth matrix, or descriptors computed "elsewhere"; then `dvc exp run -S ...` with the
-recipes' settings, in a fresh copy of the repository.
+CSV, a ground-truth matrix, or descriptors computed "elsewhere"; then the recipes' `dvc exp run -S
+...` settings, in a fresh copy of the repository (written into params.yaml and reproduced:
+workspaces.repro_with).
 """
 
 from __future__ import annotations
@@ -21,9 +22,9 @@ import pytest
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import SeasonRide, render_route
-from tools.repository import dvc, git
+from tools.repository import git
 from tools.small_runs import DATA_PATH, TINY
-from workspaces import make_workspace
+from workspaces import make_workspace, repro_with
 
 SECONDS = 240  # of the reference ride
 SEASONS = ["summer", "fall", "winter"]
@@ -49,11 +50,6 @@ def write_rides(folder: Path) -> dict[str, np.ndarray]:
     return distances
 
 
-def run(root: Path, *settings: str):
-    arguments = [part for setting in settings for part in ("-S", setting)]
-    return dvc(root, "exp", "run", *arguments)
-
-
 def stage(root: Path, script: str, *args: str) -> subprocess.CompletedProcess:
     """One stage's script run by hand, as DVC runs it."""
     return subprocess.run([sys.executable, f"stages/{script}", *args], cwd=root, capture_output=True, text=True)
@@ -67,7 +63,7 @@ def fraction_correct(root: Path, learner: str, pair: str) -> float:
 def test_the_synthetic_route_ridden_at_different_speeds_with_positions(tmp_path):
     root = make_workspace(tmp_path / "repo", {**BASE, "synthetic": {**TINY["synthetic"], "seconds": SECONDS}})
     rides = "++synthetic.rides={fall: {speed: 1.25, start_s: 15}, winter: {speed: 0.8, stop_scale: 2, swing: 0.2}}"
-    result = run(root, rides, "data.ground_truth=positions", "evaluate.tolerance_m=15", *SEQUENCE)
+    result = repro_with(root, rides, "data.ground_truth=positions", "evaluate.tolerance_m=15", *SEQUENCE)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     dataset = json.loads((root / "metrics/dataset.json").read_text())
     frames = {season: dataset["seasons"][season]["frames"] for season in SEASONS}
@@ -110,7 +106,7 @@ def positions_csv_and_precomputed_descriptors(root: Path, data: Path, distances:
         images = [cv2.imread(str(data / season / f"{i + 1}.png"), cv2.IMREAD_GRAYSCALE) for i in range(len(metres))]
         (data / "descriptors").mkdir(exist_ok=True)
         np.save(data / "descriptors" / f"{season}.npy", np.stack([cv2.resize(im, (16, 8)).ravel() for im in images]))
-    result = run(
+    result = repro_with(
         root,
         "data.source=frames",
         f"data.frames_dir={data}",
@@ -150,7 +146,7 @@ def a_ground_truth_matrix(root: Path, data: Path, distances: dict[str, np.ndarra
                 gap = np.abs(distances[database][:, None] - distances[query][None, :])
                 np.savez(data / "truth" / f"{database}-{query}.npz", hard=gap <= 15, soft=gap <= 40)
     settings = ["data.source=frames", f"data.frames_dir={data}", "data.ground_truth=matrix"]
-    result = run(root, *settings, f"data.ground_truth_dir={data / 'truth'}")
+    result = repro_with(root, *settings, f"data.ground_truth_dir={data / 'truth'}")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     assert json.loads((root / "metrics/ground_truth.json").read_text())["kind"] == "matrix"
     assert fraction_correct(root, "raw_patchnorm", "summer-fall") > 0.3

@@ -174,3 +174,36 @@ def test_routes_are_read_from_commits_with_the_same_pipeline():
         "route-7": {"rev": "c3-route-7", "seed": 7},
     }
     assert routes_of(exps[:1], lambda newer, older: True) == {}
+
+
+def test_the_queue_wait_starts_workers_again_when_they_all_exit_with_routes_queued(monkeypatch):
+    import subprocess
+
+    import tools.replicate_routes as replicate
+
+    status = "Task  Name  Created  Status\n{rows}\n\nWorker status: {workers}\n"
+    queued = status.format(rows="a route-3 Queued", workers="0 active, 0 idle")
+    # asked every ~12 s of the fake clock: twice within 30 s of the start (the workers may not show
+    # yet: waits), then started again; then the route runs and ends
+    statuses = iter(
+        [
+            queued,
+            queued,
+            queued,
+            status.format(rows="a route-3 Running", workers="1 active, 0 idle"),
+            status.format(rows="a route-3 Success", workers="0 active, 0 idle"),
+        ]
+    )
+    clock = iter(range(0, 10_000, 4))  # each look at the time 4 s after the one before
+    started = []
+
+    def dvc(*args: str) -> subprocess.CompletedProcess:
+        return subprocess.CompletedProcess(args, 0, next(statuses) if args == ("queue", "status") else "", "")
+
+    monkeypatch.setattr(replicate, "dvc", dvc)
+    monkeypatch.setattr(replicate, "start_workers", started.append)
+    monkeypatch.setattr(replicate.time, "monotonic", lambda: next(clock))
+    monkeypatch.setattr(replicate.time, "sleep", lambda seconds: None)
+    monkeypatch.setattr(replicate.subprocess, "run", lambda *a, **k: subprocess.CompletedProcess(a, 0, "", ""))
+    replicate.queue_routes([3], jobs=2)
+    assert started == [2, 2]

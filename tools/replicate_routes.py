@@ -60,14 +60,22 @@ def dvc(*args: str) -> subprocess.CompletedProcess:
     return done
 
 
+NO_WORKERS = "Worker status: 0 active, 0 idle"  # `dvc queue status` when no worker runs
+
+
+def start_workers(jobs: int) -> None:
+    """`dvc queue start -j jobs`: workers that run the queue in the background."""
+    # the workers it starts keep its stdout: captured, the call would wait for the whole queue
+    if subprocess.run(["dvc", "queue", "start", "-j", str(jobs)], cwd=REPO, stdout=subprocess.DEVNULL).returncode:
+        raise SystemExit("dvc queue start failed")
+
+
 def queue_routes(seeds: list[int], jobs: int) -> float:
     """Queue and run one experiment per seed; the queue's wall seconds."""
     for seed in seeds:
         dvc("exp", "run", "--queue", "-n", f"{PREFIX}{seed}", "-S", f"synthetic.seed={seed}")
-    started = time.monotonic()
-    # the workers it starts keep its stdout: captured, the call would wait for the whole queue
-    if subprocess.run(["dvc", "queue", "start", "-j", str(jobs)], cwd=REPO, stdout=subprocess.DEVNULL).returncode:
-        raise SystemExit("dvc queue start failed")
+    started = workers_started = time.monotonic()
+    start_workers(jobs)
     # `dvc queue status` costs ~0.8 s of CPU: asked every 10 s, and at once when a route's
     # experiment ref appears (a git call that costs nothing), so the wait ends with the queue
     asked, finished = -float("inf"), -1
@@ -86,6 +94,12 @@ def queue_routes(seeds: list[int], jobs: int) -> float:
                 progress.update(done - progress.n)
                 if not any(word in status for word in ("Queued", "Running")):
                     break
+                # DVC's workers can all exit with routes still queued (seen with -j 2 when the first
+                # two routes were restored from the run cache in seconds): started again, once the
+                # workers of the last start have had time to appear in the status
+                if "Running" not in status and NO_WORKERS in status and time.monotonic() - workers_started > 30:
+                    start_workers(jobs)
+                    workers_started = time.monotonic()
             time.sleep(1)
     if "Failed" in status:
         raise SystemExit(f"a route's experiment failed (`dvc queue logs <name>`):\n{status}")

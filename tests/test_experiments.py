@@ -12,7 +12,6 @@ import pytest
 import yaml
 
 from tools.repository import dvc, tool_env
-from tools.small_runs import SMALL
 from workspaces import committed_run, in_a_terminal
 
 
@@ -20,7 +19,7 @@ from workspaces import committed_run, in_a_terminal
 def test_queued_experiments_run_side_by_side_compare_and_replicate_routes(tmp_path, small_seed_cache):
     # one queue for both uses (each queue run costs a minute): an ablation queued by hand, and a
     # replicate route that tools/replicate_routes.py queues beside it and runs two at a time
-    root = committed_run(tmp_path / "repo", SMALL, cache=small_seed_cache)
+    root = committed_run(tmp_path / "repo", small_seed_cache)
     queued = dvc(root, "exp", "run", "--queue", "-n", "discard-5", "-S", "pca.n_discard=5")
     assert queued.returncode == 0, queued.stderr
     done = subprocess.run(

@@ -9,14 +9,13 @@ from pathlib import Path
 import pytest
 
 from tools.repository import dvc, git
-from tools.small_runs import SMALL
 from workspaces import committed_run
 
 
 @pytest.mark.e2e
 def test_exp_run_of_one_target_in_a_fresh_clone(tmp_path, small_seed_cache):
     # the origin's stages come from the seed's run cache; the clones start without any cache
-    origin = committed_run(tmp_path / "origin", SMALL, cache=small_seed_cache)
+    origin = committed_run(tmp_path / "origin", small_seed_cache)
 
     def fresh_clone(name: str) -> Path:
         clone = tmp_path / name

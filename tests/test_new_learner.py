@@ -12,8 +12,7 @@ import pytest
 import yaml
 
 from tools.repository import dvc, git, tool_env
-from tools.small_runs import SMALL
-from workspaces import make_workspace
+from workspaces import committed_run
 
 # A learner the project has never seen: a seeded random projection of the pixels.
 RANDOM_PROJECTION = '''"""Random projection of the pixels (Johnson-Lindenstrauss): a learner that learns nothing."""
@@ -68,7 +67,7 @@ def add_learner(root: Path) -> None:
 
 @pytest.mark.e2e
 def test_a_learner_added_in_three_places_runs_through_dvc_repro(tmp_path, small_seed_cache):
-    root = make_workspace(tmp_path / "workspace", SMALL, small_seed_cache)
+    root = committed_run(tmp_path / "workspace", small_seed_cache)  # the run it is added to
     add_learner(root)
     changed = git(root, "status", "--porcelain").stdout.split("\n")
     assert sorted(line[3:] for line in changed if line) == [

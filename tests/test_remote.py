@@ -13,7 +13,6 @@ from pathlib import Path
 import pytest
 
 from tools.repository import dvc, git
-from tools.small_runs import SMALL
 from workspaces import committed_run
 
 
@@ -21,7 +20,7 @@ from workspaces import committed_run
 def pushed_run(tmp_path_factory, small_seed_cache) -> Path:
     """A workspace that ran the pipeline (its stages restored from the seed's run cache), with
     dvc.lock committed."""
-    return committed_run(tmp_path_factory.mktemp("origin"), SMALL, cache=small_seed_cache)
+    return committed_run(tmp_path_factory.mktemp("origin") / "repo", small_seed_cache)
 
 
 def pull_into_a_fresh_clone(origin: Path, clone: Path, remote_name: str, *local_settings: tuple[str, ...]) -> None:

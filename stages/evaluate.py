@@ -45,6 +45,7 @@ def main() -> None:
             sequence,
             StatisticsConfig.from_params(params),
             (metrics_dir, pr_dir, similarity_dir, outcomes_dir),
+            progress=True,
         )
 
 

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from tqdm import tqdm
 
 from seasonloop.data.ground_truth import PairTruth, truth_file
 from seasonloop.evaluation.blocks import evaluate_in_blocks, pair_distances
@@ -34,15 +35,19 @@ def evaluate_learner(
     sequence: SequenceConfig,
     statistics: StatisticsConfig,
     out_dirs: Sequence[Path],
+    progress: bool = False,
 ) -> None:
     """Evaluate the descriptors features/<season>.npy of one learner on `pairs` (database, query)
     against their ground truth truths/<database>-<query>.npz; writes <pair><suffix>.json,
     .csv (PR curve), .npy (similarity_thumbnail) and .csv (outcomes) to out_dirs' four folders
-    (metrics, PR curves, thumbnails, outcomes)."""
+    (metrics, PR curves, thumbnails, outcomes). `progress`: a bar over the pairs' distance
+    matrices (one per pair, kind of descriptor and metric: what the time goes to)."""
     metrics_dir, pr_dir, similarity_dir, outcomes_dir = out_dirs
     if not pairs:
         raise ValueError("evaluate.pairs: no pair has both of its seasons in data.seasons")
     variants = evaluations(evaluate)
+    per_pair = sum(len(by_metric) for _, by_metric in distance_groups(variants))
+    bar = tqdm(total=len(pairs) * per_pair, desc=f"evaluate {features.name}", unit="distances", disable=not progress)
     for database, query in pairs:
         descriptors = [load_array(features / f"{season}.npy") for season in (database, query)]
         truth = PairTruth.load(truth_file(truths, database, query))
@@ -64,6 +69,8 @@ def evaluate_learner(
                     evaluation.pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
                     save_array(similarity_dir / f"{name}.npy", evaluation.thumbnail)
                     evaluation.outcomes.to_csv(outcomes_dir / f"{name}.csv")
+                bar.update()
+    bar.close()
 
 
 def distance_groups(

@@ -32,9 +32,18 @@ def write_frame_folders(folder: Path) -> None:
 
 
 def readme_recipe(frames: Path) -> list[str]:
-    """The README's two-season frames recipe, as `dvc exp run` settings, for the folder `frames`."""
-    settings = ["data.source=frames", f"data.frames_dir={frames}", "data.seasons=[summer,winter]"]
-    return [part for setting in [*settings, "train.seasons=[summer,winter]"] for part in ("-S", setting)]
+    """The README's two-season frames recipe's settings (`dvc exp run -S`), for the folder `frames`."""
+    return [
+        "data.source=frames",
+        f"data.frames_dir={frames}",
+        "data.seasons=[summer,winter]",
+        "train.seasons=[summer,winter]",
+    ]
+
+
+def as_options(settings: list[str]) -> list[str]:
+    """`-S <setting>` for each setting: the arguments of `dvc exp run`."""
+    return [part for setting in settings for part in ("-S", setting)]
 
 
 @pytest.mark.e2e
@@ -49,7 +58,7 @@ def test_the_readme_frames_recipe_runs_through_the_report(tmp_path):
     }
     root = make_workspace(tmp_path / "repo", overrides)
     # the README's recipe, and nothing else changed
-    result = dvc(root, "exp", "run", *readme_recipe(frames))
+    result = dvc(root, "exp", "run", *as_options(readme_recipe(frames)))
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     assert "frames paired by file name" in result.stdout
     # the report, with the CAE width sweep that DATA_PATH skips saying so
@@ -77,7 +86,7 @@ def a_queued_experiment_reads_the_frames_by_absolute_path(root: Path, frames: Pa
     """A queued experiment runs in a copy holding only git-tracked files: real data is given by
     absolute path (README). The frame changed above makes extract_frames read every frame again in
     that copy; the target stops at the split, as the stages after it are the recipe's above."""
-    assert dvc(root, "exp", "run", "--queue", "-n", "real", *readme_recipe(frames), "split").returncode == 0
+    assert dvc(root, "exp", "run", "--queue", "-n", "real", *as_options(readme_recipe(frames)), "split").returncode == 0
     assert dvc(root, "queue", "start").returncode == 0
     status = wait_for_the_queue(root, experiments=1)
     assert "Success" in status and "Failed" not in status, status + dvc(root, "queue", "logs", "real").stdout[-3000:]
@@ -107,7 +116,7 @@ def test_real_nordland_frames_run_through_the_report(tmp_path):
     # the data path on real images, with the two learners that train fastest
     root = make_workspace(tmp_path / "repo", {**DATA_PATH, "learners": ["raw_patchnorm", "pca"]})
     # the recipe's settings as `dvc exp run` sets them (run as such by the test above)
-    result = repro_with(root, *readme_recipe(frames)[1::2])
+    result = repro_with(root, *readme_recipe(frames))
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     assert "frames paired by file name (60 names shared by summer, winter)" in result.stdout
     dataset = json.loads((root / "metrics/dataset.json").read_text())

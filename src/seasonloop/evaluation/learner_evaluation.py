@@ -45,14 +45,14 @@ def evaluate_learner(
     metrics_dir, pr_dir, similarity_dir, outcomes_dir = out_dirs
     if not pairs:
         raise ValueError("evaluate.pairs: no pair has both of its seasons in data.seasons")
-    variants = evaluations(evaluate)
-    per_pair = sum(len(by_metric) for _, by_metric in distance_groups(variants))
+    groups = distance_groups(evaluations(evaluate))
+    per_pair = sum(len(by_metric) for _, by_metric in groups)
     bar = tqdm(total=len(pairs) * per_pair, desc=f"evaluate {features.name}", unit="distances", disable=not progress)
     for database, query in pairs:
         descriptors = [load_array(features / f"{season}.npy") for season in (database, query)]
         truth = PairTruth.load(truth_file(truths, database, query))
         check_rows(descriptors, truth, features, (database, query))
-        for describing, by_metric in distance_groups(variants):
+        for describing, by_metric in groups:
             # each traverse's descriptors as the matchers of this group take them, once for every metric
             taken = get_matcher(describing)
             database_taken = taken.described(descriptors[0], truth.database_places, sequence)

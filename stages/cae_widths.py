@@ -20,8 +20,8 @@ from _common import data_seasons, load_params, param, stage_main, train_seasons
 from _datasets import test_images, training_images, training_places
 from seasonloop.ablations.cae_widths import run_width_sweep, width_channels, write_skipped_sweep, write_width_sweep
 from seasonloop.models.cae import ConvolutionalAutoEncoder
+from seasonloop.models.core.lookup import load_learner
 from seasonloop.models.raw_patchnorm import RawPatchNorm
-from seasonloop.models.registry import load_learner
 from seasonloop.params.seasons import available_pairs
 from seasonloop.params.settings import CaeWidthsConfig
 

@@ -22,7 +22,7 @@ from _datasets import SPLIT, test_images
 from seasonloop.data.datasets import read_split, season_part
 from seasonloop.io import read_json, save_array, staged_dir, write_json
 from seasonloop.models.core.learner import PlaceRows
-from seasonloop.models.registry import load_learner
+from seasonloop.models.core.lookup import load_learner
 from seasonloop.params.settings import FeaturesConfig
 
 FRAMES_RECORD = Path("data/frames/frames.json")

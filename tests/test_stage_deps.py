@@ -3,8 +3,8 @@
 For every stage DVC resolves from dvc.yaml (matrix stages expanded for every learner and season
 of params.yaml), the stage script's source is read (never run) to find:
 - the library modules it imports, transitively: seasonloop.* and the stage helpers stages/_*.py.
-  The learner registry (seasonloop.models.registry) imports a learner's module only when asked
-  for it, so a stage that uses the registry depends on the modules of the learners it can ask
+  The learner lookup (seasonloop.models.core.lookup) imports a learner's module only when asked
+  for it, so a stage that uses the lookup depends on the modules of the learners it can ask
   for (LEARNERS_ASKED_FOR: fit@pca asks for pca only) and on what those import. The params check
   every stage starts with imports the learner modules and the registries by name
   (seasonloop.params.registries) to read their declared params and names: not a dep, since a
@@ -37,7 +37,7 @@ SRC = ROOT / "src"
 STAGES = ROOT / "stages"
 # the stage helpers a stage script imports as `from _common import ...`
 HELPERS = {path.stem: path for path in STAGES.glob("_*.py")}
-REGISTRY = SRC / "seasonloop" / "models" / "registry.py"
+LOOKUP = SRC / "seasonloop" / "models" / "core" / "lookup.py"
 MODELS = SRC / "seasonloop" / "models"
 
 # _common functions whose string arguments are param keys -> index of the first such argument:
@@ -53,8 +53,8 @@ DYNAMIC_READS: dict[tuple[str, str], Callable[[list[str], dict[str, Any]], list[
     ("stages/training_seasons_fit.py", "param(params, method)"): lambda argv, params: [argv[0]],
 }
 
-# The learners whose modules a stage script can import through the registry, from its arguments and
-# params.yaml. A stage that reaches the registry without an entry here fails the test.
+# The learners whose modules a stage script can import through the lookup, from its arguments and
+# params.yaml. A stage that reaches the lookup without an entry here fails the test.
 LEARNERS_ASKED_FOR: dict[str, Callable[[list[str], dict[str, Any]], list[str]]] = {
     "stages/fit.py": lambda argv, params: [argv[0]],
     "stages/features.py": lambda argv, params: [argv[0]],
@@ -143,7 +143,7 @@ def runs_code(init: Path) -> bool:
 
 def module_closure(script: Path, learners: Iterable[str] = ()) -> set[Path]:
     """Every module `script` imports, transitively, plus the script itself; `learners`: the learner
-    modules the registry may import for it."""
+    modules the lookup may import for it."""
     seen: set[Path] = set()
     todo = [script]
     while todo:
@@ -154,8 +154,8 @@ def module_closure(script: Path, learners: Iterable[str] = ()) -> set[Path]:
         todo.extend(direct_imports(path))
         # `import a.b.c` runs a/__init__.py and a/b/__init__.py, and whatever they import
         todo.extend(enclosing_inits(path))
-        if path == REGISTRY:
-            # the registry imports a learner's module by name, when asked for it
+        if path == LOOKUP:
+            # the lookup imports a learner's module by name, when asked for it
             todo.extend(MODELS / f"{name}.py" for name in learners)
     # an __init__ holding only a docstring runs nothing (test_package_inits_hold_no_code checks it)
     return {path for path in seen if path.name != "__init__.py" or runs_code(path)}
@@ -286,12 +286,12 @@ def params_yaml() -> dict[str, Any]:
 
 
 def learners_asked_for(stage: dict[str, Any]) -> list[str]:
-    """The learners whose modules the stage can import through the registry (none if it never reaches it)."""
-    if REGISTRY not in module_closure(ROOT / stage["script"]):
+    """The learners whose modules the stage can import through the lookup (none if it never reaches it)."""
+    if LOOKUP not in module_closure(ROOT / stage["script"]):
         return []
     resolver = LEARNERS_ASKED_FOR.get(stage["script"])
     assert resolver is not None, (
-        f"{stage['script']} imports the learner registry; add which learners it asks "
+        f"{stage['script']} imports the learner lookup; add which learners it asks "
         "for to LEARNERS_ASKED_FOR in tests/test_stage_deps.py"
     )
     return resolver(stage["argv"], params_yaml())
@@ -355,10 +355,11 @@ def test_the_checks_see_what_they_should() -> None:
         "stages/_datasets.py",
         "src/seasonloop/models/ica.py",
         "src/seasonloop/models/core/fastica.py",
-        "src/seasonloop/models/registry.py",
+        "src/seasonloop/models/core/lookup.py",
         "src/seasonloop/io.py",
     } <= fit
-    # the registry imports only the learner asked for
+    # the lookup imports only the learner asked for, and the stage not the list of names
+    assert "src/seasonloop/models/registry.py" not in fit
     assert "src/seasonloop/models/pca.py" not in fit and "src/seasonloop/models/cae.py" not in fit
     # importing a module inside a package runs the package's __init__ and what it re-exports
     inner = {rel(p) for p in module_closure(SRC / "seasonloop/data/synthetic/layout.py")}

@@ -20,7 +20,7 @@ from typing import Any
 
 from seasonloop.params.checks import Check
 
-# the learners: name (its params section and its module under seasonloop.models) -> class
+# the learners' names (each its params section and its module under seasonloop.models)
 LEARNERS = "seasonloop.models.registry:LEARNERS"
 
 # every registry a check reads (tests/test_config.py resolves each)
@@ -55,3 +55,12 @@ def check_learner_section(name: str, section: Mapping[str, Any]) -> None:
     section is fine: the class's defaults fill the rest)."""
     learners = importlib.import_module(LEARNERS.partition(":")[0])
     learners.get_learner(name).check_params(section)
+
+
+def known_learner(name: str) -> str:
+    """`name`, if it is a learner's (a stage's argument, checked like params.yaml's `learners`);
+    else a ValueError naming the known ones."""
+    known = names(LEARNERS)
+    if name not in known:
+        raise ValueError(f"unknown method '{name}' (known: {', '.join(known)})")
+    return name

@@ -18,8 +18,8 @@ import numpy as np
 from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.evaluation.descriptors import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
+from seasonloop.models.core.lookup import load_learner
 from seasonloop.models.core.torch_learner import AE_DESCRIPTORS
-from seasonloop.models.registry import load_learner
 from seasonloop.params.seasons import pair_name
 from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
 

@@ -1,0 +1,36 @@
+"""A learner's class from its name, by its module alone: learner <name> is the FeatureLearner
+subclass of seasonloop.models.<name> whose `name` is <name>.
+
+The stages that fit, describe with or draw a learner find it here, so they depend (dvc.yaml) on its
+module and models/core only: adding a learner (its module, its name in models/registry.py, its
+params section) reruns none of the other learners' stages. The registry's list of names is what
+params.yaml's checks read.
+"""
+
+from __future__ import annotations
+
+import importlib
+from pathlib import Path
+
+from seasonloop.models.core.learner import FeatureLearner, read_learner_record
+
+
+def learner_class(name: str) -> type[FeatureLearner]:
+    """The class of learner `name`, importing its module (and only it)."""
+    module = importlib.import_module(f"seasonloop.models.{name}")
+    found = [
+        value
+        for value in vars(module).values()
+        if isinstance(value, type)
+        and issubclass(value, FeatureLearner)
+        and value.__module__ == module.__name__
+        and getattr(value, "name", None) == name
+    ]
+    if len(found) != 1:
+        raise ValueError(f"{module.__name__}: expected one FeatureLearner subclass named '{name}', found {len(found)}")
+    return found[0]
+
+
+def load_learner(directory: Path) -> FeatureLearner:
+    """Load a saved learner of any kind from its directory."""
+    return learner_class(read_learner_record(directory)["name"]).load(directory)

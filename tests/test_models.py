@@ -422,6 +422,10 @@ def test_unknown_method_and_missing_directory(tmp_path):
         get_learner("sift")
     with pytest.raises(FileNotFoundError, match="learner.json"):
         load_learner(tmp_path)
+    # a saved learner whose module this installation lacks: one line, no ImportError's traceback
+    (tmp_path / "learner.json").write_text(json.dumps({"name": "sift"}))
+    with pytest.raises(ValueError, match=r"no learner 'sift': there is no module seasonloop\.models\.sift"):
+        load_learner(tmp_path)
 
 
 @pytest.mark.parametrize("name", list(LEARNERS))

@@ -17,7 +17,13 @@ from seasonloop.models.core.learner import FeatureLearner, read_learner_record
 
 def learner_class(name: str) -> type[FeatureLearner]:
     """The class of learner `name`, importing its module (and only it)."""
-    module = importlib.import_module(f"seasonloop.models.{name}")
+    dotted = f"seasonloop.models.{name}"
+    try:
+        module = importlib.import_module(dotted)
+    except ModuleNotFoundError as missing:
+        if missing.name != dotted:  # the learner's module is there; something it imports is not
+            raise
+        raise ValueError(f"no learner '{name}': there is no module {dotted}") from None
     found = [
         value
         for value in vars(module).values()

@@ -27,20 +27,19 @@ from _datasets import SPLIT, training_images, training_places
 from seasonloop.data.datasets import split_images_file, trained_on
 from seasonloop.io import staged_dir, write_json
 from seasonloop.models.core.learner import FeatureLearner
-from seasonloop.models.core.lookup import learner_class, load_learner
-from seasonloop.params.registries import known_learner
+from seasonloop.models.core.lookup import get_learner, load_learner
 
 
 def fit_here(method: str, params: dict[str, Any], seasons: list[str]) -> tuple[FeatureLearner, dict, dict]:
     """The learner fitted on this run's training images; (learner, its fit info, the record's facts)."""
-    found = learner_class(method)
+    learner_class = get_learner(method)
     # the learner checks its own section before the training images are loaded
-    learner = found(param(params, method), seed=int(param(params, "seed")))
+    learner = learner_class(param(params, method), seed=int(param(params, "seed")))
     images = training_images(params, seasons)
     places = training_places(params, seasons)
     logs = Path("logs") / method
     with ExitStack() as opened:
-        if found.trains_in_epochs:
+        if learner_class.trains_in_epochs:
             # imported only here: dvclive (with pandas) is ~0.8 s of every other fit's start-up
             from dvclive import Live
 
@@ -64,7 +63,7 @@ def fit_here(method: str, params: dict[str, Any], seasons: list[str]) -> tuple[F
         "fit_seconds": fit_seconds,
         "n_train_images": len(images),
         "train_seasons": seasons,
-        "trained_on": trained_on(found.learns, seasons, whole_route),
+        "trained_on": trained_on(learner_class.learns, seasons, whole_route),
     }
     return learner, info, facts
 
@@ -96,7 +95,7 @@ def fitted_elsewhere(method: str, models_dir: Path, season: str) -> tuple[Featur
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("method")
-    method = known_learner(parser.parse_args().method)
+    method = parser.parse_args().method
     params = load_params("seed", "data.seasons", "train", "augment.copies", "split.test_fraction")
     seasons = train_seasons(params)
     if param(params, "train.fitted") == "elsewhere":

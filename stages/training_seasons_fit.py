@@ -20,8 +20,7 @@ from _truths import evaluation_context, pair_truths
 from _common import data_seasons, load_params, param, stage_main, train_seasons
 from _datasets import test_images, training_images, training_places
 from seasonloop.ablations.training_seasons import plan_ablation, reusable_label, run_ablation, write_learner_record
-from seasonloop.models.core.lookup import learner_class
-from seasonloop.params.registries import known_learner
+from seasonloop.models.core.lookup import get_learner
 from seasonloop.params.seasons import available_pairs
 from seasonloop.params.settings import AblationConfig, EvaluateConfig
 
@@ -62,9 +61,7 @@ def main() -> None:
         return
     # a fresh, unfitted learner per fit, built from the learner's own section (built once here so
     # that it checks its section before the first, possibly long, fit)
-    new_learner = functools.partial(
-        learner_class(known_learner(method)), param(params, method), seed=int(param(params, "seed"))
-    )
+    new_learner = functools.partial(get_learner(method), param(params, method), seed=int(param(params, "seed")))
     new_learner()
     reused = reusable_label(
         plan,

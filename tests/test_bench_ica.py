@@ -7,7 +7,7 @@ import pytest
 from ica_data import images
 
 from benchmarks.speed import bench_ica
-from seasonloop.models.registry import get_learner
+from seasonloop.models.core.lookup import get_learner
 
 
 def result(trace: list[tuple[float, float]], final: float) -> dict:

@@ -15,9 +15,10 @@ import yaml
 from seasonloop.evaluation.sequence import enhance_distance_contrast
 from seasonloop.models import ica
 from seasonloop.models.core.ica_densities import DENSITIES
+from seasonloop.models.core.lookup import get_learner
 from seasonloop.models.core.torch_ica import WHITEN_SOLVERS
 from seasonloop.models.fae import ACTIVATIONS
-from seasonloop.models.registry import LEARNERS, get_learner
+from seasonloop.models.registry import LEARNERS
 from seasonloop.params import choices, registries
 from seasonloop.params.schema import TOP_LEVEL, check_params, check_whole
 from seasonloop.params.settings import SCHEMA

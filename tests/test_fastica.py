@@ -7,10 +7,9 @@ from sklearn.decomposition import FastICA
 from seasonloop.models.core.fastica import TorchFastICA
 from seasonloop.models.core.ica_stationarity import amari_distance
 from seasonloop.models.core.learner import RUN_KEYS, to_float
-from seasonloop.models.core.lookup import load_learner
+from seasonloop.models.core.lookup import get_learner, load_learner
 from seasonloop.models.core.torch_ica import WHITEN_SOLVERS
 from seasonloop.models.ica import ICA_SOLVERS
-from seasonloop.models.registry import get_learner
 
 N_SOURCES, N_FEATURES, N_SAMPLES = 6, 16, 4000
 

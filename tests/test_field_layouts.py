@@ -21,7 +21,7 @@ import pytest
 
 from seasonloop.data.frames import list_frame_files, sample_video
 from seasonloop.data.synthetic import SeasonRide, render_route
-from seasonloop.models.registry import get_learner
+from seasonloop.models.core.lookup import get_learner
 from tools.small_runs import DATA_PATH
 from workspaces import make_workspace, repro_with
 

@@ -8,7 +8,7 @@ from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.data.patchnorm import patch_normalise
 from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.evaluation.descriptors import autoencoder_descriptors
-from seasonloop.models.registry import get_learner
+from seasonloop.models.core.lookup import get_learner
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.reporting.figures import AE_DESCRIPTORS, draw_figures
 

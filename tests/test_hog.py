@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from seasonloop.evaluation.distances import distance_matrix
-from seasonloop.models.registry import get_learner
+from seasonloop.models.core.lookup import get_learner
 
 
 def vpr_bench_hog(image: np.ndarray) -> np.ndarray:

@@ -9,9 +9,8 @@ from ica_data import images, mixed_sources
 from seasonloop.models.core.fastica import TorchFastICA
 from seasonloop.models.core.ica_stationarity import amari_distance, relative_gradient
 from seasonloop.models.core.learner import RUN_KEYS
-from seasonloop.models.core.lookup import load_learner
+from seasonloop.models.core.lookup import get_learner, load_learner
 from seasonloop.models.core.picard import LibraryPicard, TorchPicard
-from seasonloop.models.registry import get_learner
 
 N_SUPER, N_SUB, N_FEATURES, N_SAMPLES = 5, 3, 16, 5000
 N_SOURCES = N_SUPER + N_SUB

@@ -12,8 +12,8 @@ from torch import nn
 from seasonloop.models.core import arithmetic
 from seasonloop.models.core import training as _training
 from seasonloop.models.core.arithmetic import resolve_precision
+from seasonloop.models.core.lookup import get_learner
 from seasonloop.models.core.training import TrainingConfig, mean_loss, train_until_plateau, validation_places
-from seasonloop.models.registry import get_learner
 
 CPU = torch.device("cpu")
 

@@ -39,7 +39,7 @@ def fit_once(name: str, precision: str, images: int, epochs: int, out: Path) -> 
     import torch
 
     from benchmarks.common import training_images
-    from seasonloop.models.registry import get_learner
+    from seasonloop.models.core.lookup import get_learner
 
     data, _ = training_images(images, seed=0)
     params = {

@@ -33,7 +33,7 @@ from seasonloop.ablations.cae_widths import width_channels, width_label
 from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
 from seasonloop.models.core.arithmetic import cpu_has_native_bfloat16
-from seasonloop.models.registry import get_learner
+from seasonloop.models.core.lookup import get_learner
 from tools.records import machine, write_result
 
 

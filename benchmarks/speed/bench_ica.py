@@ -40,7 +40,7 @@ import yaml
 
 from benchmarks.common import load_note, save_and_report, timed, training_images, where_measured
 from seasonloop.models.core.ica_stationarity import amari_distance, relative_gradient
-from seasonloop.models.registry import get_learner
+from seasonloop.models.core.lookup import get_learner
 from tools.records import machine
 
 # (name, ica.solver, ica.precision): every solver, the torch ones in both precisions

@@ -48,8 +48,8 @@ from seasonloop.evaluation.metrics import evaluate_pair
 from seasonloop.io import read_json
 from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.core import torch_learner, training
+from seasonloop.models.core.lookup import get_learner
 from seasonloop.models.core.upsampling import UpsampledConv2d
-from seasonloop.models.registry import get_learner
 from tools.records import machine, write_result
 from tools.repository import REPO
 

@@ -20,8 +20,10 @@ from typing import Any
 
 from seasonloop.params.checks import Check
 
-# the learners' names (each its params section and its module under seasonloop.models)
+# the learners' names (each its params section and its module under seasonloop.models), and
+# the function that finds a learner's class by its name
 LEARNERS = "seasonloop.models.registry:LEARNERS"
+LEARNER_LOOKUP = "seasonloop.models.core.lookup:get_learner"
 
 # every registry a check reads (tests/test_config.py resolves each)
 READ: set[str] = set()
@@ -53,8 +55,7 @@ def registered(where: str) -> Check:
 def check_learner_section(name: str, section: Mapping[str, Any]) -> None:
     """Check learner `name`'s params section against the params its class declares (a partial
     section is fine: the class's defaults fill the rest)."""
-    learners = importlib.import_module(LEARNERS.partition(":")[0])
-    learners.get_learner(name).check_params(section)
+    registry(LEARNER_LOOKUP)(name).check_params(section)
 
 
 def known_learner(name: str) -> str:

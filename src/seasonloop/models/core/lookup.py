@@ -3,8 +3,8 @@ subclass of seasonloop.models.<name> whose `name` is <name>.
 
 The stages that fit, describe with or draw a learner find it here, so they depend (dvc.yaml) on its
 module and models/core only: adding a learner (its module, its name in models/registry.py, its
-params section) reruns none of the other learners' stages. The registry's list of names is what
-params.yaml's checks read.
+params section) reruns none of the other learners' stages. The name is checked against the
+registry's list as params.yaml's checks read it (seasonloop.params.registries: not a stage's dep).
 """
 
 from __future__ import annotations
@@ -13,11 +13,12 @@ import importlib
 from pathlib import Path
 
 from seasonloop.models.core.learner import FeatureLearner, read_learner_record
+from seasonloop.params.registries import known_learner
 
 
-def learner_class(name: str) -> type[FeatureLearner]:
+def get_learner(name: str) -> type[FeatureLearner]:
     """The class of learner `name`, importing its module (and only it)."""
-    dotted = f"seasonloop.models.{name}"
+    dotted = f"seasonloop.models.{known_learner(name)}"
     try:
         module = importlib.import_module(dotted)
     except ModuleNotFoundError as missing:
@@ -39,4 +40,4 @@ def learner_class(name: str) -> type[FeatureLearner]:
 
 def load_learner(directory: Path) -> FeatureLearner:
     """Load a saved learner of any kind from its directory."""
-    return learner_class(read_learner_record(directory)["name"]).load(directory)
+    return get_learner(read_learner_record(directory)["name"]).load(directory)

@@ -1,7 +1,7 @@
 """End to end: `dvc repro` of the whole pipeline on a tiny configuration, in a copy of the repo.
 
 The stages run once per test session in the seed (tests/workspaces.py, the same params); this
-module's workspace restores them from its run cache and checks what they wrote.
+module's workspace is a copy of that run, committed, and its tests check what the stages wrote.
 """
 
 from __future__ import annotations
@@ -16,19 +16,30 @@ import pytest
 import yaml
 
 from tools.repository import dvc
-from tools.small_runs import TINY
-from workspaces import make_workspace
+from workspaces import committed_run
 
 
 @pytest.fixture(scope="module")
 def workspace(tmp_path_factory, tiny_seed_cache) -> Path:
-    """A fresh git + DVC copy of the repository with the tiny params, after one `dvc repro` that
-    restores every stage from the seed's run cache (the seed ran the same stages: tests/workspaces.py)."""
-    root = make_workspace(tmp_path_factory.mktemp("repo"), TINY, cache=tiny_seed_cache)
-    result = dvc(root, "repro")
-    assert result.returncode == 0, result.stdout + result.stderr
-    assert "Running stage" not in result.stdout, result.stdout  # every stage came from the run cache
-    return root
+    """The seed's TINY run (tools/small_runs.py) in a git + DVC workspace of its own, dvc.lock committed."""
+    return committed_run(tmp_path_factory.mktemp("run") / "repo", tiny_seed_cache)
+
+
+@pytest.mark.e2e
+def test_a_fresh_workspace_restores_what_the_run_cache_holds(tiny_seed_cache):
+    # the seed's TINY phase ran in a fresh workspace linking SMALL's cache: every stage whose
+    # command, deps, params and outputs SMALL's run also had came back from DVC's run cache (a stage
+    # with a dep that differs between workspaces, as DVC's .gitignore files once did, would run)
+    seed = tiny_seed_cache.parent
+    small, tiny = (
+        yaml.safe_load((seed / f"repo-{phase}/dvc.lock").read_text())["stages"] for phase in ("small", "tiny")
+    )
+    shared = {stage for stage, entry in tiny.items() if small.get(stage) == entry}
+    assert {"acquire", "split", "fit@pca", "features@pca"} <= shared, sorted(shared)
+    said = (seed / "repro-tiny.log").read_text()
+    for stage in shared:
+        assert f"Stage '{stage}' is cached - skipping run" in said, stage
+        assert f"Running stage '{stage}'" not in said, stage
 
 
 @pytest.fixture(autouse=True)

@@ -1,11 +1,12 @@
 """Workspaces of the end-to-end tests: copies of the repository with tiny params, and the one tiny
-run whose DVC cache they start from.
+run that most of them start from.
 
-Every end-to-end test used to run its own `dvc repro` of the same tiny stages (minutes each on 2
-cores). Now one run of SMALL, then of TINY, is made once per test session (the seed: built in the
-background from the first moment, tests/conftest.py) and each workspace links its DVC cache: DVC's
-run cache then restores every stage whose command, deps and params the seed ran, and runs only what
-the test changed. A test that is about a fresh clone without a cache does not link it.
+One run of SMALL, then of TINY, is made once per test session (the seed: built in the background
+from the first moment, tests/conftest.py). A test that starts from a finished run copies the seed's
+workspace and DVC cache (committed_run) and runs only what it changes. TINY's phase starts in a
+fresh workspace from SMALL's cache, whose run cache restores the stages the two share
+(test_pipeline checks that it does). A test about a fresh clone, or about other data, starts from
+nothing.
 
 Run as a script (with the repository root on PYTHONPATH, for tools/), it builds the seed:
 PYTHONPATH=. python tests/workspaces.py SEED_FOLDER
@@ -19,6 +20,7 @@ import re
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -87,6 +89,22 @@ def repro_with(root: Path, *settings: str, targets: tuple[str, ...] = ()) -> sub
     return dvc(root, "repro", *targets)
 
 
+def start_the_queue(root: Path) -> subprocess.CompletedProcess:
+    """`dvc queue start` in the workspace, its output read from a file: the worker it starts keeps
+    its stdout and stderr, and a pipe (dvc()'s capture) is read until the worker exits, ~10 s after
+    the queue is empty (tools/replicate_routes.py starts its workers alike)."""
+    with tempfile.TemporaryFile("w+") as said:
+        started = subprocess.run(
+            [str(Path(sys.executable).parent / "dvc"), "queue", "start"],
+            cwd=root,
+            env=tool_env(),
+            stdout=said,
+            stderr=said,
+        )
+        said.seek(0)
+        return subprocess.CompletedProcess(started.args, started.returncode, said.read(), "")
+
+
 def in_a_terminal(root: Path, columns: int, *args: str) -> str:
     """What a dvc command prints in a terminal `columns` wide (rich fits its tables to it)."""
     env = tool_env(COLUMNS=str(columns))
@@ -104,14 +122,19 @@ def wait_for_the_queue(root: Path, experiments: int, timeout_s: float = 1200) ->
     """`dvc queue status` once nothing is queued or running any more.
 
     Each `dvc queue status` costs ~0.8 s of CPU (DVC's start-up), so between its calls the wait
-    looks every second at what costs nothing: the git refs of finished experiments (refs/exps), and
-    asks DVC again once all `experiments` have one, or every ~8 s (a failed one leaves no ref)."""
+    looks every second at what costs nothing: the git refs of experiments finished since it began
+    (refs/exps), and asks DVC again once all `experiments` have one, or every ~8 s (a failed one
+    leaves no ref)."""
+
+    def finished() -> set[str]:
+        refs = git(root, "for-each-ref", "--format=%(refname)", "refs/exps").stdout.split()
+        return {ref for ref in refs if EXPERIMENT_REF.fullmatch(ref)}
+
+    before = finished()
     deadline = time.monotonic() + timeout_s
     last_asked = -float("inf")
     while time.monotonic() < deadline:
-        refs = git(root, "for-each-ref", "--format=%(refname)", "refs/exps").stdout.split()
-        finished = sum(1 for ref in refs if EXPERIMENT_REF.fullmatch(ref))
-        if finished >= experiments or time.monotonic() - last_asked > 8:
+        if len(finished() - before) >= experiments or time.monotonic() - last_asked > 8:
             status, last_asked = dvc(root, "queue", "status").stdout, time.monotonic()
             if not any(word in status for word in ("Queued", "Running")):
                 return status
@@ -125,14 +148,15 @@ PHASES = {"small": SMALL, "tiny": TINY}
 
 
 def _build_phases(folder: Path, upto: str) -> None:
-    """Run the phases not done yet, in order, up to and including `upto`; after each, a frozen
-    hard-linked copy of the cache (folder/cache-<phase>) and the file folder/done-<phase>.
+    """Run the phases not done yet, in order, up to and including `upto`; after each, its
+    workspace (folder/repo-<phase>) and what `dvc repro` printed (folder/repro-<phase>.log), a
+    frozen hard-linked copy of the cache (folder/cache-<phase>) and the file folder/done-<phase>.
 
     Each phase runs in a fresh workspace of its own, starting from the cache of the phase before
-    (whose stages its run cache restores), as a test's workspace does: run on top of the phase
-    before, the .gitignore files DVC keeps beside its outputs (data/outcomes/.gitignore, ...) would
-    list the learners in the order the phases ran them, not in `learners` order, and a folder
-    dep's hash reads them (the stages after evaluate would then not be restored in a workspace)."""
+    (whose stages its run cache restores): run on top of the phase before, the .gitignore files DVC
+    keeps beside its outputs (data/outcomes/.gitignore, ...) would list the learners in the order
+    the phases ran them, not in `learners` order, and a folder dep's hash reads them (the stages
+    after evaluate would then differ from a fresh run's)."""
     previous = None
     for phase, overrides in PHASES.items():
         repo = folder / f"repo-{phase}"
@@ -141,6 +165,9 @@ def _build_phases(folder: Path, upto: str) -> None:
             make_workspace(repo, overrides, cache=previous)
             result = dvc(repo, "repro")
             assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+            # what DVC said of each stage (run, or restored from the phase before's run cache):
+            # test_pipeline reads it
+            (folder / f"repro-{phase}.log").write_text(result.stdout)
             # a copy that no later phase writes into: workspaces copy it while the next phase runs
             shutil.rmtree(folder / f"cache-{phase}", ignore_errors=True)
             shutil.copytree(repo / ".dvc" / "cache", folder / f"cache-{phase}", copy_function=os.link)

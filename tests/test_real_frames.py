@@ -12,9 +12,9 @@ import pytest
 
 from seasonloop.data.frames import sample_video
 from seasonloop.data.synthetic import render_route
-from tools.repository import dvc
+from tools.repository import dvc, start_queue
 from tools.small_runs import DATA_PATH
-from workspaces import make_workspace, repro_with, start_the_queue, wait_for_the_queue
+from workspaces import make_workspace, repro_with, wait_for_the_queue
 
 SECONDS = 240  # places per season
 
@@ -87,7 +87,7 @@ def a_queued_experiment_reads_the_frames_by_absolute_path(root: Path, frames: Pa
     absolute path (README). The frame changed above makes extract_frames read every frame again in
     that copy; the target stops at the split, as the stages after it are the recipe's above."""
     assert dvc(root, "exp", "run", "--queue", "-n", "real", *as_options(readme_recipe(frames)), "split").returncode == 0
-    started = start_the_queue(root)
+    started = start_queue(root)
     assert started.returncode == 0, started.stdout
     status = wait_for_the_queue(root, experiments=1)
     assert "Success" in status and "Failed" not in status, status + dvc(root, "queue", "logs", "real").stdout[-3000:]

@@ -20,7 +20,6 @@ import re
 import shutil
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
@@ -87,22 +86,6 @@ def repro_with(root: Path, *settings: str, targets: tuple[str, ...] = ()) -> sub
         section[key] = yaml.safe_load(value)
     path.write_text(yaml.safe_dump(params, sort_keys=False))
     return dvc(root, "repro", *targets)
-
-
-def start_the_queue(root: Path) -> subprocess.CompletedProcess:
-    """`dvc queue start` in the workspace, its output read from a file: the worker it starts keeps
-    its stdout and stderr, and a pipe (dvc()'s capture) is read until the worker exits, ~10 s after
-    the queue is empty (tools/replicate_routes.py starts its workers alike)."""
-    with tempfile.TemporaryFile("w+") as said:
-        started = subprocess.run(
-            [str(Path(sys.executable).parent / "dvc"), "queue", "start"],
-            cwd=root,
-            env=tool_env(),
-            stdout=said,
-            stderr=said,
-        )
-        said.seek(0)
-        return subprocess.CompletedProcess(started.args, started.returncode, said.read(), "")
 
 
 def in_a_terminal(root: Path, columns: int, *args: str) -> str:

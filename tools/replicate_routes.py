@@ -43,7 +43,7 @@ from seasonloop.reporting.replicates import (
     pooled_comparisons,
 )
 from tools.records import git_state, machine, write_result
-from tools.repository import REPO
+from tools.repository import REPO, start_queue
 
 PREFIX = "route-"
 FETCHED = ("metrics/summary.json", "metrics/comparisons.json", "metrics/training_seasons.json", "data/outcomes")
@@ -65,14 +65,9 @@ NO_WORKERS = "Worker status: 0 active, 0 idle"  # `dvc queue status` when no wor
 
 def start_workers(jobs: int) -> None:
     """`dvc queue start -j jobs`: workers that run the queue in the background."""
-    # the workers it starts keep its stdout and stderr: through a pipe, whoever reads this script's
-    # output (or the call itself, captured) would wait until the last worker exits, ~10 s after the
-    # queue is empty; a file is not waited for
-    with tempfile.TemporaryFile("w+") as said:
-        started = subprocess.run(["dvc", "queue", "start", "-j", str(jobs)], cwd=REPO, stdout=said, stderr=said)
-        if started.returncode:
-            said.seek(0)
-            raise SystemExit(f"dvc queue start -j {jobs} failed: {said.read().strip()}")
+    started = start_queue(REPO, "-j", str(jobs))
+    if started.returncode:
+        raise SystemExit(f"dvc queue start -j {jobs} failed: {started.stdout.strip()}")
 
 
 def queue_routes(seeds: list[int], jobs: int) -> float:

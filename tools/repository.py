@@ -7,6 +7,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import yaml
@@ -71,6 +72,22 @@ def tool_env(**extra: str) -> dict[str, str]:
     compile the package's modules again; .dvcignore keeps the bytecode out of DVC's hashes)."""
     env = {key: value for key, value in os.environ.items() if key != "PYTHONDONTWRITEBYTECODE"}
     return dict(env, **extra, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
+
+
+def start_queue(root: Path, *args: str) -> subprocess.CompletedProcess:
+    """`dvc queue start [args]` in root, with tool_env(), its output (stdout and stderr together)
+    read from a file: the workers it starts keep the stdout and stderr they were given, and whoever
+    reads a pipe waits until the last worker exits, ~10 s after the queue is empty."""
+    with tempfile.TemporaryFile("w+") as said:
+        started = subprocess.run(
+            [str(Path(sys.executable).parent / "dvc"), "queue", "start", *args],
+            cwd=root,
+            env=tool_env(),
+            stdout=said,
+            stderr=subprocess.STDOUT,
+        )
+        said.seek(0)
+        return subprocess.CompletedProcess(started.args, started.returncode, said.read(), "")
 
 
 def dvc(root: Path, *args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess:

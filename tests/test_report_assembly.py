@@ -34,6 +34,13 @@ EVALUATE = EvaluateConfig(
     matchers=("single", "sequence"),
 )
 SEASONS = ["summer", "winter", "fall"]
+# what stages/fit.py writes for a learner fitted here and for one fitted by another run
+TRAINED_ON = {
+    method: f"elsewhere: /runs/other/models/{method} (not this dataset; its own params)"
+    if method == METHODS[0]
+    else "every place of summer"
+    for method in METHODS
+}
 
 
 def report_files(root) -> ReportFiles:
@@ -84,7 +91,13 @@ def report_files(root) -> ReportFiles:
     write_json(
         files.runtime,
         {
-            method: {"fit_seconds": 1.0, "n_train_images": 6, "feature_ms_per_image": 0.5, "descriptor_dimension": 4}
+            method: {
+                "fit_seconds": 1.0,
+                "n_train_images": 6,
+                "feature_ms_per_image": 0.5,
+                "descriptor_dimension": 4,
+                "trained_on": TRAINED_ON[method],
+            }
             for method in METHODS
         },
     )
@@ -170,6 +183,8 @@ def test_study_report_from_files(tmp_path):
     assert page.index("<th>summer</th>") < page.index("<th>winter</th>") < page.index("<th>fall</th>")
     assert "The training-season ablation was skipped: a test." in page and "fig02 pca projection" in page
     assert "seed: 0" in page and str(tmp_path) not in page
+    # the runtime table says what each learner was trained on, a learner fitted elsewhere included
+    assert "<th>trained on</th>" in page and all(trained_on in page for trained_on in TRAINED_ON.values())
     assert "<td>6/16/24</td>" in page and "<th>1/16</th>" in page
     # every fraction correct with its interval (pca on summer-fall: 0 [0, 5]); the paired tables
     assert "<td>0.0 [0, 5]</td>" in page

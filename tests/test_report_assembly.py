@@ -11,6 +11,7 @@ import pytest
 # the fake metrics/eval folder of test_results
 from test_results import METHODS, PAIRS, VARIANTS, write_evaluations
 
+from seasonloop.data.datasets import trained_on
 from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.evaluation.records import block_records
@@ -34,12 +35,11 @@ EVALUATE = EvaluateConfig(
     matchers=("single", "sequence"),
 )
 SEASONS = ["summer", "winter", "fall"]
-# what stages/fit.py writes for a learner fitted here and for one fitted by another run
+# what the fit records say a learner was trained on: fitted by another run (stages/fit.py's
+# fitted_elsewhere), and fitted here on the training places of one season
 TRAINED_ON = {
-    method: f"elsewhere: /runs/other/models/{method} (not this dataset; its own params)"
-    if method == METHODS[0]
-    else "every place of summer"
-    for method in METHODS
+    "pca": "elsewhere: /runs/other/models/pca (not this dataset; its own params)",
+    "ica": trained_on(True, ["summer"], whole_route=False),
 }
 
 

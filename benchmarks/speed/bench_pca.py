@@ -1,4 +1,4 @@
-"""The pca learner as configured (params.yaml pca section, default svd_solver randomized) vs
+"""The pca learner as configured (params.yaml pca section, svd_solver covariance_eigh by default) vs
 scikit-learn's PCA with other solvers, side by side on one full-scale-shaped training matrix.
 
 Agreement: principal angles between the kept subspaces (components n_discard .. n_discard+n_keep)

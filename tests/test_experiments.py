@@ -33,6 +33,9 @@ def test_queued_experiments_run_side_by_side_compare_and_replicate_routes(tmp_pa
     replicate_record_holds_both_routes(
         json.loads((root / "benchmarks/results/replicate_routes.json").read_text()), root
     )
+    # the route ran what the record reads, not the stages after it (tools.replicate_routes.route_stages)
+    logs = dvc(root, "queue", "logs", "route-7").stdout
+    assert "Running stage 'training_seasons'" in logs and "Running stage 'figures'" not in logs, logs[-3000:]
     # the route's experiment read, the ablation's compared alone
     assert dvc(root, "exp", "remove", "route-7").returncode == 0
     shown = json.loads(dvc(root, "exp", "show", "--json").stdout)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import yaml
 
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.settings import StatisticsConfig
@@ -205,5 +206,14 @@ def test_the_queue_wait_starts_workers_again_when_they_all_exit_with_routes_queu
     monkeypatch.setattr(replicate.time, "monotonic", lambda: next(clock))
     monkeypatch.setattr(replicate.time, "sleep", lambda seconds: None)
     monkeypatch.setattr(replicate.subprocess, "run", lambda *a, **k: subprocess.CompletedProcess(a, 0, "", ""))
-    replicate.queue_routes([3], jobs=2)
+    replicate.queue_routes([3], jobs=2, stages=["summary"])
     assert started == [2, 2]
+
+
+def test_a_route_runs_the_stages_whose_outputs_the_record_reads():
+    from tools.replicate_routes import route_stages
+    from tools.repository import REPO
+
+    learners = yaml.safe_load((REPO / "params.yaml").read_text())["learners"]
+    expected = {"summary", "compare", "training_seasons", *(f"evaluate@{learner}" for learner in learners)}
+    assert set(route_stages()) == expected

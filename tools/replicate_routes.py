@@ -4,7 +4,9 @@
     python -m tools.replicate_routes collect
 
 `run` queues one DVC experiment per seed, everything else as in params.yaml
-(`dvc exp run --queue -n route-<seed> -S synthetic.seed=<seed>`), runs the queue
+(`dvc exp run --queue -n route-<seed> -S synthetic.seed=<seed> <stages>`: the stages that write
+what `collect` reads, and what they need; the CAE width sweep, figures and report, which it does not
+read, are left as the baseline's), runs the queue
 (`dvc queue start -j <jobs>`), waits for it, then collects. `collect` reads the routes back: the
 experiments named route-<seed> of `dvc exp show --json` (of the newest commit that has any, and of
 older commits with the same pipeline: see routes_of) and the committed run they branched from
@@ -70,10 +72,27 @@ def start_workers(jobs: int) -> None:
         raise SystemExit(f"dvc queue start -j {jobs} failed: {started.stdout.strip()}")
 
 
-def queue_routes(seeds: list[int], jobs: int) -> float:
-    """Queue and run one experiment per seed; the queue's wall seconds."""
+def route_stages(root: Path = REPO) -> list[str]:
+    """The stages of the pipeline whose outputs are or lie in FETCHED, as dvc.yaml declares them:
+    a route's experiment runs these (and the stages they depend on), not the others."""
+    from dvc.repo import Repo
+
+    with Repo(str(root)) as repo:
+        return [
+            stage.addressing
+            for stage in repo.index.stages
+            if any(
+                Path(out.def_path) == Path(path) or Path(path) in Path(out.def_path).parents
+                for out in stage.outs
+                for path in FETCHED
+            )
+        ]
+
+
+def queue_routes(seeds: list[int], jobs: int, stages: list[str]) -> float:
+    """Queue and run one experiment per seed, up to `stages` (route_stages); the queue's wall seconds."""
     for seed in seeds:
-        dvc("exp", "run", "--queue", "-n", f"{PREFIX}{seed}", "-S", f"synthetic.seed={seed}")
+        dvc("exp", "run", "--queue", "-n", f"{PREFIX}{seed}", "-S", f"synthetic.seed={seed}", *stages)
     started = workers_started = time.monotonic()
     start_workers(jobs)
     # `dvc queue status` costs ~0.8 s of CPU: asked every 10 s, and at once when a route's
@@ -234,7 +253,7 @@ def main() -> None:
     args = parser.parse_args()
     measured_on = {**machine(), "source": git_state()}
     if args.action == "run":
-        save_queue(args.seeds, args.jobs, queue_routes(args.seeds, args.jobs))
+        save_queue(args.seeds, args.jobs, queue_routes(args.seeds, args.jobs, route_stages()))
     print(collect(measured_on))
 
 

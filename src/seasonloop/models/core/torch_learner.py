@@ -282,4 +282,4 @@ class TorchAutoEncoderLearner(FeatureLearner):
         self._set_threads()
         self.model = self._seeded_model()
         self.model.load_state_dict(torch.load(directory / MODEL_FILE, map_location="cpu", weights_only=True))
-        self.model.to(device=device, memory_format=self._memory_format()).eval()  # type: ignore[call-overload]
+        self.model.to(device=device, memory_format=self._memory_format()).eval()

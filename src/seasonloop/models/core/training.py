@@ -245,7 +245,7 @@ def train_until_plateau(
     Shuffling has its own generator seeded from config.seed, so the global torch RNG is left alone.
     """
     generator = torch.Generator().manual_seed(config.seed)
-    model.to(device=device, memory_format=memory_format)  # type: ignore[call-overload]  # torch's stubs lack it
+    model.to(device=device, memory_format=memory_format)
     optimiser = adam(model, config.learning_rate)
     scheduler = learning_rate_schedule(optimiser, config)
     train_loss: list[float] = []

@@ -14,7 +14,7 @@ TINY = {
     "split": {"section_length": 100, "test_fraction": 0.3, "gap": 3},
     # VPR-Bench's HOG of a 128 px square (2,025 numbers), not of 512 px (35,721): the same code
     "hog": {"size": 128},
-    # arpack: exact to its tolerance, and ~1.5 s less CPU a fit than the default covariance_eigh,
+    # arpack: exact to its tolerance, and ~1.2 s less CPU a fit than the default covariance_eigh,
     # whose eigendecomposition of the 2,048 x 2,048 pixel covariance costs the same for 1,170 images
     # as for 100,000 images (the default's own case, which test_models' unit tests fit)
     "pca": {"n_discard": 3, "n_keep": 20, "svd_solver": "arpack"},

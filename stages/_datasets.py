@@ -21,17 +21,17 @@ def in_data_order(params: dict[str, Any], seasons: list[str]) -> list[str]:
     return [season for season in param(params, "data.seasons") if season in seasons]
 
 
-def training_images(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
-    """The concatenated training images of `seasons` (in data.seasons order), augmented or not as
-    train.augmented says."""
-    augmented = AUGMENTED if bool(param(params, "train.augmented")) else None
-    return datasets.training_images(SPLIT, augmented, in_data_order(params, seasons))
+def training_images(params: dict[str, Any], seasons: list[str], fold: int = -1, folds: int = 1) -> np.ndarray:
+    """The concatenated training images of `seasons` (in data.seasons order) of fold `fold` of
+    `folds` (-1: the study's split), augmented or not as train.augmented says."""
+    augmented = datasets.fold_dir(AUGMENTED, fold, folds) if bool(param(params, "train.augmented")) else None
+    return datasets.training_images(datasets.fold_dir(SPLIT, fold, folds), augmented, in_data_order(params, seasons))
 
 
-def training_places(params: dict[str, Any], seasons: list[str]) -> np.ndarray:
+def training_places(params: dict[str, Any], seasons: list[str], fold: int = -1, folds: int = 1) -> np.ndarray:
     """The place id of every image that training_images returns."""
     copies = int(param(params, "augment.copies")) if bool(param(params, "train.augmented")) else 0
-    return datasets.training_places(SPLIT, in_data_order(params, seasons), copies)
+    return datasets.training_places(datasets.fold_dir(SPLIT, fold, folds), in_data_order(params, seasons), copies)
 
 
 def test_images(seasons: list[str]) -> dict[str, np.ndarray]:

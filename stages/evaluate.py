@@ -8,7 +8,9 @@ plots/similarity/<method>/<pair><suffix>.npy (a thumbnail of the similarity matc
 summary's figure of every learner and pair) and data/outcomes/<method>/<pair><suffix>.csv (each
 query's outcome, for the compare stage's paired tests), where suffix is "@<metric>" for an extra metric
 (nothing for evaluate.metric) followed by "" for single-image matching and "+seq" for sequence
-matching (seasonloop.evaluation.matchers.result_suffix).
+matching (seasonloop.evaluation.matchers.result_suffix). With split.folds K > 1 each fold is
+evaluated on its own (its queries against its database places) and each file holds every fold's
+queries (seasonloop.evaluation.folds).
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import argparse
 from pathlib import Path
 
 from _common import data_seasons, load_params, stage_main
+from seasonloop.data.datasets import count_folds, fold_dirs
 from seasonloop.evaluation.learner_evaluation import evaluate_learner
 from seasonloop.io import staged_dir
 from seasonloop.params.seasons import available_pairs
@@ -31,6 +34,8 @@ def main() -> None:
     params = load_params("data.seasons", "evaluate", "sequence", "statistics")
     evaluate, sequence = EvaluateConfig.from_params(params), SequenceConfig.from_params(params)
     pairs = available_pairs(data_seasons(params), evaluate.pairs)
+    truths = Path("data/ground_truth")
+    folds = count_folds(truths)
     with (
         staged_dir(Path("metrics/eval") / method) as metrics_dir,
         staged_dir(Path("plots/pr") / method) as pr_dir,
@@ -38,9 +43,9 @@ def main() -> None:
         staged_dir(Path("data/outcomes") / method) as outcomes_dir,
     ):
         evaluate_learner(
-            Path("data/features") / method,
+            fold_dirs(Path("data/features") / method, folds),
             pairs,
-            Path("data/ground_truth"),
+            fold_dirs(truths, folds),
             evaluate,
             sequence,
             StatisticsConfig.from_params(params),

@@ -6,7 +6,10 @@ Writes models/<method>/ (the fitted learner), logs/<method>/ (dvclive training a
 curves of the learners that train in epochs; an empty folder for the others) and metrics/fit/<method>.json (fit time, training-set
 size, what it was trained on, the learner's fit report such as ICA convergence or why an
 auto-encoder stopped, and the torch threads and library versions, so that a different result
-elsewhere can be traced).
+elsewhere can be traced). With split.folds K > 1 a learner is fitted on each fold's training
+images into its fold folder (seasonloop.data.datasets.fold_dir; the study's fold is logged and
+recorded as before, the others under "folds" of the record); a training-free learner, or one
+fitted elsewhere, is the same model for every fold and is fitted once.
 """
 
 from __future__ import annotations
@@ -24,22 +27,26 @@ import numpy as np
 
 from _common import load_params, param, stage_main, train_seasons
 from _datasets import SPLIT, training_images, training_places
-from seasonloop.data.datasets import split_images_file, trained_on
+from seasonloop.data.datasets import count_folds, fold_dir, split_images_file, trained_on
 from seasonloop.io import staged_dir, write_json
 from seasonloop.models.core.learner import FeatureLearner
 from seasonloop.models.core.lookup import get_learner, load_learner
 
 
-def fit_here(method: str, params: dict[str, Any], seasons: list[str]) -> tuple[FeatureLearner, dict, dict]:
-    """The learner fitted on this run's training images; (learner, its fit info, the record's facts)."""
+def fit_here(
+    method: str, params: dict[str, Any], seasons: list[str], fold: int = -1, folds: int = 1
+) -> tuple[FeatureLearner, dict, dict]:
+    """The learner fitted on the training images of fold `fold` of `folds` (-1: the study's split,
+    the one whose epochs logs/<method> holds); (learner, its fit info, the record's facts)."""
     learner_class = get_learner(method)
     # the learner checks its own section before the training images are loaded
     learner = learner_class(param(params, method), seed=int(param(params, "seed")))
-    images = training_images(params, seasons)
-    places = training_places(params, seasons)
+    images = training_images(params, seasons, fold, folds)
+    places = training_places(params, seasons, fold, folds)
     logs = Path("logs") / method
+    logged = fold % folds == folds - 1
     with ExitStack() as opened:
-        if learner_class.trains_in_epochs:
+        if learner_class.trains_in_epochs and logged:
             # imported only here: dvclive (with pandas) is ~0.8 s of every other fit's start-up
             from dvclive import Live
 
@@ -48,6 +55,8 @@ def fit_here(method: str, params: dict[str, Any], seasons: list[str]) -> tuple[F
             logs.mkdir(parents=True, exist_ok=True)  # a declared output, empty: nothing to log
 
         def on_epoch(epoch: int, values: dict[str, float]) -> None:
+            if not logged:
+                return
             # one plot of both losses (logs/<method>/plots/metrics/loss/{train,validation}.tsv)
             live.log_metric("loss/train", values["train_loss"])
             live.log_metric("loss/validation", values["validation_loss"])
@@ -98,17 +107,32 @@ def main() -> None:
     method = parser.parse_args().method
     params = load_params("seed", "data.seasons", "train", "augment.copies", "split.test_fraction")
     seasons = train_seasons(params)
+    folds = count_folds(SPLIT)
+    others: list[dict[str, Any]] = []  # the record of each fold but the study's
     if param(params, "train.fitted") == "elsewhere":
         learner, info, facts = fitted_elsewhere(method, Path(param(params, "train.models_dir")), seasons[0])
+        fitted = [learner] * folds
     else:
-        learner, info, facts = fit_here(method, params, seasons)
+        fitted = []
+        if get_learner(method).learns:
+            for fold in range(folds - 1):
+                learner, info, facts = fit_here(method, params, seasons, fold, folds)
+                fitted.append(learner)
+                others.append({"fold": fold, **facts, "info": info})
+        # the study's fold last: the one logs/<method> and the record's own keys describe
+        learner, info, facts = fit_here(method, params, seasons, -1, folds)
+        fitted += [learner] * (folds - len(fitted))
     with staged_dir(Path("models") / method) as out:
-        learner.save(out)
+        for fold, model in enumerate(fitted):
+            folder = fold_dir(out, fold, folds)
+            folder.mkdir(parents=True, exist_ok=True)
+            model.save(folder)
     write_json(
         Path("metrics/fit") / f"{method}.json",
         {
             **facts,
             "info": info,
+            **({"folds": others} if folds > 1 else {}),
             "environment": {
                 # None: the learner did not use torch (not imported here: 1.5 s of every fit's start-up)
                 "torch_threads": sys.modules["torch"].get_num_threads() if "torch" in sys.modules else None,

@@ -7,6 +7,8 @@ to one learner (its module or its params) refits only its own ablation. On a sub
 pair and lists adapt to the seasons present (seasonloop.ablations.training_seasons says how); with
 fewer than two seasons the record says why nothing was fitted. The list that is the pipeline's own
 training set is not refitted: the training_seasons stage reads evaluate@<learner>'s number for it.
+The ablation fits and tests on the study's split; with split.folds K > 1 evaluate@<learner> pools
+every fold's queries, so that list is fitted here too.
 """
 
 from __future__ import annotations
@@ -18,8 +20,9 @@ from pathlib import Path
 from _truths import evaluation_context, pair_truths
 
 from _common import data_seasons, load_params, param, stage_main, train_seasons
-from _datasets import test_images, training_images, training_places
+from _datasets import SPLIT, test_images, training_images, training_places
 from seasonloop.ablations.training_seasons import plan_ablation, reusable_label, run_ablation, write_learner_record
+from seasonloop.data.datasets import count_folds
 from seasonloop.models.core.lookup import get_learner
 from seasonloop.params.seasons import available_pairs
 from seasonloop.params.settings import AblationConfig, EvaluateConfig
@@ -67,7 +70,8 @@ def main() -> None:
         plan,
         train_seasons(params),
         method in param(params, "learners"),
-        plan.pair in available_pairs(data_seasons(params), evaluate.pairs),
+        # evaluate@<learner> of a run of several folds holds every fold's queries, not the study split's
+        plan.pair in available_pairs(data_seasons(params), evaluate.pairs) and count_folds(SPLIT) == 1,
     )
     if reused:
         print(

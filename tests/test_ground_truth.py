@@ -157,7 +157,7 @@ def test_traverses_at_different_speeds_share_their_test_stretches():
         "fall_change": np.where(np.diff(fall[:, 0], prepend=-1.0) == 0, 0.0, 5.0),
     }
     config = SplitConfig(
-        section_length=100, test_fraction=0.2, gap=5, dark_threshold=40, stop_threshold=1.0, test_every={}
+        section_length=100, test_fraction=0.2, gap=5, folds=1, dark_threshold=40, stop_threshold=1.0, test_every={}
     )
     splits = split_seasons(stats, ["summer", "fall"], config, mapped)
     test_stretch = summer[splits.splits["summer"].test, 0]
@@ -330,7 +330,7 @@ def test_frames_beyond_the_reference_route_belong_to_no_place():
         for k, v in (("brightness", 100.0), ("change", 5.0))
     }
     config = SplitConfig(
-        section_length=100, test_fraction=0.2, gap=5, dark_threshold=40, stop_threshold=1.0, test_every={}
+        section_length=100, test_fraction=0.2, gap=5, folds=1, dark_threshold=40, stop_threshold=1.0, test_every={}
     )
     fall_split = split_seasons(stats, ["summer", "fall"], config, mapped).splits["fall"]
     assert fall[fall_split.test, 0].max() < 610 and len(fall_split.test) == 120 + 10

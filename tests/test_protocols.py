@@ -114,7 +114,13 @@ def test_seasons_that_are_not_aligned_sample_their_own_test_places():
         f"{season}_{kind}": np.full(40, 100.0) for season in ("summer", "fall") for kind in ("brightness", "change")
     }
     config = SplitConfig(
-        section_length=40, test_fraction=0.5, gap=2, dark_threshold=40, stop_threshold=1.0, test_every={"fall": 4}
+        section_length=40,
+        test_fraction=0.5,
+        gap=2,
+        folds=1,
+        dark_threshold=40,
+        stop_threshold=1.0,
+        test_every={"fall": 4},
     )
     split = split_seasons(stats, ["summer", "fall"], config, {"summer": np.arange(40), "fall": np.arange(40)})
     assert split.season("fall").test.tolist() == [20, 24, 28, 32, 36]
@@ -124,12 +130,14 @@ def test_seasons_that_are_not_aligned_sample_their_own_test_places():
 def test_a_whole_route_tests_every_frame_those_without_a_reference_place_too():
     # VPR-Bench's queries without a correct reference are evaluated (a miss), not left out
     stats = {f"{season}_{kind}": np.full(10, 100.0) for season in ("ref", "query") for kind in ("brightness", "change")}
-    config = SplitConfig(section_length=10, test_fraction=1, gap=0, dark_threshold=0, stop_threshold=0, test_every={})
+    config = SplitConfig(
+        section_length=10, test_fraction=1, gap=0, folds=1, dark_threshold=0, stop_threshold=0, test_every={}
+    )
     placed = {"ref": np.arange(10), "query": np.array([0, 1, 2, -1, 4, 5, 6, 7, 8, 9])}
     split = split_seasons(stats, ["ref", "query"], config, placed)
     assert split.season("query").test.tolist() == list(range(10))
     partial = SplitConfig(
-        section_length=10, test_fraction=0.5, gap=0, dark_threshold=0, stop_threshold=0, test_every={}
+        section_length=10, test_fraction=0.5, gap=0, folds=1, dark_threshold=0, stop_threshold=0, test_every={}
     )
     assert 3 not in split_seasons(stats, ["ref", "query"], partial, placed).season("query").test.tolist()
 

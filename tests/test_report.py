@@ -8,7 +8,7 @@ import pytest
 from test_results import fake_intervals
 
 from seasonloop.data.ground_truth import aligned_truth
-from seasonloop.evaluation.outcomes import QueryOutcomes
+from seasonloop.evaluation.outcomes import COLUMNS, QueryOutcomes
 from seasonloop.evaluation.records import block_records
 from seasonloop.plots import plot_image_grid
 from seasonloop.reporting.examples import example_grid_png, examples_section, outcome_examples
@@ -120,8 +120,24 @@ def test_examples_are_the_most_confident_correct_and_wrong_matches_of_the_evalua
         aligned_truth(places, places, 0),
         "distance",
     )
+    with pytest.raises(ValueError, match="outside the ground truth's database"):
+        outcome_examples(outcomes, aligned_truth(places[1:], places, 0), n=1)
     with pytest.raises(ValueError, match="different queries"):
-        outcome_examples(outcomes, aligned_truth(places[:3], places[:3], 0), n=1)
+        outcome_examples(outcomes.take(np.arange(3)), aligned_truth(places, places, 0), n=1)
+
+
+def test_examples_of_one_fold_from_the_outcomes_of_every_fold():
+    """A cross-validated run's outcomes hold every fold's queries; the report's truth is one fold's."""
+    rng = np.random.default_rng(0)
+    folds = [np.array([0, 1, 2, 6, 7, 8]), np.array([3, 4, 5, 9, 10, 11])]
+    truths = [aligned_truth(places, places, 0) for places in folds]
+    outcomes = [
+        QueryOutcomes.from_records(block_records(rng.random((6, 6)), truth, "distance", 0), truth, "distance")
+        for truth in truths
+    ]
+    order = np.argsort(np.concatenate(folds))
+    pooled = QueryOutcomes(**{name: np.concatenate([getattr(o, name) for o in outcomes])[order] for name in COLUMNS})
+    assert outcome_examples(pooled, truths[1], 2) == outcome_examples(outcomes[1], truths[1], 2)
 
 
 def test_example_grid_is_embedded():

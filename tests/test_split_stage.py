@@ -18,7 +18,9 @@ from seasonloop.data.split import (
 )
 from seasonloop.params.settings import SplitConfig
 
-CONFIG = SplitConfig(section_length=10, test_fraction=0.3, gap=1, dark_threshold=40, stop_threshold=1.0, test_every={})
+CONFIG = SplitConfig(
+    section_length=10, test_fraction=0.3, gap=1, folds=1, dark_threshold=40, stop_threshold=1.0, test_every={}
+)
 
 
 def stats_of(n: int) -> dict[str, np.ndarray]:

@@ -104,7 +104,7 @@ def test_evaluate_learner_writes_every_pair_metric_and_matcher(tmp_path):
     truths = tmp_path / "truths"
     truths.mkdir()
     aligned_truth(np.arange(15), np.arange(15), 0).save(truths / "summer-fall.npz")
-    evaluate_learner(features, [("summer", "fall")], truths, evaluate, sequence, statistics, dirs)
+    evaluate_learner([features], [("summer", "fall")], [truths], evaluate, sequence, statistics, dirs)
     names = ["summer-fall", "summer-fall+seq", "summer-fall@cityblock", "summer-fall@cityblock+seq"]
     assert sorted(p.stem for p in dirs[0].iterdir()) == sorted(names)
     assert sorted(p.stem for p in dirs[1].iterdir()) == sorted(names)
@@ -123,8 +123,8 @@ def test_evaluate_learner_writes_every_pair_metric_and_matcher(tmp_path):
     assert thumbnail.shape == (15, 15) and thumbnail.dtype == np.float16
     assert (np.diagonal(thumbnail) == np.nanmax(thumbnail, axis=1)).all()  # the matches are the most similar
     with pytest.raises(ValueError, match="evaluate.pairs: no pair"):
-        evaluate_learner(features, [], truths, evaluate, sequence, statistics, dirs)
+        evaluate_learner([features], [], [truths], evaluate, sequence, statistics, dirs)
     # descriptors that do not match the test places: one line naming the file
     np.save(features / "fall.npy", base[:14])
     with pytest.raises(ValueError, match=r"fall.npy: 14 descriptors for the 15 test places of fall"):
-        evaluate_learner(features, [("summer", "fall")], truths, evaluate, sequence, statistics, dirs)
+        evaluate_learner([features], [("summer", "fall")], [truths], evaluate, sequence, statistics, dirs)

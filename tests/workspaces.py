@@ -31,7 +31,14 @@ from tools.small_runs import SMALL, TINY
 # the test modules whose workspaces start from the seed's cache, in the order they run: SMALL's
 # longest first, then test_pipeline, which waits for TINY (tests/conftest.py starts the seed early
 # when any of them is selected)
-SEEDED_MODULES = ("test_remote", "test_experiments", "test_fresh_clone", "test_new_learner", "test_pipeline")
+SEEDED_MODULES = (
+    "test_remote",
+    "test_experiments",
+    "test_fresh_clone",
+    "test_new_learner",
+    "test_folds",
+    "test_pipeline",
+)
 
 
 def make_workspace(root: Path, overrides: dict, cache: Path | None = None) -> Path:

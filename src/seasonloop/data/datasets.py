@@ -4,6 +4,11 @@ A split folder holds split.json (the place ids of every part, seasonloop.data.sp
 <season>_train.npy / <season>_test.npy, the (N, H, W) images of those places in split.json's
 order. An augmented folder holds <season>.npy: the rows seasonloop.data.augment.augmented_places
 describes. The callers pass the folders; which folders the pipeline uses is theirs to say.
+
+With split.folds K > 1 every folder a fold has its own of (split, augmented set, models, features,
+ground truth) holds the last fold, the study's split, where a run of one fold holds it, and fold
+k < K - 1 in <folder>/folds/<k>/ (fold_dir): whatever reads the study's split alone reads the
+folder as before.
 """
 
 from __future__ import annotations
@@ -19,6 +24,32 @@ from seasonloop.io import load_array, read_json, save_array
 from seasonloop.params.settings import AugmentConfig
 
 SPLIT_FILE = "split.json"
+FOLDS = "folds"  # the subfolder of the folds other than the study's
+
+
+def fold_dir(root: Path, fold: int, folds: int) -> Path:
+    """The folder of fold `fold` of `folds` under `root` (a negative fold counts from the last): the
+    last fold (the study's split) is root itself, fold k < folds - 1 is root/folds/<k>."""
+    if not -folds <= fold < folds:
+        raise ValueError(f"fold {fold} of {folds}: no such fold")
+    fold %= folds
+    return root if fold == folds - 1 else root / FOLDS / str(fold)
+
+
+def fold_dirs(root: Path, folds: int) -> list[Path]:
+    """Every fold's folder under `root`, fold 0 first (fold_dir)."""
+    return [fold_dir(root, fold, folds) for fold in range(folds)]
+
+
+def count_folds(root: Path) -> int:
+    """How many folds a folder written by fold_dir holds: 1 + its folds/0 .. folds/<K-2>."""
+    others = root / FOLDS
+    if not others.is_dir():
+        return 1
+    names = sorted(path.name for path in others.iterdir())
+    if sorted(names, key=lambda name: int(name) if name.isdigit() else -1) != [str(k) for k in range(len(names))]:
+        raise ValueError(f"{others}: expected the folders 0 to {len(names) - 1}, found {', '.join(names)}")
+    return len(names) + 1
 
 
 def read_split(split_dir: Path) -> dict:
@@ -127,6 +158,7 @@ def write_augmented_sets(
     """Augment every season's training images into out_dir/<season>.npy; season -> its image counts
     (the rows of the study's Table 3)."""
     split = read_split(split_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
     per_season = {}
     for index, season in enumerate(seasons):
         train = load_array(split_images_file(split_dir, season, "train"))
@@ -148,6 +180,18 @@ def write_augmented_sets(
             "test": len(own["test"]),
         }
     return per_season
+
+
+def fold_counts(per_fold: Sequence[Mapping[str, Mapping[str, int]]]) -> dict[str, Any]:
+    """The dataset table's entry of a run of several folds, from each fold's write_augmented_sets
+    counts: how many folds, each season's test places over all of them (every place tested once)
+    and each fold's training images."""
+    seasons = list(per_fold[-1])
+    return {
+        "count": len(per_fold),
+        "test": {season: sum(int(fold[season]["test"]) for fold in per_fold) for season in seasons},
+        "train": {season: [int(fold[season]["train"]) for fold in per_fold] for season in seasons},
+    }
 
 
 def dataset_record(

@@ -124,9 +124,11 @@ def split_seasons(
     seasons: Sequence[str],
     config: SplitConfig,
     reference_place: Mapping[str, np.ndarray],
+    fold: int = -1,
 ) -> SeasonSplits:
-    """Every season's split from its frame statistics ("<season>_brightness", "<season>_change")
-    and the reference place of each of its frames (by_position / by_matrix)."""
+    """Every season's split of fold `fold` of split.folds (seasonloop.data.split.split_masks) from
+    its frame statistics ("<season>_brightness", "<season>_change") and the reference place of each
+    of its frames (by_position / by_matrix)."""
     reference = seasons[0]
     n_reference = len(stats[f"{reference}_brightness"])
     own_tunnel = {s: detect_tunnels({s: stats[f"{s}_brightness"]}, float(config.dark_threshold)) for s in seasons}
@@ -139,7 +141,7 @@ def split_seasons(
     tunnel = np.any([_scatter(n_reference, reference_place[s], own_tunnel[s]) for s in seasons], axis=0)
     stop = np.any([_scatter(n_reference, reference_place[s], own_stop[s]) for s in seasons], axis=0)
     test_block, gap, train = split_masks(
-        n_reference, int(config.section_length), float(config.test_fraction), int(config.gap)
+        n_reference, int(config.section_length), float(config.test_fraction), int(config.gap), int(config.folds), fold
     )
     # a whole route (test_fraction 1, the field's protocols) tests every frame, those without a
     # correct reference place too (as VPR-Bench's queries without a row: never a correct match);

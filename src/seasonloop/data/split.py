@@ -3,6 +3,10 @@
 Places are frame indices along the route. The route is cut into contiguous sections; the last
 `test_fraction` of each section is a test block, and `gap` places on either side of every test
 block are used for nothing, so no training image shows a test place or its immediate neighbours.
+With `folds` K > 1 (blocked cross-validation along the route, Roberts et al. 2017) each section is
+tiled by K test blocks: fold k tests the k-th block of every section and trains on the rest, but
+for `gap` places on either side of its blocks; the last fold is the study's split, and the K folds
+together test every place but tunnels and stops exactly once.
 A test_fraction of 1 is the field's protocols (VPR-Bench, Patch-NetVLAD): every place is tested,
 and the learners train on the same places in other seasons (params.schema refuses a training season
 that is also evaluated). `test_every` keeps every k-th place of a season's test set (place id
@@ -67,6 +71,31 @@ def section_blocks(n_places: int, section_length: int, test_fraction: float) -> 
     return blocks
 
 
+def fold_blocks(n_places: int, section_length: int, test_fraction: float, folds: int) -> list[list[tuple[int, int]]]:
+    """[start, end) of each fold's test block in each section: the last fold's are section_blocks'
+    (the study's), the other K - 1 tile the rest of every section in route order, in near-equal
+    blocks (K = 1 / test_fraction makes all K near-equal)."""
+    study = section_blocks(n_places, section_length, test_fraction)
+    if folds < 1:
+        raise ValueError(f"split.folds: must be at least 1, got {folds}")
+    if folds == 1:
+        return [study]
+    n_sections = len(study)
+    starts = np.linspace(0, n_places, n_sections + 1).round().astype(int)[:-1]
+    per_fold: list[list[tuple[int, int]]] = [[] for _ in range(folds)]
+    for start, (block_start, block_end) in zip(starts, study):
+        if block_start - start < folds - 1:
+            raise ValueError(
+                f"split.folds: a section of {block_end - start} places cannot hold {folds} test blocks "
+                "(split.section_length, test_fraction)"
+            )
+        bounds = np.linspace(start, block_start, folds).round().astype(int)
+        for fold, (low, high) in enumerate(zip(bounds[:-1], bounds[1:])):
+            per_fold[fold].append((int(low), int(high)))
+        per_fold[-1].append((block_start, block_end))
+    return per_fold
+
+
 def detect_tunnels(brightness: Mapping[str, np.ndarray], dark_threshold: float) -> np.ndarray:
     """A place is a tunnel when its raw frame is dark in any season."""
     return np.any([values < dark_threshold for values in brightness.values()], axis=0)
@@ -82,17 +111,20 @@ def detect_stops(change: Mapping[str, np.ndarray], stop_threshold: float) -> np.
 
 
 def split_masks(
-    n_places: int, section_length: int, test_fraction: float, gap: int
+    n_places: int, section_length: int, test_fraction: float, gap: int, folds: int = 1, fold: int = -1
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(in a test block, in a gap, training) masks over n_places places; a test_fraction of 1 tests
-    and trains on every place (a protocol's whole route: the learners see other seasons only)."""
+    """(in a test block, in a gap, training) masks over n_places places of fold `fold` of `folds`
+    (fold_blocks; -1: the last, the study's split); a test_fraction of 1 tests and trains on every
+    place (a protocol's whole route: the learners see other seasons only)."""
     if gap < 0:
         raise ValueError(f"split.gap: must be >= 0, got {gap}")
     if test_fraction == 1:
+        if folds != 1:
+            raise ValueError("split.folds: split.test_fraction 1 already tests every place; set folds to 1")
         return np.ones(n_places, bool), np.zeros(n_places, bool), np.ones(n_places, bool)
     in_test_block = np.zeros(n_places, bool)
     near_test = np.zeros(n_places, bool)
-    for start, end in section_blocks(n_places, section_length, test_fraction):
+    for start, end in fold_blocks(n_places, section_length, test_fraction, folds)[fold]:
         in_test_block[start:end] = True
         near_test[max(0, start - gap) : min(n_places, end + gap)] = True
     train_mask = ~near_test
@@ -131,21 +163,24 @@ def make_split(
     tunnel: np.ndarray,
     stop: np.ndarray,
     test_every: Mapping[str, int] | None = None,
+    folds: int = 1,
+    fold: int = -1,
 ) -> Split:
     """Sections of `section_length` places, each ending in a test block, with `gap` places unused
     on either side; tunnels and stops left out of the test blocks; test_every: season -> k, that
-    season tested on every k-th place only."""
+    season tested on every k-th place only; fold `fold` of `folds` (split_masks)."""
     if tunnel.shape != (n_places,) or stop.shape != (n_places,):
         raise ValueError(f"tunnel/stop masks must have shape ({n_places},)")
-    split = masks_to_split(*split_masks(n_places, section_length, test_fraction, gap), tunnel, stop)
+    masks = split_masks(n_places, section_length, test_fraction, gap, folds, fold)
+    split = masks_to_split(*masks, tunnel, stop)
     return replace(split, test_every=dict(test_every or {}))
 
 
 def split_route(
-    stats: Mapping[str, np.ndarray], seasons: Sequence[str], config: SplitConfig
+    stats: Mapping[str, np.ndarray], seasons: Sequence[str], config: SplitConfig, fold: int = -1
 ) -> tuple[Split, np.ndarray, np.ndarray]:
-    """(split, tunnel mask, stop mask) from the frame statistics `stats` ("<season>_brightness" and
-    "<season>_change" per place, as preprocess writes them)."""
+    """(split of fold `fold` of split.folds, tunnel mask, stop mask) from the frame statistics
+    `stats` ("<season>_brightness" and "<season>_change" per place, as preprocess writes them)."""
     tunnel = detect_tunnels({s: stats[f"{s}_brightness"] for s in seasons}, float(config.dark_threshold))
     stop = detect_stops({s: stats[f"{s}_change"] for s in seasons}, float(config.stop_threshold))
     split = make_split(
@@ -156,6 +191,8 @@ def split_route(
         tunnel,
         stop,
         dict(config.test_every),
+        int(config.folds),
+        fold,
     )
     return split, tunnel, stop
 

@@ -35,12 +35,14 @@ WHOLE_DISTANCES_MAX_BYTES = 512 * 2**20
 @dataclass(frozen=True)
 class PairEvaluation:
     """One pair evaluated with one matcher: its metrics (seasonloop.evaluation.metrics.METRIC_KEYS),
-    PR curve, similarity thumbnail and each query's outcome (what intervals and paired tests use)."""
+    PR curve, similarity thumbnail, each query's outcome (what intervals and paired tests use) and
+    the records its metrics summarise (what pools the folds of a cross-validated run)."""
 
     metrics: dict[str, Any]
     pr: pd.DataFrame
     thumbnail: np.ndarray
     outcomes: QueryOutcomes
+    records: QueryRecords
 
 
 def similarity_thumbnail(distances: np.ndarray, max_side: int = THUMBNAIL_SIDE) -> np.ndarray:
@@ -105,7 +107,7 @@ def evaluate_in_blocks(
     pair_records = QueryRecords.concatenate(records)
     metrics, pr = summarise_records(pair_records, truth, evaluate.confidence)
     outcomes = QueryOutcomes.from_records(pair_records, truth, evaluate.confidence)
-    return PairEvaluation(metrics, pr, scale_thumbnail(np.concatenate(minima)), outcomes)
+    return PairEvaluation(metrics, pr, scale_thumbnail(np.concatenate(minima)), outcomes, pair_records)
 
 
 def evaluate_descriptors(

@@ -18,7 +18,8 @@ import numpy as np
 from tqdm import tqdm
 
 from seasonloop.data.ground_truth import PairTruth, truth_file
-from seasonloop.evaluation.blocks import evaluate_in_blocks, pair_distances
+from seasonloop.evaluation.blocks import PairEvaluation, evaluate_in_blocks, pair_distances
+from seasonloop.evaluation.folds import pooled_evaluation
 from seasonloop.evaluation.matchers import evaluations, get_matcher
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.io import load_array, save_array, write_json
@@ -28,49 +29,85 @@ from seasonloop.significance.intervals import fraction_interval
 
 
 def evaluate_learner(
-    features: Path,
+    features: Sequence[Path],
     pairs: Sequence[tuple[str, str]],
-    truths: Path,
+    truths: Sequence[Path],
     evaluate: EvaluateConfig,
     sequence: SequenceConfig,
     statistics: StatisticsConfig,
     out_dirs: Sequence[Path],
     progress: bool = False,
 ) -> None:
-    """Evaluate the descriptors features/<season>.npy of one learner on `pairs` (database, query)
-    against their ground truth truths/<database>-<query>.npz; writes <pair><suffix>.json,
+    """Evaluate the descriptors <features>/<season>.npy of one learner on `pairs` (database, query)
+    against their ground truth <truths>/<database>-<query>.npz; writes <pair><suffix>.json,
     .csv (PR curve), .npy (similarity_thumbnail) and .csv (outcomes) to out_dirs' four folders
-    (metrics, PR curves, thumbnails, outcomes). `progress`: a bar over the pairs' distance
-    matrices (one per pair, kind of descriptor and metric: what the time goes to)."""
+    (metrics, PR curves, thumbnails, outcomes). features and truths hold one folder per fold of the
+    split (one: the study's split; several: each fold evaluated on its own and the pair's result
+    pooled over them, seasonloop.evaluation.folds). `progress`: a bar over the pairs' distance
+    matrices (one per pair, fold, kind of descriptor and metric: what the time goes to)."""
     metrics_dir, pr_dir, similarity_dir, outcomes_dir = out_dirs
     if not pairs:
         raise ValueError("evaluate.pairs: no pair has both of its seasons in data.seasons")
+    if len(features) != len(truths):
+        raise ValueError(
+            f"{features[0]}: descriptors of {len(features)} folds for ground truth of {len(truths)} "
+            "(rerun the features stage)"
+        )
     groups = distance_groups(evaluations(evaluate))
     per_pair = sum(len(by_metric) for _, by_metric in groups)
-    bar = tqdm(total=len(pairs) * per_pair, desc=f"evaluate {features.name}", unit="distances", disable=not progress)
+    bar = tqdm(
+        total=len(pairs) * len(features) * per_pair,
+        desc=f"evaluate {features[-1].name}",
+        unit="distances",
+        disable=not progress,
+    )
     for database, query in pairs:
-        descriptors = [load_array(features / f"{season}.npy") for season in (database, query)]
-        truth = PairTruth.load(truth_file(truths, database, query))
-        check_rows(descriptors, truth, features, (database, query))
-        for describing, by_metric in groups:
-            # each traverse's descriptors as the matchers of this group take them, once for every metric
-            taken = get_matcher(describing)
-            database_taken = taken.described(descriptors[0], truth.database_places, sequence)
-            queries_taken = taken.described(descriptors[1], truth.query_places, sequence)
-            for metric, matchers in by_metric:
-                distance_rows = pair_distances(database_taken, queries_taken, metric)
-                for matcher, suffix in matchers:
-                    name = pair_name(database, query) + suffix
-                    evaluation = evaluate_in_blocks(
-                        distance_rows, len(descriptors[0]), truth, matcher, evaluate, sequence
-                    )
-                    intervals = metric_intervals(evaluation.outcomes, statistics)
-                    write_json(metrics_dir / f"{name}.json", {**evaluation.metrics, "intervals": intervals})
-                    evaluation.pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
-                    save_array(similarity_dir / f"{name}.npy", evaluation.thumbnail)
-                    evaluation.outcomes.to_csv(outcomes_dir / f"{name}.csv")
-                bar.update()
+        per_fold: dict[str, list[PairEvaluation]] = {}
+        for fold_features, fold_truths in zip(features, truths):
+            for suffix, evaluation in pair_evaluations(
+                fold_features, fold_truths, (database, query), groups, evaluate, sequence, bar
+            ):
+                per_fold.setdefault(suffix, []).append(evaluation)
+        for suffix, evaluations_of_folds in per_fold.items():
+            name = pair_name(database, query) + suffix
+            evaluation = pooled_evaluation(evaluations_of_folds, evaluate.confidence)
+            intervals = metric_intervals(evaluation.outcomes, statistics)
+            write_json(metrics_dir / f"{name}.json", {**evaluation.metrics, "intervals": intervals})
+            evaluation.pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
+            save_array(similarity_dir / f"{name}.npy", evaluation.thumbnail)
+            evaluation.outcomes.to_csv(outcomes_dir / f"{name}.csv")
     bar.close()
+
+
+def pair_evaluations(
+    features: Path,
+    truths: Path,
+    pair: tuple[str, str],
+    groups: list[tuple[str, list[tuple[str, list[tuple[str, str]]]]]],
+    evaluate: EvaluateConfig,
+    sequence: SequenceConfig,
+    bar: tqdm,
+) -> list[tuple[str, PairEvaluation]]:
+    """(suffix, evaluation) of every evaluation of one pair of one fold (its descriptors in
+    `features`, its truth in `truths`), grouped as distance_groups says; `bar` advances at each
+    distance matrix."""
+    database, query = pair
+    descriptors = [load_array(features / f"{season}.npy") for season in pair]
+    truth = PairTruth.load(truth_file(truths, database, query))
+    check_rows(descriptors, truth, features, pair)
+    found = []
+    for describing, by_metric in groups:
+        # each traverse's descriptors as the matchers of this group take them, once for every metric
+        taken = get_matcher(describing)
+        database_taken = taken.described(descriptors[0], truth.database_places, sequence)
+        queries_taken = taken.described(descriptors[1], truth.query_places, sequence)
+        for metric, matchers in by_metric:
+            distance_rows = pair_distances(database_taken, queries_taken, metric)
+            for matcher, suffix in matchers:
+                evaluation = evaluate_in_blocks(distance_rows, len(descriptors[0]), truth, matcher, evaluate, sequence)
+                found.append((suffix, evaluation))
+            bar.update()
+    return found
 
 
 def distance_groups(

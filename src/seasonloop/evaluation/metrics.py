@@ -252,8 +252,17 @@ def summarise_records(
     has none); n_queries; n_database. The PR DataFrame has columns recall, precision (one row per
     distinct confidence).
     """
+    return summarise_queries(records, truth.has_match, len(truth.database_places), confidence)
+
+
+def summarise_queries(
+    records: QueryRecords, has_match: np.ndarray, n_database: int, confidence: str
+) -> tuple[dict[str, float | int], pd.DataFrame]:
+    """summarise_records of queries matched against databases of n_database places (the largest,
+    when the queries of several folds were each matched against their own), which of them have a
+    correct place given by has_match."""
     match_confidence, correct = final_confidence(records, confidence), records.correct
-    has_match = truth.has_match
+    has_match = np.asarray(has_match, bool)
     recall, precision = pr_curve(match_confidence, correct, has_match)
 
     perfect = precision == 1.0  # a prefix: once a wrong match is accepted precision stays < 1
@@ -262,7 +271,6 @@ def summarise_records(
     # recall never decreases along the curve, so this is sklearn.metrics.auc's area (its trapezoid),
     # without importing scikit-learn (1.4 s at every evaluate stage's start)
     auc_pr = float(np.trapezoid(np.concatenate(([precision[0]], precision)), np.concatenate(([0.0], recall))))
-    n_database = len(truth.database_places)
     recalls = _recalls(records.hit_within[has_match], RECALL_NS, n_database)
 
     metrics: dict[str, float | int] = {
@@ -275,7 +283,7 @@ def summarise_records(
         "recall_at_1": recalls[1],
         "recall_at_5": recalls[5],
         "recall_at_10": recalls[10],
-        "n_queries": len(truth.query_places),
+        "n_queries": len(records.correct),
         "n_database": n_database,
     }
     import pandas as pd  # here, not at the top: the params check imports this module and needs no pandas

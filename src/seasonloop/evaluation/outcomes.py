@@ -50,6 +50,10 @@ class QueryOutcomes:
             np.asarray(records.distance, np.float64),
         )
 
+    def take(self, rows: np.ndarray) -> QueryOutcomes:
+        """The outcomes of the queries at `rows`, in that order."""
+        return QueryOutcomes(**{name: getattr(self, name)[rows] for name in COLUMNS})
+
     def to_csv(self, path: Path) -> None:
         table = pd.DataFrame({name: getattr(self, name) for name in COLUMNS})
         for name in ("correct", "has_match", "hit_at_1"):

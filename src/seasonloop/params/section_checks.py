@@ -12,14 +12,26 @@ RIDE_ROUTE_LEFT_S = 10  # seconds of route a season's ride must have left after 
 
 
 def _check_split(section: Mapping[str, Any]) -> None:
-    length, fraction, gap = section["section_length"], section["test_fraction"], section["gap"]
+    length, fraction, gap, folds = (section[key] for key in ("section_length", "test_fraction", "gap", "folds"))
     if fraction == 1:
+        if folds != 1:
+            raise ValueError(
+                f"split.folds: {folds}, but split.test_fraction 1 already tests every place; set folds to 1"
+            )
         return
-    test = max(1, round(length * fraction))
-    if length - test - 2 * gap < 1:
+    tiling = round(1 / fraction)
+    if folds not in (1, tiling):
         raise ValueError(
-            f"split: a section of {length} places with a test block of {test} and gaps of {gap} "
-            "on either side leaves no training place (split.section_length, test_fraction, gap)"
+            f"split.folds: {folds}; test blocks of split.test_fraction {fraction} tile a section in {tiling} folds: "
+            f"set {tiling} (every place tested once) or 1 (the study's split)"
+        )
+    test = max(1, round(length * fraction))
+    # the largest of a fold's blocks: the study's, or one of the K - 1 that share the rest
+    block = test if folds == 1 else max(test, -(-(length - test) // (folds - 1)))
+    if length - block - 2 * gap < 1:
+        raise ValueError(
+            f"split: a section of {length} places with a test block of {block} and gaps of {gap} "
+            "on either side leaves no training place (split.section_length, test_fraction, gap, folds)"
         )
 
 

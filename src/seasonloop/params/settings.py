@@ -163,6 +163,9 @@ class SplitConfig(Section):
     # traverse, never on a query one (check_whole_route)
     test_fraction: float = setting(test_fraction)
     gap: int = setting(integer(0))
+    # 1: the study's split; round(1 / test_fraction): blocked cross-validation, every place tested
+    # once (seasonloop.data.split.fold_blocks; section_checks says which values a split allows)
+    folds: int = setting(integer(1))
     dark_threshold: float = setting(number(0, 255))
     stop_threshold: float = setting(number(0))
     test_every: dict[str, int] = setting(season_map(integer(1)))

@@ -55,10 +55,17 @@ def choose_examples(
 
 def outcome_examples(outcomes: QueryOutcomes, truth: PairTruth, n: int) -> list[Example]:
     """choose_examples from an evaluation's per-query outcomes (seasonloop.evaluation.outcomes),
-    which keep each query's best match: the evaluate stage's own matches, not a second matching."""
-    if not np.array_equal(outcomes.query_place, truth.query_places):
+    which keep each query's best match: the evaluate stage's own matches, not a second matching.
+    Outcomes of every fold of a cross-validated run give the truth's (one fold's) queries' rows."""
+    row = {int(place): i for i, place in enumerate(outcomes.query_place)}
+    if not all(int(place) in row for place in truth.query_places):
         raise ValueError("per-query outcomes and ground truth hold different queries (rerun the evaluate stage)")
+    outcomes = outcomes.take(np.array([row[int(place)] for place in truth.query_places], dtype=np.int64))
     column = {int(place): i for i, place in enumerate(truth.database_places)}
+    if not all(int(place) in column for place in outcomes.match_place):
+        raise ValueError(
+            "per-query outcomes match places outside the ground truth's database (rerun the evaluate stage)"
+        )
     matches = np.array([column[int(place)] for place in outcomes.match_place], dtype=np.int64)
     return choose_examples(matches, outcomes.confidence, outcomes.correct, truth, n)
 

@@ -1,6 +1,7 @@
 """Stage training_seasons: the study's training-season effect (its Figure 18), from the records of
 training_seasons_fit@<learner> for every learner of ablation.methods, and for the list of training
-seasons that is the pipeline's own training set, evaluate@<learner>'s fraction correct.
+seasons that is the pipeline's own training set, evaluate@<learner>'s fraction correct (where the
+fit stage reused it: not with split.folds > 1, whose evaluate pools every fold's queries).
 
 Writes metrics/training_seasons.json and plots/training_seasons.png. With fewer than two seasons
 the ablation is skipped and both files say why.

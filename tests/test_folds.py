@@ -22,6 +22,8 @@ from seasonloop.evaluation.folds import pooled_evaluation
 from seasonloop.evaluation.metrics import evaluate_truth
 from seasonloop.params.schema import check_params
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, SplitConfig
+from seasonloop.reporting.html import Text
+from seasonloop.reporting.sections import dataset_section
 from tools.small_runs import SMALL
 from workspaces import committed_run, repro_with
 
@@ -181,7 +183,7 @@ def test_a_pair_pools_every_fold_s_queries_in_route_order():
     assert pooled.outcomes.query_place.tolist() == list(range(120))
     correct = np.concatenate([evaluation.outcomes.correct for evaluation, _ in parts])
     assert pooled.metrics["fraction_correct"] == pytest.approx(correct.mean())
-    assert pooled.metrics["n_queries"] == 120 and pooled.metrics["n_database"] == 120 and pooled.metrics["folds"] == 3
+    assert pooled.metrics["n_queries"] == 120 and pooled.metrics["n_database"] == 40 and pooled.metrics["folds"] == 3
     # each query keeps its own fold's outcome
     for evaluation, _ in parts:
         rows = np.searchsorted(pooled.outcomes.query_place, evaluation.outcomes.query_place)
@@ -246,3 +248,17 @@ def test_a_run_of_every_fold_tests_every_place_and_keeps_the_study_split(tmp_pat
     fit = json.loads((root / "metrics/fit/pca.json").read_text())
     assert [entry["fold"] for entry in fit["folds"]] == list(range(folds - 1))
     assert all((root / f"models/pca/folds/{k}/pca.joblib").is_file() for k in range(folds - 1))
+
+
+def test_the_report_says_which_numbers_pool_the_folds():
+    dataset = {
+        "seasons": {"summer": {"frames": 300, "train": 180, "test": 81, "train_augmented": 360}},
+        "dropped_tunnel": 2,
+        "dropped_stop": 5,
+        "gap": 12,
+        "folds": {"count": 3, "test": {"summer": 270}, "train": {"summer": [180, 177, 195]}},
+    }
+    text = [block.text for block in dataset_section(dataset, Path("preview.png")).blocks if isinstance(block, Text)]
+    assert any("3 folds" in line and "summer 270" in line and "the study's split alone" in line for line in text)
+    del dataset["folds"]
+    assert not [block for block in dataset_section(dataset, Path("preview.png")).blocks if isinstance(block, Text)]

@@ -2,6 +2,7 @@
 
     python -m benchmarks.studies.check_calibration [--workspace DIR] [--replicates R] [--small]
     python -m benchmarks.studies.check_calibration --means [--workspace DIR] [--replicates R]
+    python -m benchmarks.studies.check_calibration --real REAL_DIR [--workspace DIR] [--replicates R]
 
 Simulates per-query outcomes with a known answer and the dependence of a run's own outcomes, and
 runs the project's statistics on them (seasonloop.significance, the code every stage uses):
@@ -28,7 +29,13 @@ series on the same places, each pair's latent sharing a part with the others' (f
 mean correlation between two pairs' outcomes of one learner), fractions as different as the
 default run's or all equal.
 
-Writes benchmarks/results/check_calibration.json (--means: check_calibration_means.json);
+--real checks the same statistics out of sample: on dependence models the degrees rule was not
+chosen on (out_of_sample_models: blocks of 20-80 queries all right or all wrong, two-state Markov
+chains, a slowly varying success rate, learners that share most failures, and the thresholded AR
+fitted to a run on real frames, every matcher apart), at the n the docs report.
+
+Writes benchmarks/results/check_calibration.json (--means: check_calibration_means.json; --real:
+check_calibration_out_of_sample.json);
 docs/write_tables.py renders them into docs/statistics.md. --small: the grid the tests run (seconds).
 """
 
@@ -87,6 +94,61 @@ class Dependence:
 
 
 INDEPENDENT = Dependence(0.0, 0.0, 0.0)
+
+
+@dataclasses.dataclass(frozen=True)
+class Markov:
+    """Each learner's outcomes a two-state Markov chain (runs of geometric length) whose lag-1
+    autocorrelation is `correlation` at every fraction; learners independent of each other. Not
+    the family the degrees rule was chosen on (a thresholded AR with a nugget): out of sample."""
+
+    correlation: float
+
+    def learners(
+        self, rng: np.random.Generator, replicates: int, n: int, fractions: Sequence[float]
+    ) -> list[np.ndarray]:
+        drawn = []
+        for p in fractions:
+            # P(right -> right) and P(wrong -> wrong) whose chain has stationary p and lag-1 correlation
+            stay_right, stay_wrong = p + (1 - p) * self.correlation, (1 - p) + p * self.correlation
+            uniform = rng.random((replicates, n))
+            state = np.empty((replicates, n), bool)
+            state[:, 0] = uniform[:, 0] < p  # stationary from the start
+            for t in range(1, n):
+                previous = state[:, t - 1]
+                state[:, t] = np.where(previous, uniform[:, t] < stay_right, uniform[:, t] >= stay_wrong)
+            drawn.append(state)
+        return drawn
+
+
+@dataclasses.dataclass(frozen=True)
+class Blocks:
+    """Blocks of `shortest` to `longest` consecutive queries (uniform), each all right or all wrong:
+    a train passing a snowy stretch. The learners of a pair share the blocks (the stretch), and each
+    block's outcome is the pair's common draw with probability `share`, else the learner's own."""
+
+    shortest: int
+    longest: int
+    share: float
+
+    def learners(
+        self, rng: np.random.Generator, replicates: int, n: int, fractions: Sequence[float]
+    ) -> list[np.ndarray]:
+        most = n // self.shortest + 2
+        lengths = rng.integers(self.shortest, self.longest + 1, (replicates, most))
+        # a random start inside the first block: the route does not begin where a block does
+        offset = rng.integers(0, self.longest, replicates)
+        block = np.searchsorted  # per replicate below
+        index = np.stack(
+            [block(np.cumsum(lengths[r]), np.arange(n) + offset[r], side="right") for r in range(replicates)]
+        )
+        common = rng.random((replicates, most))
+        drawn = []
+        for p in fractions:
+            copied = rng.random((replicates, most)) < self.share
+            draw = np.where(copied, common, rng.random((replicates, most)))
+            drawn.append(np.take_along_axis(draw < p, index, axis=1))
+        return drawn
 
 
 def autocorrelation(series: np.ndarray, lag: int) -> float | None:
@@ -166,6 +228,13 @@ def kind_of(name: str) -> str:
     return "+seq" if name.endswith("+seq") else "single"
 
 
+def matcher_of(name: str) -> str:
+    """The matcher of a result name: "single", "+seq", "+delta" or "+smoothed" (every kind of
+    evaluation apart, for the out-of-sample fit to real frames)."""
+    suffix = suffix_of(name)
+    return "+" + suffix.rsplit("+", 1)[1] if "+" in suffix else "single"
+
+
 def suffix_of(name: str) -> str:
     """A result name's suffix ("", "+seq", "@cityblock", ...): a pair's name has neither @ nor +."""
     pair = name.split("@")[0].split("+")[0]
@@ -222,12 +291,12 @@ def calibrate_means(settings, dependences, shares, replicates, seed) -> list[dic
     return rows
 
 
-def measure_dependence(evaluations: Sequence[Evaluation]) -> dict[str, dict]:
-    """fit_dependence of a run's evaluations, single images and +seq apart (learners compared on
-    the same result name: the same pair, metric and matcher)."""
-    by_kind: dict[str, dict[str, dict[str, np.ndarray]]] = {"single": {}, "+seq": {}}
+def measure_dependence(evaluations: Sequence[Evaluation], kind: Callable[[str], str] = kind_of) -> dict[str, dict]:
+    """fit_dependence of a run's evaluations, single images and +seq apart (`kind`: matcher_of for
+    every matcher apart; learners compared on the same result name: the same pair, metric and matcher)."""
+    by_kind: dict[str, dict[str, dict[str, np.ndarray]]] = {}
     for learner, name, outcomes in evaluations:
-        by_kind[kind_of(name)].setdefault(name, {})[learner] = outcomes.correct
+        by_kind.setdefault(kind(name), {}).setdefault(name, {})[learner] = outcomes.correct
     fits = {}
     for kind, evaluations in by_kind.items():
         if not evaluations:
@@ -251,9 +320,12 @@ def latent(rng: np.random.Generator, replicates: int, n: int, dependence: Depend
 
 
 def learners(
-    rng: np.random.Generator, replicates: int, n: int, fractions: Sequence[float], dependence: Dependence
+    rng: np.random.Generator, replicates: int, n: int, fractions: Sequence[float], dependence: Any
 ) -> list[np.ndarray]:
-    """One (replicates, n) bool outcome array per fraction: learners of one pair, sharing `share` of their latent."""
+    """One (replicates, n) bool outcome array per fraction: learners of one pair, sharing `share` of
+    their latent (a Markov or Blocks dependence draws its own way)."""
+    if not isinstance(dependence, Dependence):
+        return dependence.learners(rng, replicates, n, fractions)
     common = latent(rng, replicates, n, dependence)
     share = dependence.share
     return [
@@ -392,6 +464,65 @@ def run_grid(
     return rows
 
 
+# the n the docs report: the real half's and the default route's queries a pair on the study's
+# split, about every place of either, five routes pooled (5 x 1,800: about 9,000), and 5 x 158
+OUT_OF_SAMPLE_GRID = {
+    "n": (147, 158, 1800),
+    "p": (0.05, 0.2, 0.5, 0.8, 0.95),
+    "differences": (0.05, 0.10, 0.20),
+    "table_learners": 8,  # the default run's learners: a table of 28 comparisons
+    "pooled_routes": 5,
+    "pooled_n": (158, 1800),
+}
+BLOCK_LENGTHS = (20, 80)  # all right or all wrong for 20 to 80 queries: a snowy stretch
+BLOCK_SHARE = 0.5  # a pair's learners take the stretch's common outcome half the time
+DRIFT_QUERIES = 100  # the correlation length of a slowly varying success rate, in queries
+DRIFT_SHARE = 0.3  # of the latent's variance
+SHARED_FAILURES = 0.9  # of their latent two learners share: most failures in common
+
+
+def out_of_sample_models(default: dict[str, dict], real: dict[str, dict]) -> dict[str, Any]:
+    """Dependence models the degrees rule was not chosen on (the thresholded AR fitted to the default
+    run's single and +seq outcomes): runs of fixed-length blocks, two-state Markov chains (0.8, and
+    fitted to the real run's mean lag-1 autocorrelation), a slowly varying success rate, learners
+    that share most failures, and the thresholded AR fitted to the real run's outcomes, every
+    matcher apart (`default`, `real`: measure_dependence of the two runs, real by matcher_of)."""
+    single = Dependence(**default["single"]["dependence"])
+    lag_one = float(np.mean([fit["autocorrelation_measured"]["1"] for fit in real.values()]))
+    return {
+        f"blocks {BLOCK_LENGTHS[0]}-{BLOCK_LENGTHS[1]}": Blocks(*BLOCK_LENGTHS, BLOCK_SHARE),
+        "Markov 0.8": Markov(0.8),
+        f"Markov {lag_one:.2f} (real)": Markov(round(lag_one, 2)),
+        f"drift over {DRIFT_QUERIES}": Dependence(DRIFT_SHARE, math.exp(-1 / DRIFT_QUERIES), single.share),
+        "shared failures": dataclasses.replace(single, share=SHARED_FAILURES),
+        **{f"real {kind}": Dependence(**fit["dependence"]) for kind, fit in real.items()},
+    }
+
+
+def describe_model(dependence: Any) -> dict[str, Any]:
+    return {"model": type(dependence).__name__, **dataclasses.asdict(dependence)}
+
+
+def calibrate_out_of_sample(
+    settings: StatisticsConfig, models: dict[str, Any], grid: dict, replicates: int, seed: int
+) -> dict:
+    """run_grid of the out-of-sample models at the settings, with the settings they ran under."""
+    print(f"statistics: {dataclasses.asdict(settings)} (min queries a route: {min_queries(settings)})")
+    return {
+        "replicates": replicates,
+        "seed": seed,
+        "grid": grid,
+        "models": {name: describe_model(model) for name, model in models.items()},
+        "runs": {
+            "params": {
+                "statistics": dataclasses.asdict(settings),
+                "min_queries": min_queries(settings),
+                "rows": run_grid(settings, models, grid, replicates, seed),
+            }
+        },
+    }
+
+
 def summary_line(row: dict) -> str:
     def fmt(cell: dict) -> str:
         return "refused" if cell["rate"] is None else f"{cell['rate']:.3f}"
@@ -429,6 +560,9 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--small", action="store_true", help="the tests' small grid")
     parser.add_argument("--means", action="store_true", help="the interval of the mean over six pairs")
+    parser.add_argument(
+        "--real", type=Path, help="a run on real frames (after `dvc repro`): the out-of-sample models (module doc)"
+    )
     args = parser.parse_args()
     from benchmarks.common import save_and_report
     from tools.records import machine
@@ -439,6 +573,15 @@ def main() -> None:
     fits = measure_dependence(evaluations)
     for kind, fit in fits.items():
         print(f"{kind}: {fit}")
+    if args.real is not None:
+        real = measure_dependence(read_evaluations(args.real), matcher_of)
+        models = out_of_sample_models(fits, real)
+        record = calibrate_out_of_sample(settings, models, OUT_OF_SAMPLE_GRID, args.replicates, args.seed)
+        record["fitted"] = {"default": fits, "real": real}
+        record["workspaces"] = {"default": str(args.workspace), "real": str(args.real)}
+        record["headline"] = headline(record)
+        save_and_report("check_calibration_out_of_sample", record, machine())
+        return
     if args.means:
         dependences = {kind: Dependence(**fit["dependence"]) for kind, fit in fits.items()}
         shares = {kind: pair_share(evaluations, kind, fit["mean_fraction_correct"]) for kind, fit in fits.items()}

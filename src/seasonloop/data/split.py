@@ -73,8 +73,8 @@ def section_blocks(n_places: int, section_length: int, test_fraction: float) -> 
 
 def fold_blocks(n_places: int, section_length: int, test_fraction: float, folds: int) -> list[list[tuple[int, int]]]:
     """[start, end) of each fold's test block in each section: the last fold's are section_blocks'
-    (the study's), the other K - 1 tile the rest of every section in route order, in near-equal
-    blocks (K = 1 / test_fraction makes all K near-equal)."""
+    (the study's), the other K - 1 share the rest of every section equally, in route order (all K
+    about equal where K is near 1 / test_fraction, as params.section_checks asks)."""
     study = section_blocks(n_places, section_length, test_fraction)
     if folds < 1:
         raise ValueError(f"split.folds: must be at least 1, got {folds}")

@@ -4,7 +4,8 @@ places of the database season by the learner fitted without them, as in the stud
 pair's result is every fold's queries at once, in route order.
 
 The metrics and PR curve are those of all queries, their confidences ranked together (each scored
-by its own fold's model); the outcomes, in route order, are what the intervals and paired tests
+by its own fold's model: the PR-based metrics compare the distances of K fits, fraction correct and
+recall@N do not); the outcomes, in route order, are what the intervals and paired tests
 read, so a verdict rests on every tested place. The similarity thumbnail is the last fold's (the
 study's split): a picture of one matrix, not of K.
 """
@@ -24,8 +25,8 @@ from seasonloop.evaluation.records import QueryRecords, final_confidence
 
 def pooled_evaluation(folds: Sequence[PairEvaluation], confidence: str) -> PairEvaluation:
     """The evaluation of every fold's queries (folds: one pair and matcher, fold 0 first); its
-    "n_database" counts every fold's database places, "folds" says how many. `confidence` is
-    evaluate.confidence."""
+    "n_database" is the largest fold's (the most places a query was ranked against), "folds" says
+    how many. `confidence` is evaluate.confidence."""
     if len(folds) == 1:
         return folds[0]
     places = np.concatenate([fold.outcomes.query_place for fold in folds])
@@ -40,7 +41,6 @@ def pooled_evaluation(folds: Sequence[PairEvaluation], confidence: str) -> PairE
     outcomes = replace(QueryOutcomes(**pooled).take(order), confidence=final_confidence(records, confidence))
     largest = max(int(fold.metrics["n_database"]) for fold in folds)
     metrics, pr = summarise_queries(records, outcomes.has_match, largest, confidence)
-    metrics["n_database"] = sum(int(fold.metrics["n_database"]) for fold in folds)
     metrics["folds"] = len(folds)
     return PairEvaluation(metrics, pr, folds[-1].thumbnail, outcomes, records)
 

@@ -51,12 +51,12 @@ def pair_record(truth: PairTruth) -> dict[str, Any]:
 
 def pooled_pair_record(per_fold: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
     """One pair's pair_record over the folds of a cross-validated run (each fold's queries matched
-    against its own database places): every fold's queries and database places, and the mean
-    correct places per query over all queries."""
+    against its own database places): every fold's queries, the largest fold's database (the most
+    places a query is ranked against), and the mean correct places per query over all queries."""
     n_queries = sum(int(entry["n_queries"]) for entry in per_fold)
     return {
         "n_queries": n_queries,
-        "n_database": sum(int(entry["n_database"]) for entry in per_fold),
+        "n_database": max(int(entry["n_database"]) for entry in per_fold),
         "n_without_match": sum(int(entry["n_without_match"]) for entry in per_fold),
         "mean_correct_per_query": (
             sum(float(entry["mean_correct_per_query"]) * int(entry["n_queries"]) for entry in per_fold)

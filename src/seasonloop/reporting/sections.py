@@ -63,7 +63,21 @@ def dataset_section(dataset: Mapping[str, Any], preview: Png, truth: Mapping[str
             }
         }
     )
-    blocks: list[Block] = [Table("Images per season", seasons), Table("Places left out of every season", route)]
+    blocks: list[Block] = []
+    if "folds" in dataset:
+        folds = dataset["folds"]
+        tested = ", ".join(f"{season} {count}" for season, count in folds["test"].items())
+        blocks.append(
+            Text(
+                f"Every place tested: {folds['count']} folds along the route (split.folds; docs/pipeline.md, "
+                f"'Every place a test place'), test places over all folds: {tested}. Fraction correct, the PR "
+                "curves and landmarks, the paired comparisons and the similarity of every pair hold every fold's "
+                "queries, each matched against its own fold's test places of the database season; the tables "
+                "below, the example matches, the runtimes' fit times, the training-season effect, the CAE widths "
+                "and the study's figures are the study's split alone (the last fold)."
+            )
+        )
+    blocks += [Table("Images per season", seasons), Table("Places left out of every season", route)]
     if "detection" in dataset:
         detection = pd.DataFrame.from_dict(dataset["detection"], orient="index")
         blocks.append(

@@ -88,3 +88,28 @@ def test_the_mean_over_pairs_covers_what_it_says():
     fractions = (0.9, 0.85, 0.3, 0.1)
     cell = means_cell(np.random.default_rng(8), SETTINGS, 158, fractions, SINGLE_LIKE, 0.25, REPLICATES)
     assert cell["rate"] >= 0.91 and cell["refused"] == 0
+
+
+def test_the_out_of_sample_models_have_the_dependence_they_name():
+    from benchmarks.studies.check_calibration import Blocks, Markov, autocorrelation, matcher_of
+
+    rng = np.random.default_rng(9)
+    (chains,) = learners(rng, 40, 2000, [0.3], Markov(0.8))
+    assert chains.mean() == pytest.approx(0.3, abs=0.02)
+    assert np.mean([autocorrelation(chain, 1) for chain in chains]) == pytest.approx(0.8, abs=0.02)
+    assert np.mean([autocorrelation(chain, 3) for chain in chains]) == pytest.approx(0.8**3, abs=0.03)
+    first, second = learners(rng, 200, 1000, [0.4, 0.4], Blocks(20, 80, 0.5))
+    assert first.mean() == pytest.approx(0.4, abs=0.03)
+    # every block is all right or all wrong: a change of outcome only where a block may end, at
+    # least 20 queries after the last one of the route's first whole block
+    changes = [np.flatnonzero(np.diff(row.astype(np.int8))) for row in first]
+    assert min(np.diff(found).min() for found in changes if len(found) > 1) >= 20
+    # a pair's learners take the stretch's common outcome half the time each: correlation about 1/4
+    between = np.mean([np.corrcoef(a, b)[0, 1] for a, b in zip(first, second)])
+    assert between == pytest.approx(0.25, abs=0.06)
+    assert [matcher_of(name) for name in ("a-b", "a-b+seq", "a-b@cityblock+delta", "a-b+smoothed")] == [
+        "single",
+        "+seq",
+        "+delta",
+        "+smoothed",
+    ]

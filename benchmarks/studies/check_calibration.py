@@ -856,6 +856,26 @@ def _calibration_fit(path: Path) -> str:
 
 # docs/write_tables.py's tables of this study's records, the statistics' real coverage and error
 # rates on simulated routes (docs/statistics.md): name -> (record, snapshot, how it is written)
+def _out_of_sample_models(path: Path) -> str:
+    """The out-of-sample dependence models, each with its parameters and its outcomes' lag-1
+    autocorrelation, and the real run's fits they include."""
+    record = json.loads(path.read_text())
+    lines = ["| dependence | model | parameters |", "|---|---|---|"]
+    for name, model in record["models"].items():
+        shown = ", ".join(f"{key} {_cell(value)}" for key, value in model.items() if key != "model")
+        lines.append(f"| {name} | {model['model']} | {shown} |")
+    real = "; ".join(
+        f"{kind}: {fit['evaluations']} evaluations, lag-1 autocorrelation {fit['autocorrelation_measured']['1']:.2f}, "
+        f"learners' correlation {fit['learner_correlation_measured']:.2f}"
+        for kind, fit in record["fitted"]["real"].items()
+    )
+    return "\n".join(lines) + f"\n\nFitted to the real run ({record['workspaces']['real']}): {real}.\n"
+
+
+def _cell(value: object) -> str:
+    return f"{value:.3g}" if isinstance(value, float) else str(value)
+
+
 TABLES = {
     **{
         name: ("benchmarks/results/check_calibration.json", "check_calibration.json", writer)
@@ -873,6 +893,19 @@ TABLES = {
         "check_calibration_means.json",
         _calibration_means,
     ),
+    **{
+        name: (
+            "benchmarks/results/check_calibration_out_of_sample.json",
+            "check_calibration_out_of_sample.json",
+            writer,
+        )
+        for name, writer in (
+            ("calibration_out_of_sample_models", _out_of_sample_models),
+            ("calibration_out_of_sample_coverage", _calibration_coverage),
+            ("calibration_out_of_sample_false_positives", _calibration_false_positives),
+            ("calibration_out_of_sample_power", _calibration_power),
+        )
+    },
 }
 
 

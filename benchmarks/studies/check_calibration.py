@@ -869,7 +869,7 @@ def _out_of_sample_models(path: Path) -> str:
         f"learners' correlation {fit['learner_correlation_measured']:.2f}"
         for kind, fit in record["fitted"]["real"].items()
     )
-    return "\n".join(lines) + f"\n\nFitted to the real run ({record['workspaces']['real']}): {real}.\n"
+    return "\n".join(lines) + f"\n\nFitted to the run on real frames, each matcher apart: {real}.\n"
 
 
 def _cell(value: object) -> str:

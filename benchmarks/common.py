@@ -117,6 +117,13 @@ def copy_repository(root: Path) -> None:
     commit_all(root)
 
 
+def cell_text(value: object) -> str:
+    """A value in a table: booleans lower case, floats to 3 significant digits."""
+    if isinstance(value, bool):
+        return str(value).lower()
+    return f"{value:.3g}" if isinstance(value, float) else str(value)
+
+
 def machine_line(record: dict) -> str:
     """The CPU a benchmark ran on, its threads, and whether its instruction set was capped."""
     machine = record["machine"]

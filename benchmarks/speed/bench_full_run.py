@@ -23,7 +23,7 @@ from typing import Any
 
 import yaml
 
-from benchmarks.common import capped_environment, copy_repository, load_note
+from benchmarks.common import capped_environment, cell_text, copy_repository, load_note
 from benchmarks.pipeline_run import timed_repro
 from seasonloop.fit_ending import how_fit_ended
 from seasonloop.preset import apply_preset, composed_params
@@ -135,13 +135,6 @@ def main() -> None:
     )
 
 
-def _cell(value: object) -> str:
-    """A value in a table: booleans lower case, floats to 3 significant digits."""
-    if isinstance(value, bool):
-        return str(value).lower()
-    return f"{value:.3g}" if isinstance(value, float) else str(value)
-
-
 def _full_run_stages(path: Path) -> str:
     """benchmarks/speed/bench_full_run.py's record: the headline, each call, and every stage's seconds and peak memory."""
     record = json.loads(path.read_text())
@@ -162,7 +155,7 @@ def _full_run_stages(path: Path) -> str:
         )
     lines += ["", "| learner | how its fit ended |", "|---|---|"]
     for learner, ended in record["convergence"].items():
-        shown = ", ".join(f"{key} {_cell(value)}" for key, value in ended.items()) or "closed form (no iterations)"
+        shown = ", ".join(f"{key} {cell_text(value)}" for key, value in ended.items()) or "closed form (no iterations)"
         lines.append(f"| {learner} | {shown} |")
     return "\n".join(lines) + "\n"
 

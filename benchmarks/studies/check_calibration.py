@@ -138,10 +138,8 @@ class Blocks:
         lengths = rng.integers(self.shortest, self.longest + 1, (replicates, most))
         # a random start inside the first block: the route does not begin where a block does
         offset = rng.integers(0, self.longest, replicates)
-        block = np.searchsorted  # per replicate below
-        index = np.stack(
-            [block(np.cumsum(lengths[r]), np.arange(n) + offset[r], side="right") for r in range(replicates)]
-        )
+        ends = np.cumsum(lengths, axis=1)
+        index = np.stack([np.searchsorted(ends[r], np.arange(n) + offset[r], side="right") for r in range(replicates)])
         common = rng.random((replicates, most))
         drawn = []
         for p in fractions:
@@ -859,10 +857,12 @@ def _calibration_fit(path: Path) -> str:
 def _out_of_sample_models(path: Path) -> str:
     """The out-of-sample dependence models, each with its parameters and its outcomes' lag-1
     autocorrelation, and the real run's fits they include."""
+    from benchmarks.common import cell_text  # as main imports it: the module's tests need none of it
+
     record = json.loads(path.read_text())
     lines = ["| dependence | model | parameters |", "|---|---|---|"]
     for name, model in record["models"].items():
-        shown = ", ".join(f"{key} {_cell(value)}" for key, value in model.items() if key != "model")
+        shown = ", ".join(f"{key} {cell_text(value)}" for key, value in model.items() if key != "model")
         lines.append(f"| {name} | {model['model']} | {shown} |")
     real = "; ".join(
         f"{kind}: {fit['evaluations']} evaluations, lag-1 autocorrelation {fit['autocorrelation_measured']['1']:.2f}, "
@@ -870,10 +870,6 @@ def _out_of_sample_models(path: Path) -> str:
         for kind, fit in record["fitted"]["real"].items()
     )
     return "\n".join(lines) + f"\n\nFitted to the run on real frames, each matcher apart: {real}.\n"
-
-
-def _cell(value: object) -> str:
-    return f"{value:.3g}" if isinstance(value, float) else str(value)
 
 
 TABLES = {

@@ -56,16 +56,22 @@ class Split:
         }
 
 
-def section_blocks(n_places: int, section_length: int, test_fraction: float) -> list[tuple[int, int]]:
-    """[start, end) of the test block at the end of each section."""
+def section_bounds(n_places: int, section_length: int) -> list[tuple[int, int]]:
+    """[start, end) of each section: as many as section_length fits best, of near-equal length."""
     if section_length < 2:
         raise ValueError(f"split.section_length: must be at least 2, got {section_length}")
-    if not 0 < test_fraction < 1:
-        raise ValueError(f"split.test_fraction: must be in (0, 1), got {test_fraction}")
     n_sections = max(1, round(n_places / section_length))
     bounds = np.linspace(0, n_places, n_sections + 1).round().astype(int)
+    return [(int(start), int(end)) for start, end in zip(bounds[:-1], bounds[1:])]
+
+
+def section_blocks(n_places: int, section_length: int, test_fraction: float) -> list[tuple[int, int]]:
+    """[start, end) of the test block at the end of each section."""
+    sections = section_bounds(n_places, section_length)
+    if not 0 < test_fraction < 1:
+        raise ValueError(f"split.test_fraction: must be in (0, 1), got {test_fraction}")
     blocks = []
-    for start, end in zip(bounds[:-1], bounds[1:]):
+    for start, end in sections:
         size = max(1, round((end - start) * test_fraction))
         blocks.append((end - size, end))
     return blocks
@@ -80,10 +86,8 @@ def fold_blocks(n_places: int, section_length: int, test_fraction: float, folds:
         raise ValueError(f"split.folds: must be at least 1, got {folds}")
     if folds == 1:
         return [study]
-    n_sections = len(study)
-    starts = np.linspace(0, n_places, n_sections + 1).round().astype(int)[:-1]
     per_fold: list[list[tuple[int, int]]] = [[] for _ in range(folds)]
-    for start, (block_start, block_end) in zip(starts, study):
+    for (start, _), (block_start, block_end) in zip(section_bounds(n_places, section_length), study):
         if block_start - start < folds - 1:
             raise ValueError(
                 f"split.folds: a section of {block_end - start} places cannot hold {folds} test blocks "

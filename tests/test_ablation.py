@@ -116,7 +116,7 @@ def pair_context(test, evaluate, sequence) -> EvaluationContext:
         [("summer", "fall")],
         evaluate,
         sequence,
-        StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05),
+        StatisticsConfig(level=0.95, degrees_scale=0.15, persistence_scale=0.38, alpha=0.05),
         1024,
     )
 

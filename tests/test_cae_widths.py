@@ -99,7 +99,7 @@ def test_sweep_record_table_and_figure(tmp_path):
         [("summer", "fall")],
         evaluate,
         sequence,
-        StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05),
+        StatisticsConfig(level=0.95, degrees_scale=0.15, persistence_scale=0.38, alpha=0.05),
         batch_size=16,
     )
     record = run_width_sweep([1 / 32, 1 / 48], new_cae, raw, training, context)

@@ -23,7 +23,7 @@ from benchmarks.studies.check_calibration import (
 )
 from seasonloop.params.settings import StatisticsConfig  # noqa: E402
 
-SETTINGS = StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05)
+SETTINGS = StatisticsConfig(level=0.95, degrees_scale=0.15, persistence_scale=0.38, alpha=0.05)
 # about what the benchmark fits to the default run's single-image outcomes (its record says)
 SINGLE_LIKE = Dependence(a=0.47, phi=0.77, share=0.38)
 REPLICATES = 300  # a rate of 0.95 has a Monte Carlo standard error of 0.013 on 300 routes
@@ -78,8 +78,8 @@ def test_too_short_a_route_is_refused_not_answered():
 
 
 def test_power_grows_with_the_queries_pooled():
-    one = power_cell(np.random.default_rng(7), SETTINGS, 158, 0.5, 0.10, SINGLE_LIKE, REPLICATES)
-    three = power_cell(np.random.default_rng(7), SETTINGS, 158, 0.5, 0.10, SINGLE_LIKE, REPLICATES, routes=3)
+    one = power_cell(np.random.default_rng(7), SETTINGS, 158, 0.5, 0.10, SINGLE_LIKE, REPLICATES, 2)
+    three = power_cell(np.random.default_rng(7), SETTINGS, 158, 0.5, 0.10, SINGLE_LIKE, REPLICATES, 2, routes=3)
     assert three["power"]["rate"] > one["power"]["rate"] + 0.1
     assert one["interval_coverage"]["rate"] >= 0.91 and three["interval_coverage"]["rate"] >= 0.91
 
@@ -87,7 +87,8 @@ def test_power_grows_with_the_queries_pooled():
 def test_the_mean_over_pairs_covers_what_it_says():
     fractions = (0.9, 0.85, 0.3, 0.1)
     cell = means_cell(np.random.default_rng(8), SETTINGS, 158, fractions, SINGLE_LIKE, 0.25, REPLICATES)
-    assert cell["rate"] >= 0.91 and cell["refused"] == 0
+    # a few draws show runs too long for 158 queries (the persistence estimated from four pairs)
+    assert cell["rate"] >= 0.91 and cell["refused"] <= 0.05 * REPLICATES
 
 
 def test_the_out_of_sample_models_have_the_dependence_they_name():

@@ -13,7 +13,7 @@ def row(first, second, difference, verdict):
 
 
 RECORD = {
-    "statistics": {"level": 0.95, "degrees_scale": 0.15, "alpha": 0.05},
+    "statistics": {"level": 0.95, "degrees_scale": 0.15, "persistence_scale": 0.38, "alpha": 0.05},
     "order": {"pairs": ["summer-fall"], "tables": ["learners", "matchers+seq"]},
     "pairs": {
         "summer-fall": {
@@ -45,7 +45,10 @@ def test_a_claim_is_found_in_either_order_or_refused():
 
 def test_the_markdown_names_its_settings_and_every_table():
     markdown = comparisons_markdown(RECORD, ["pca", "ica", "cae"])
-    assert "95% intervals along the route (degrees of freedom 0.15 n^(2/3)), alpha 0.05" in markdown
+    assert (
+        "95% intervals along the route (degrees of freedom min(0.15 n^(2/3), 0.38 (n^2 / omega)^(1/3)), "
+        "omega the runs' persistence), alpha 0.05" in markdown
+    )
     assert "no difference shown at 5% (a t test" in markdown
     assert "**summer-fall: learner against learner, evaluate.metric, single images**" in markdown
     assert "| pca+seq vs pca | +10.0 ▲ |" in markdown

@@ -46,7 +46,13 @@ def test_autoencoder_descriptors_one_pass_per_season():
     test = {"summer": rng.random((3, 8, 8)), "fall": rng.random((3, 8, 8))}
     learner = FakeAutoEncoder()
     context = EvaluationContext(
-        test, {}, [], EVALUATE, SEQUENCE, StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05), 7
+        test,
+        {},
+        [],
+        EVALUATE,
+        SEQUENCE,
+        StatisticsConfig(level=0.95, degrees_scale=0.15, persistence_scale=0.38, alpha=0.05),
+        7,
     )
     described = autoencoder_descriptors(learner, context)
     assert list(described) == list(AE_DESCRIPTORS) and learner.batch_sizes == [7, 7]
@@ -67,7 +73,7 @@ def test_draw_figures_without_their_learners_draws_nothing(tmp_path):
         [("summer", "fall")],
         EVALUATE,
         SEQUENCE,
-        StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05),
+        StatisticsConfig(level=0.95, degrees_scale=0.15, persistence_scale=0.38, alpha=0.05),
         8,
     )
     records = draw_figures(tmp_path / "models", tmp_path, ["raw_patchnorm"], context)

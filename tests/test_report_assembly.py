@@ -146,7 +146,7 @@ def report_files(root) -> ReportFiles:
 
 def fake_comparisons() -> dict:
     """A comparisons record of the fake run's labels, computed by the library from random outcomes."""
-    settings = StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05)
+    settings = StatisticsConfig(level=0.95, degrees_scale=0.15, persistence_scale=0.38, alpha=0.05)
     rng = np.random.default_rng(5)
     correct = {method + suffix: rng.random(5) < 0.5 for method in METHODS for _, _, suffix in VARIANTS}
     tables = comparison_tables(METHODS, VARIANTS)

@@ -20,6 +20,7 @@ from seasonloop.significance.intervals import (
     fraction_interval,
     mean_variance,
     min_queries,
+    persistence,
     route_interval,
     wilson_interval,
 )
@@ -27,7 +28,7 @@ from seasonloop.significance.means import mean_interval
 from seasonloop.significance.paired import holm, paired_difference, with_verdicts
 from seasonloop.significance.tables import comparison_tables, pair_comparisons
 
-SETTINGS = StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05)
+SETTINGS = StatisticsConfig(level=0.95, degrees_scale=0.15, persistence_scale=0.38, alpha=0.05)
 
 
 @pytest.mark.parametrize(
@@ -41,7 +42,7 @@ def test_wilson_interval_is_scipys(successes, trials, level):
 def test_degrees_grow_as_n_to_the_two_thirds():
     assert [cosine_degrees(n, SETTINGS) for n in (20, 49, 158, 3259, 27592)] == [1, 2, 4, 32, 136]
     assert min_queries(SETTINGS) == 49  # the first n with two cosine terms
-    assert min_queries(StatisticsConfig(level=0.95, degrees_scale=0.4, alpha=0.05)) == 12
+    assert min_queries(StatisticsConfig(level=0.95, degrees_scale=0.4, persistence_scale=0.38, alpha=0.05)) == 12
 
 
 def test_cosine_variance_is_the_mean_square_of_the_low_cosine_terms():
@@ -64,12 +65,13 @@ def test_cosine_variance_estimates_an_ar1_long_run_variance():
     assert np.mean(cosine_variance(series[:, 1000:], 20)) == pytest.approx(6.25, rel=0.05)
 
 
-def test_an_interval_of_a_constant_counts_its_queries_as_independent():
+def test_an_interval_of_a_constant_counts_its_stretches_not_its_queries():
+    # every query right: no variance to estimate, and no reason to take the 100 as independent
     interval = route_interval(np.ones(100), SETTINGS)
     degrees = cosine_degrees(100, SETTINGS)
     q2 = student.ppf(0.975, degrees) ** 2
-    assert interval["effective_queries"] == 100 and interval["high"] == 1.0
-    assert interval["low"] == pytest.approx(100 / (100 + q2))
+    assert interval["effective_queries"] == degrees + 1 and interval["high"] == 1.0
+    assert interval["low"] == pytest.approx((degrees + 1) / (degrees + 1 + q2))
 
 
 def test_runs_of_outcomes_widen_the_interval_beyond_wilsons():
@@ -78,7 +80,8 @@ def test_runs_of_outcomes_widen_the_interval_beyond_wilsons():
     interval = fraction_interval(runs, np.ones(160, bool), SETTINGS)
     route = interval["route"]["high"] - interval["route"]["low"]
     wilson = interval["wilson"]["high"] - interval["wilson"]["low"]
-    assert route > 2 * wilson and interval["route"]["effective_queries"] < 60
+    # the runs also cut the cosine terms (the persistence rule): the t quantile widens it further
+    assert route > 2 * wilson and interval["route"]["degrees"] < cosine_degrees(160, SETTINGS)
     # independent queries: the two agree (the route's t quantile a little wider than the normal's)
     independent = np.random.default_rng(0).random(2000) < 0.6
     interval = fraction_interval(independent, np.ones(2000, bool), SETTINGS)
@@ -176,15 +179,18 @@ def test_paired_comparison_refuses_different_queries():
 
 def test_routes_pooled_keep_their_own_variances():
     rng = np.random.default_rng(8)
-    routes = [np.repeat(rng.random(n // 10) < 0.5, 10).astype(float) for n in (200, 100, 300)]
-    pooled = mean_variance(np.concatenate(routes), SETTINGS, [200, 100, 300])
-    parts = [mean_variance(route, SETTINGS) for route in routes]
-    weights = [200 / 600, 100 / 600, 300 / 600]
+    routes = [np.repeat(rng.random(n // 10) < 0.5, 10).astype(float) for n in (400, 200, 600)]
+    pooled = mean_variance(np.concatenate(routes), SETTINGS, [400, 200, 600])
+    # each route's cosine terms from the routes' persistence, pooled over them
+    together = persistence(routes)
+    assert together > 0
+    parts = [mean_variance(route, SETTINGS, persistence_of=together) for route in routes]
+    weights = [400 / 1200, 200 / 1200, 600 / 1200]
     assert pooled.variance == pytest.approx(sum(w * w * part.variance for w, part in zip(weights, parts)))
     squares = sum((w * w * part.variance) ** 2 / part.degrees for w, part in zip(weights, parts))
     assert pooled.degrees == pytest.approx(pooled.variance**2 / squares)  # Satterthwaite
     # the order the routes are joined in changes nothing
-    swapped = mean_variance(np.concatenate(routes[::-1]), SETTINGS, [300, 100, 200])
+    swapped = mean_variance(np.concatenate(routes[::-1]), SETTINGS, [600, 200, 400])
     assert (swapped.variance, swapped.degrees) == pytest.approx((pooled.variance, pooled.degrees))
     # a route too short for its own variance: the pooled one says so
     assert "not enough queries" in mean_variance(np.ones(230), SETTINGS, [200, 30]).reason
@@ -285,8 +291,9 @@ def test_the_mean_over_pairs_of_the_same_places_keeps_their_correlation():
     # independent would give a narrower interval)
     assert mean_interval([correct, correct], [places, places], SETTINGS) == pytest.approx(alone)
     # one pair right exactly where the other is wrong: the mean is one half at every query
+    # (a mean without variance counts stretches, not queries: no narrower than a route's cosine terms allow)
     half = mean_interval([correct, ~correct], [places, places], SETTINGS)
-    assert half["low"] < 0.5 < half["high"] and half["high"] - half["low"] < alone["high"] - alone["low"]
+    assert half["low"] < 0.5 < half["high"] and half["effective_queries"] == half["degrees"] + 1
 
 
 def test_the_mean_over_pairs_of_other_places_is_bounded_by_their_errors():
@@ -312,3 +319,44 @@ def test_a_difference_near_0_or_100_percent_on_a_short_route_says_its_interval_m
     assert "interval_note" not in paired_difference(middle, rng.random(158) < 0.5, SETTINGS)
     long_high, long_middle = rng.random(400) < 0.97, rng.random(400) < 0.6
     assert "interval_note" not in paired_difference(long_high, long_middle, SETTINGS)
+
+
+def test_the_degrees_rule_is_exact_at_integers():
+    # 0.15 * 1000^(2/3) is 15 in exact arithmetic, 14.999... in floats
+    assert cosine_degrees(1000, SETTINGS) == 15
+
+
+def test_persistence_reads_the_runs_of_an_ar_with_a_nugget():
+    rng = np.random.default_rng(11)
+    phi, a = 0.8, 0.5
+    noise = rng.standard_normal((40, 2000))
+    ar = np.zeros_like(noise)
+    for t in range(1, 2000):
+        ar[:, t] = phi * ar[:, t - 1] + math.sqrt(1 - phi * phi) * noise[:, t]
+    series = math.sqrt(a) * ar + math.sqrt(1 - a) * rng.standard_normal((40, 2000))
+    # r_k = a phi^k: omega = [2 a phi (1 + phi) / (1 - phi)^3] / [1 + 2 a phi / (1 - phi)]
+    known = (2 * a * phi * (1 + phi) / (1 - phi) ** 3) / (1 + 2 * a * phi / (1 - phi))
+    assert persistence(series) == pytest.approx(known, rel=0.15)
+    # independent queries show no dependence, and a constant none to estimate
+    assert persistence(rng.random((6, 158)) < 0.5) == 0.0
+    assert persistence([np.ones(158)]) == 0.0
+
+
+def test_long_runs_cut_the_degrees_and_too_long_ones_are_refused():
+    settings = SETTINGS
+    assert cosine_degrees(1800, settings, persistence=40.0) < cosine_degrees(1800, settings)
+    runs = np.repeat(np.random.default_rng(5).random(4) < 0.5, 40).astype(float)  # 4 runs of 40
+    spread = mean_variance(runs, settings)
+    assert spread.reason is not None and spread.reason.startswith("runs too long for this many queries")
+
+
+def test_no_interval_is_narrower_than_wilsons_and_differences_stay_inside_minus_one_one():
+    # a series anti-correlated at lag 1 has a long-run variance below the binomial's: n_eff is capped at n
+    alternating = np.tile([True, False], 80)
+    interval = fraction_interval(alternating, np.ones(160, bool), SETTINGS)
+    assert interval["route"]["effective_queries"] <= 160
+    assert interval["route"]["low"] <= interval["wilson"]["low"] and interval["route"]["high"] >= interval["wilson"]["high"]
+    first = np.ones(160, bool)
+    second = np.repeat(np.random.default_rng(2).random(16) < 0.1, 10)
+    compared = paired_difference(first, second, SETTINGS)
+    assert -1.0 <= compared["low"] and compared["high"] <= 1.0

@@ -22,7 +22,7 @@ from seasonloop.reporting.summary_files import (
 )
 from seasonloop.significance.means import mean_interval
 
-SETTINGS = StatisticsConfig(level=0.95, degrees_scale=0.15, alpha=0.05)
+SETTINGS = StatisticsConfig(level=0.95, degrees_scale=0.15, persistence_scale=0.38, alpha=0.05)
 
 RUNTIME = {
     "pca": {"fit_seconds": 1.23456, "n_train_images": 100, "feature_ms_per_image": 0.5, "descriptor_dimension": 16},

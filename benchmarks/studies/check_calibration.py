@@ -58,9 +58,9 @@ from scipy.special import ndtri
 
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.significance.intervals import fraction_interval, min_queries
+from seasonloop.significance.intervals import fraction_interval, min_queries, persistence, routes_of
 from seasonloop.significance.means import mean_interval
-from seasonloop.significance.paired import paired_difference, with_verdicts
+from seasonloop.significance.paired import differences, paired_difference, with_verdicts
 
 LAGS = tuple(range(1, 11))
 FULL_GRID = {
@@ -367,16 +367,37 @@ def drawn(rng, replicates: int, n: int, fractions: Sequence[float], dependence: 
         yield [np.concatenate([route[k] for route in per_route], axis=1) for k in range(len(fractions))]
 
 
+# the season pairs a learner's evaluation pools its runs' persistence over (the default run's six)
+POOLED_PAIRS = 6
+
+
 def coverage_cell(rng, settings, n, p, dependence, replicates) -> dict[str, Any]:
-    """Coverage of the fraction's interval along the route and of Wilson's, one route of n queries."""
+    """Coverage of the fraction's interval along the route and of Wilson's, one route of n queries;
+    the runs' persistence pooled over POOLED_PAIRS pairs' outcomes of one learner (as the evaluate
+    stage pools them), drawn as learners of one pair (sharing the dependence's `share`)."""
     every = np.ones(n, bool)
     route, wilson = [], []
-    for (outcomes,) in drawn(rng, replicates, n, [p], dependence):
-        for correct in outcomes:
-            interval = fraction_interval(correct, every, settings)
+    for pairs in drawn(rng, replicates, n, [p] * POOLED_PAIRS, dependence):
+        for r in range(len(pairs[0])):
+            pooled = persistence(pair[r] for pair in pairs)
+            interval = fraction_interval(pairs[0][r], every, settings, persistence_of=pooled)
             route.append(covers(interval["route"], p))
             wilson.append(covers(interval["wilson"], p))
     return {"route": rate(route), "wilson": rate(wilson)}
+
+
+def judged_table(outcomes: Sequence[np.ndarray], settings, segments) -> list[dict[str, Any]]:
+    """Every comparison of a table of learners (outcomes: one bool array each), first in
+    combinations order, with the table's persistence pooled and Holm's verdicts (as
+    seasonloop.significance.tables.pair_comparisons)."""
+    compared = list(combinations(range(len(outcomes)), 2))
+    pooled = persistence(
+        route for i, j in compared for route in routes_of(differences(outcomes[i], outcomes[j]), segments)
+    )
+    rows = [paired_difference(outcomes[i], outcomes[j], settings, segments, pooled) for i, j in compared]
+    if rows[0]["p_value"] is None:
+        return rows
+    return with_verdicts(rows, settings.alpha)
 
 
 def table_cell(rng, settings, n, p, dependence, replicates, size, routes=1) -> dict[str, Any]:
@@ -387,15 +408,11 @@ def table_cell(rng, settings, n, p, dependence, replicates, size, routes=1) -> d
     # routes pooled: each route's learners drawn independently of the other routes'
     for outcomes in drawn(rng, replicates, n, [p] * size, dependence, routes):
         for r in range(len(outcomes[0])):
-            rows = [
-                paired_difference(outcomes[i][r], outcomes[j][r], settings, segments)
-                for i, j in combinations(range(size), 2)
-            ]
-            if rows[0]["p_value"] is None:
+            judged = judged_table([learner[r] for learner in outcomes], settings, segments)
+            if judged[0]["p_value"] is None:
                 first.append(None)
                 any_in_table.append(None)
                 continue
-            judged = with_verdicts(rows, settings.alpha)
             first.append(judged[0]["p_value"] < settings.alpha)
             any_in_table.append(any(row["verdict"] in ("better", "worse") for row in judged))
     return {
@@ -405,23 +422,33 @@ def table_cell(rng, settings, n, p, dependence, replicates, size, routes=1) -> d
     }
 
 
-def power_cell(rng, settings, n, p, difference, dependence, replicates, routes=1) -> dict[str, Any]:
-    """Two learners whose fractions differ by `difference` (the second ahead; behind where p + d > 1):
-    how often the paired test finds it (single comparison at alpha), and its interval's coverage."""
+def power_cell(rng, settings, n, p, difference, dependence, replicates, size, routes=1) -> dict[str, Any]:
+    """A table of `size` learners, one of them `difference` ahead of the others (behind where
+    p + d > 1), the others equal: how often its comparison with one of them is found at alpha alone
+    ("power") and under Holm over the table ("power_holm", what a table's verdict needs), and its
+    interval's coverage."""
     second = p + difference if p + difference <= 0.99 else p - difference
     true = second - p
     segments = route_lengths(routes, n)
-    found, covered = [], []
-    for first_out, second_out in drawn(rng, replicates, n, [p, second], dependence, routes):
-        for r in range(len(first_out)):
-            row = paired_difference(second_out[r], first_out[r], settings, segments)
+    found, found_holm, covered = [], [], []
+    for outcomes in drawn(rng, replicates, n, [second] + [p] * (size - 1), dependence, routes):
+        for r in range(len(outcomes[0])):
+            row = judged_table([learner[r] for learner in outcomes], settings, segments)[0]
             if row["p_value"] is None:
                 found.append(None)
+                found_holm.append(None)
                 covered.append(None)
                 continue
-            found.append(bool(row["p_value"] < settings.alpha and np.sign(row["difference"]) == np.sign(true)))
+            right_way = np.sign(row["difference"]) == np.sign(true)
+            found.append(bool(row["p_value"] < settings.alpha and right_way))
+            found_holm.append(bool(row["p_holm"] < settings.alpha and right_way))
             covered.append(bool(row["low"] <= true <= row["high"]))
-    return {"second_fraction": second, "power": rate(found), "interval_coverage": rate(covered)}
+    return {
+        "second_fraction": second,
+        "power": rate(found),
+        "power_holm": rate(found_holm),
+        "interval_coverage": rate(covered),
+    }
 
 
 def run_grid(
@@ -439,7 +466,9 @@ def run_grid(
                 row["coverage"] = coverage_cell(rng, settings, n, p, dependence, replicates)
                 row["false_positive"] = table_cell(rng, settings, n, p, dependence, replicates, grid["table_learners"])
                 row["power"] = {
-                    f"{difference:.2f}": power_cell(rng, settings, n, p, difference, dependence, replicates // 2)
+                    f"{difference:.2f}": power_cell(
+                        rng, settings, n, p, difference, dependence, replicates // 2, grid["table_learners"]
+                    )
                     for difference in grid["differences"]
                 }
                 row["seconds"] = round(time.perf_counter() - started, 1)
@@ -454,7 +483,9 @@ def run_grid(
                 rng, settings, n, p, dependence, replicates, grid["table_learners"], routes
             )
             row["power"] = {
-                f"{difference:.2f}": power_cell(rng, settings, n, p, difference, dependence, replicates // 2, routes)
+                f"{difference:.2f}": power_cell(
+                    rng, settings, n, p, difference, dependence, replicates // 2, grid["table_learners"], routes
+                )
                 for difference in grid["differences"]
             }
             rows.append(row)
@@ -643,7 +674,8 @@ def _false_positives_off(cell: dict) -> bool:
 def _rate_cell(cell: dict, off: Callable[[dict], bool] = lambda cell: False) -> str:
     if cell["rate"] is None:
         return "refused"
-    return f"{cell['rate']:.3f}" + (" †" if off(cell) else "")
+    refused = cell.get("refused", 0) / (cell["replicates"] + cell.get("refused", 0))
+    return f"{cell['rate']:.3f}" + (" †" if off(cell) else "") + (f" ({100 * refused:.0f}% refused)" if refused else "")
 
 
 def _calibration_rows(path: Path, run: str = "params") -> tuple[dict, list[dict]]:
@@ -657,9 +689,12 @@ def _calibration_legend(record: dict, run: str = "params", replicates: int | Non
     error = (0.95 * 0.05 / replicates) ** 0.5
     return (
         f"{replicates} simulated routes a cell (Monte Carlo standard error {100 * error:.1f} points at 95% "
-        f"or 5%); degrees_scale {statistics['degrees_scale']}; "
-        f"refused: fewer than {record['runs'][run]['min_queries']} queries a route (the pipeline writes "
-        '"not enough queries"); † outside the target by more than two Monte Carlo standard errors.'
+        f"or 5%); degrees_scale {statistics['degrees_scale']}"
+        + (f", persistence_scale {statistics['persistence_scale']}" if "persistence_scale" in statistics else "")
+        + f"; refused: fewer than {record['runs'][run]['min_queries']} queries a route, or runs too long for "
+        'the queries (the pipeline writes "not enough queries" or "runs too long for this many queries"; '
+        "a share in brackets: the routes of the cell refused so, the rate is the others'); † outside the "
+        "target by more than two Monte Carlo standard errors."
     )
 
 

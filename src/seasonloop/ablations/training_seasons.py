@@ -36,7 +36,7 @@ from seasonloop.evaluation.matchers import result_suffix
 from seasonloop.fit_ending import how_fit_ended
 from seasonloop.io import read_json, write_json
 from seasonloop.params.seasons import SEASONS, check_seasons, pair_name, pair_present, parse_pair
-from seasonloop.significance.intervals import route_interval
+from seasonloop.significance.intervals import route_intervals
 
 
 @dataclass(frozen=True)
@@ -145,6 +145,7 @@ def run_ablation(
     database, query = plan.pair
     truth, evaluate = context.truths[plan.pair], context.evaluate
     run = AblationRun({}, {}, {})
+    correct: dict[str, dict[str, np.ndarray]] = {}
     metrics_used = [evaluate.metric, *evaluate.extra_metrics]
     for method, new_learner in new_learners.items():
         for metric in metrics_used:
@@ -165,9 +166,8 @@ def run_ablation(
                     database_descriptors, query_descriptors, truth, "single", evaluate, context.sequence, metric=metric
                 )
                 run.fraction_correct[series][label] = evaluation.metrics["fraction_correct"]
-                run.intervals.setdefault(series, {})[label] = route_interval(
-                    evaluation.outcomes.correct, context.statistics
-                )
+                correct.setdefault(series, {})[label] = evaluation.outcomes.correct
+    run.intervals.update({name: route_intervals(labels, context.statistics) for name, labels in correct.items()})
     return run
 
 

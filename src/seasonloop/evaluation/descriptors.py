@@ -15,7 +15,7 @@ from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.models.core.torch_learner import AE_DESCRIPTORS
 from seasonloop.params.seasons import pair_name
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.significance.intervals import route_interval
+from seasonloop.significance.intervals import route_intervals
 
 
 def autoencoder_descriptors(learner, context: EvaluationContext) -> dict[str, dict[str, np.ndarray]]:
@@ -59,10 +59,11 @@ def descriptor_evaluations(
 def fraction_correct_record(evaluations: Mapping[str, PairEvaluation], statistics: StatisticsConfig) -> dict[str, Any]:
     """{fraction_correct: {pair: value}, interval: {pair: {low, high}}} of one descriptor's
     evaluations (pair -> PairEvaluation): the fraction correct with its 95% interval along
-    the route (seasonloop.significance.intervals), as the evaluate stage draws it."""
+    the route (seasonloop.significance.intervals, the runs' persistence pooled over the pairs), as
+    the evaluate stage draws it."""
     return {
         "fraction_correct": {pair: evaluation.metrics["fraction_correct"] for pair, evaluation in evaluations.items()},
-        "interval": {
-            pair: route_interval(evaluation.outcomes.correct, statistics) for pair, evaluation in evaluations.items()
-        },
+        "interval": route_intervals(
+            {pair: evaluation.outcomes.correct for pair, evaluation in evaluations.items()}, statistics
+        ),
     }

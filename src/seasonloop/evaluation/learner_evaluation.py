@@ -25,7 +25,7 @@ from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.io import load_array, save_array, write_json
 from seasonloop.params.seasons import pair_name
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
-from seasonloop.significance.intervals import fraction_interval
+from seasonloop.significance.intervals import fraction_interval, persistence
 
 
 def evaluate_learner(
@@ -61,6 +61,8 @@ def evaluate_learner(
         unit="distances",
         disable=not progress,
     )
+    # the intervals wait for every pair: a suffix's runs' persistence is pooled over its pairs
+    finished: dict[str, dict[str, tuple[dict[str, Any], QueryOutcomes]]] = {}
     for database, query in pairs:
         per_fold: dict[str, list[PairEvaluation]] = {}
         for fold_features, fold_truths in zip(features, truths):
@@ -71,12 +73,15 @@ def evaluate_learner(
         for suffix, evaluations_of_folds in per_fold.items():
             name = pair_name(database, query) + suffix
             evaluation = pooled_evaluation(evaluations_of_folds, evaluate.confidence)
-            intervals = metric_intervals(evaluation.outcomes, statistics)
-            write_json(metrics_dir / f"{name}.json", {**evaluation.metrics, "intervals": intervals})
             evaluation.pr.to_csv(pr_dir / f"{name}.csv", index=False, float_format="%.6g")
             save_array(similarity_dir / f"{name}.npy", evaluation.thumbnail)
             evaluation.outcomes.to_csv(outcomes_dir / f"{name}.csv")
+            finished.setdefault(suffix, {})[name] = (evaluation.metrics, evaluation.outcomes)
     bar.close()
+    for of_pairs in finished.values():
+        intervals = metric_intervals([outcomes for _, outcomes in of_pairs.values()], statistics)
+        for (name, (metrics, _)), pair_intervals in zip(of_pairs.items(), intervals):
+            write_json(metrics_dir / f"{name}.json", {**metrics, "intervals": pair_intervals})
 
 
 def pair_evaluations(
@@ -134,11 +139,19 @@ def check_rows(descriptors: Sequence[np.ndarray], truth: PairTruth, features: Pa
             )
 
 
-def metric_intervals(outcomes: QueryOutcomes, statistics: StatisticsConfig) -> dict[str, Any]:
-    """The intervals of a pair's fraction_correct (every query counted) and recall_at_1 (the queries
-    that have a correct place), under the keys of the metrics they belong to."""
-    every = np.ones_like(outcomes.correct)
-    return {
-        "fraction_correct": fraction_interval(outcomes.correct, every, statistics),
-        "recall_at_1": fraction_interval(outcomes.hit_at_1, outcomes.has_match, statistics),
-    }
+def metric_intervals(outcomes_of_pairs: Sequence[QueryOutcomes], statistics: StatisticsConfig) -> list[dict[str, Any]]:
+    """The intervals of each pair's fraction_correct (every query counted) and recall_at_1 (the
+    queries that have a correct place), under the keys of the metrics they belong to: one
+    evaluation (learner, matcher, metric) on every pair, the runs' persistence of each metric
+    pooled over the pairs (seasonloop.significance.intervals.persistence)."""
+    correct = persistence(outcomes.correct for outcomes in outcomes_of_pairs)
+    recall = persistence(outcomes.hit_at_1[outcomes.has_match] for outcomes in outcomes_of_pairs)
+    return [
+        {
+            "fraction_correct": fraction_interval(
+                outcomes.correct, np.ones_like(outcomes.correct), statistics, persistence_of=correct
+            ),
+            "recall_at_1": fraction_interval(outcomes.hit_at_1, outcomes.has_match, statistics, persistence_of=recall),
+        }
+        for outcomes in outcomes_of_pairs
+    ]

@@ -215,7 +215,10 @@ class StatisticsConfig(Section):
     level: float = setting(number(0, 1, low_open=True, high_open=True))  # of every interval
     degrees_scale: float = setting(
         number(0, None, low_open=True)
-    )  # a route of n queries has floor(degrees_scale * n^(2/3)) degrees of freedom
+    )  # a route of n queries has at most floor(degrees_scale * n^(2/3)) degrees of freedom
+    persistence_scale: float = setting(
+        number(0, None, low_open=True)
+    )  # and at most floor(persistence_scale * (n^2 / omega)^(1/3)) where its runs have persistence omega
     alpha: float = setting(number(0, 1, low_open=True, high_open=True))  # of the paired tests, after Holm's correction
 
 

@@ -187,9 +187,12 @@ def comparison_frames(record: Mapping[str, Any], methods: Sequence[str]) -> list
 def comparisons_markdown(record: Mapping[str, Any], methods: Sequence[str]) -> str:
     """Every table of comparison_frames as markdown, with the settings and the legend."""
     settings = record["statistics"]
+    degrees = f"{settings['degrees_scale']:g} n^(2/3)"
+    if "persistence_scale" in settings:  # records before it have the first rule alone
+        degrees = f"min({degrees}, {settings['persistence_scale']:g} (n^2 / omega)^(1/3)), omega the runs' persistence"
     lines = [
         f"Paired comparisons, {100 * settings['level']:.0f}% intervals along the route (degrees of freedom "
-        f"{settings['degrees_scale']:g} n^(2/3)), alpha {settings['alpha']}. " + legend(settings),
+        f"{degrees}), alpha {settings['alpha']}. " + legend(settings),
         "",
     ]
     for caption, frame in comparison_frames(record, methods):

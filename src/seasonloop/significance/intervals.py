@@ -10,10 +10,20 @@ equal-weighted cosine (EWC) estimator of Lazarus, Lewis, Stock and Watson ("HAR 
 recommendations for practice", J. Business & Economic Statistics 36(4), 2018): each coefficient
 (scipy.fft.dct, type II, orthonormal, terms 1..ν) carries the series' variance at a low frequency,
 and their mean square estimates it with ν degrees of freedom, so a mean divided by its standard
-error follows Student's t with ν degrees of freedom. No resampling, no seed, no block length: ν
-grows with the route, ν = floor(statistics.degrees_scale * n^(2/3)). LLSW's rule has scale 0.4;
-benchmarks/studies/check_calibration.py measured it too liberal at this project's n and dependence, and
-the scale in params.yaml is the one that covers 95% there (docs/statistics.md).
+error follows Student's t with ν degrees of freedom. No resampling, no seed, no block length.
+
+ν grows with the route and shrinks with the length of its runs: the coefficients' mean square is
+the spectrum's mean over frequencies up to ν π / n, close to its value at 0 (what the variance of
+the mean needs) only while runs are short against n / ν. LLSW's size-power trade-off gives
+ν ∝ (n² / ω)^(1/3), ω = Σ k² γ_k / Σ γ_k the autocovariances' mean squared lag (queries²: long
+runs, large ω), so ν = min(floor(degrees_scale n^(2/3)), floor(persistence_scale (n² / ω)^(1/3))).
+ω is not known: it is estimated (`persistence`) from the lag-1 and lag-2 autocorrelations pooled
+over the series of one kind of statement (a learner's evaluations of one matcher on every season
+pair; the comparisons of one table), read through an AR(1) with a nugget (a run's outcomes are
+runs of an AR(1) plus independent misses: r_k = c φ^k). A route whose runs leave ν below
+MIN_DEGREES has no interval: it says "runs too long for this many queries" rather than a number.
+Both scales are params (statistics); benchmarks/studies/check_calibration.py measures the level
+they give, on the dependence they were chosen on and on dependence they were not (docs/statistics.md).
 
 The fraction's interval is Wilson's score interval with the route's effective number of queries
 (n times the binomial's variance over the long-run one) and the t quantile in place of the
@@ -25,13 +35,15 @@ Satterthwaite's degrees of freedom: a statement about these routes' queries, not
 in general.
 
 Below MIN_DEGREES (a route too short for its own variance) no interval is given: it says "not
-enough queries" instead of a number.
+enough queries" instead of a number. A route whose queries all succeed (or all fail) shows no
+variance to estimate: its effective number of queries is then ν + 1 (the cosine terms' worth of
+independent stretches), not n.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from statistics import NormalDist
 from typing import Any
@@ -43,19 +55,66 @@ from seasonloop.params.settings import StatisticsConfig
 # one cosine term leaves a variance estimate with one degree of freedom: a t_1 (Cauchy) interval
 # 12.7 standard errors wide each side at 95%, and no check that the route's spectrum is flat
 MIN_DEGREES = 2
+EXACT = 1e-9  # added before a floor: a product that is an integer in exact arithmetic stays one
+# the autocorrelations the persistence is fitted to: lags 1..10, where a run's outcomes still correlate
+PERSISTENCE_LAGS = 10
+# one-sided 5%: the lags' correlations must show dependence before it sets ν (`persistence`)
+DEPENDENCE_EVIDENCE = 1.645
+# φ searched on a grid over (0, 0.999] (ω grows as 1 / (1 - φ)³: a trend, not runs, at φ = 1)
+PHI_GRID = np.linspace(0.001, 0.999, 999)
 
 
-def cosine_degrees(n_queries: int, settings: StatisticsConfig) -> int:
-    """ν, the cosine terms (degrees of freedom) of a route of n_queries: floor(scale * n^(2/3))."""
-    return int(math.floor(settings.degrees_scale * n_queries ** (2.0 / 3.0)))
+def cosine_degrees(n_queries: int, settings: StatisticsConfig, persistence: float = 0.0) -> int:
+    """ν, the cosine terms (degrees of freedom) of a route of n_queries whose autocovariances'
+    mean squared lag is `persistence` (ω, queries²; 0: no positive dependence): the smaller of
+    floor(degrees_scale n^(2/3)) and floor(persistence_scale (n² / ω)^(1/3)). Exact at integers
+    (floor(0.15 * 1000^(2/3)) is 15, which the float product leaves at 14.999...)."""
+    nu = math.floor(settings.degrees_scale * n_queries ** (2.0 / 3.0) + EXACT)
+    if persistence > 0:
+        nu = min(nu, math.floor(settings.persistence_scale * (n_queries**2 / persistence) ** (1.0 / 3.0) + EXACT))
+    return int(nu)
 
 
 def min_queries(settings: StatisticsConfig) -> int:
-    """The fewest queries a route needs for an interval or a test (MIN_DEGREES cosine terms)."""
+    """The fewest queries a route needs for an interval or a test (MIN_DEGREES cosine terms) when
+    its runs are short (longer runs need more: cosine_degrees)."""
     n = 1
     while cosine_degrees(n, settings) < MIN_DEGREES:
         n += 1
     return n
+
+
+def persistence(series: Iterable[np.ndarray]) -> float:
+    """ω = Σ k² γ_k / Σ γ_k (queries²) of series of one kind, from their autocorrelations at lags
+    1..PERSISTENCE_LAGS pooled (each series centred on its own mean; the autocovariances summed over
+    the series, then divided by their variances' sum), read through an AR(1) with a nugget:
+    r_k = c φ^k for k >= 1, (c, φ) least squares over the lags (φ on a grid, c in closed form),
+    ω = [2 c φ (1 + φ) / (1 - φ)³] / [1 + 2 c φ / (1 - φ)]. 0 where no series varies (nothing to
+    estimate it from) or the lags do not show dependence: their correlations' sum below
+    DEPENDENCE_EVIDENCE standard errors of independent queries' (sqrt(lags / queries)), where a
+    small positive drift of noise would fit as a slow decay and ω would be set by chance."""
+    lags = np.arange(1, PERSISTENCE_LAGS + 1)
+    variance, covariances, queries = 0.0, np.zeros(len(lags)), 0
+    for values in series:
+        centred = np.asarray(values, np.float64) - np.mean(values)
+        if len(centred) <= lags[-1]:
+            continue
+        variance += float(centred @ centred)
+        queries += len(centred)
+        covariances += [float(centred[:-lag] @ centred[lag:]) for lag in lags]
+    if variance <= 0:
+        return 0.0
+    correlations = covariances / variance
+    if correlations.sum() < DEPENDENCE_EVIDENCE * math.sqrt(len(lags) / queries):
+        return 0.0
+    powers = PHI_GRID[:, None] ** lags[None, :]  # (grid, lags)
+    c = np.clip(powers @ correlations / np.einsum("gl,gl->g", powers, powers), 0.0, 1.0)
+    misfit = np.sum((correlations[None, :] - c[:, None] * powers) ** 2, axis=1)
+    best = int(np.argmin(misfit))
+    phi, c_best = float(PHI_GRID[best]), float(c[best])
+    if c_best <= 0 or phi <= 0:
+        return 0.0
+    return (2 * c_best * phi * (1 + phi) / (1 - phi) ** 3) / (1 + 2 * c_best * phi / (1 - phi))
 
 
 def cosine_variance(values: np.ndarray, degrees: int) -> np.ndarray:
@@ -74,18 +133,25 @@ def cosine_variance(values: np.ndarray, degrees: int) -> np.ndarray:
 @dataclass(frozen=True)
 class MeanVariance:
     """The variance of a series' mean (variance, along the route) and its degrees of freedom, or
-    why there is none (reason)."""
+    why there is none (reason); stretches: the routes' cosine terms plus one each, what a series
+    without variance counts as independent queries."""
 
     variance: float
     degrees: float
     reason: str | None = None
+    stretches: float = math.nan
 
 
 def mean_variance(
-    values: np.ndarray, settings: StatisticsConfig, segments: Sequence[int] | None = None
+    values: np.ndarray,
+    settings: StatisticsConfig,
+    segments: Sequence[int] | None = None,
+    persistence_of: float | None = None,
 ) -> MeanVariance:
     """The variance of values.mean() along the route(s): one route (segments None), or independent
-    routes of segments[i] queries one after another (their weighted sum, Satterthwaite's degrees)."""
+    routes of segments[i] queries one after another (their weighted sum, Satterthwaite's degrees).
+    persistence_of: ω of the kind of series these values are (`persistence`, pooled over the
+    statement's series); None: estimated from these values alone."""
     values = np.asarray(values, np.float64)
     lengths = [len(values)] if segments is None else [int(length) for length in segments]
     if sum(lengths) != len(values):
@@ -93,16 +159,44 @@ def mean_variance(
     least = min_queries(settings)
     if min(lengths) < least:
         return MeanVariance(math.nan, math.nan, f"not enough queries ({min(lengths)} on a route, fewer than {least})")
-    total, parts, ends = len(values), [], np.cumsum(lengths)
+    ends = np.cumsum(lengths)
+    if persistence_of is None:
+        persistence_of = persistence(routes_of(values, segments))
+    total, parts = len(values), []
     for length, end in zip(lengths, ends):
-        route_degrees = cosine_degrees(length, settings)
+        # a route of several needs one cosine term of its own; the routes' sum needs MIN_DEGREES
+        route_degrees = cosine_degrees(length, settings, persistence_of)
+        if route_degrees < (MIN_DEGREES if len(lengths) == 1 else 1):
+            return MeanVariance(math.nan, math.nan, runs_too_long(length, persistence_of))
         route_variance = float(cosine_variance(values[end - length : end], route_degrees)) * length / total**2
         parts.append((route_variance, route_degrees))
+    stretches = float(sum(route_degrees + 1 for _, route_degrees in parts))
     variance = sum(part for part, _ in parts)
     squares = sum(part * part / route_degrees for part, route_degrees in parts)
-    # Satterthwaite: one route keeps its own; routes without variance add nothing (none: infinite)
-    pooled = float(parts[0][1]) if len(parts) == 1 else (variance * variance / squares if squares > 0 else math.inf)
-    return MeanVariance(variance, pooled)
+    # Satterthwaite: one route keeps its own; routes without variance add nothing (none at all: as if
+    # every route had the same variance)
+    if squares > 0:
+        pooled = variance * variance / squares
+    else:
+        pooled = len(parts) ** 2 / sum(1.0 / route_degrees for _, route_degrees in parts)
+    if pooled < MIN_DEGREES:
+        return MeanVariance(math.nan, math.nan, runs_too_long(min(lengths), persistence_of))
+    return MeanVariance(variance, pooled, stretches=stretches)
+
+
+def routes_of(values: np.ndarray, segments: Sequence[int] | None = None) -> list[np.ndarray]:
+    """values cut into its independent routes (segments: their lengths; None: one route)."""
+    if segments is None:
+        return [values]
+    return np.split(values, np.cumsum(segments)[:-1])
+
+
+def runs_too_long(n_queries: int, persistence_of: float) -> str:
+    """Why a route of n_queries whose runs have persistence ω has no interval."""
+    return (
+        f"runs too long for this many queries: outcomes correlated over about {math.sqrt(persistence_of):.0f} "
+        f"queries leave {n_queries} queries fewer than {MIN_DEGREES} degrees of freedom"
+    )
 
 
 def t_quantile(level: float, degrees: float) -> float:
@@ -136,22 +230,36 @@ def wilson_interval(successes: int, trials: int, level: float) -> tuple[float, f
 
 
 def route_interval(
-    values: np.ndarray, settings: StatisticsConfig, segments: Sequence[int] | None = None
+    values: np.ndarray,
+    settings: StatisticsConfig,
+    segments: Sequence[int] | None = None,
+    persistence_of: float | None = None,
 ) -> dict[str, Any]:
     """{low, high, effective_queries, degrees} of the mean of `values` (each in [0, 1], in route
-    order), or {low: None, high: None, reason} when the route is too short. The score interval
-    with n_eff = mean (1 - mean) / var(mean): for 0/1 outcomes the binomial's trials that would
-    be as informative; a route whose values are all equal has no variance to estimate and counts
-    its queries as independent (n_eff = n)."""
+    order), or {low: None, high: None, reason} when the route is too short for its runs. The score
+    interval with n_eff = mean (1 - mean) / var(mean), at most n (never narrower than Wilson's):
+    for 0/1 outcomes the binomial's trials that would be as informative. A route whose values are
+    all equal has no variance to estimate: n_eff is its cosine terms plus one (ν + 1 stretches),
+    not n. persistence_of: as mean_variance."""
     values = np.asarray(values, np.float64)
-    spread = mean_variance(values, settings, segments)
+    spread = mean_variance(values, settings, segments, persistence_of)
     if spread.reason is not None:
         return {"low": None, "high": None, "reason": spread.reason}
     share = float(values.mean())
     binomial = share * (1 - share)
-    effective = binomial / spread.variance if binomial > 0 and spread.variance > 0 else float(len(values))
+    if binomial > 0 and spread.variance > 0:
+        effective = min(binomial / spread.variance, float(len(values)))
+    else:
+        effective = min(spread.stretches, float(len(values)))
     low, high = score_interval(share, effective, t_quantile(settings.level, spread.degrees))
     return {"low": low, "high": high, "effective_queries": effective, "degrees": spread.degrees}
+
+
+def route_intervals(series: Mapping[str, np.ndarray], settings: StatisticsConfig) -> dict[str, dict[str, Any]]:
+    """route_interval of each of several series of one kind (a descriptor's pairs, a learner's
+    training-season sets), their runs' persistence pooled."""
+    pooled = persistence(series.values())
+    return {name: route_interval(values, settings, persistence_of=pooled) for name, values in series.items()}
 
 
 def counted_segments(counted: np.ndarray, segments: Sequence[int] | None) -> list[int] | None:
@@ -163,7 +271,11 @@ def counted_segments(counted: np.ndarray, segments: Sequence[int] | None) -> lis
 
 
 def fraction_interval(
-    successes: np.ndarray, counted: np.ndarray, settings: StatisticsConfig, segments: Sequence[int] | None = None
+    successes: np.ndarray,
+    counted: np.ndarray,
+    settings: StatisticsConfig,
+    segments: Sequence[int] | None = None,
+    persistence_of: float | None = None,
 ) -> dict[str, Any]:
     """The route's interval (route_interval) and Wilson's (independent queries) of the fraction of
     the counted queries that succeed (fraction correct: every query counted; recall@1: the queries
@@ -174,6 +286,6 @@ def fraction_interval(
         return {"route": None, "wilson": None}
     wilson_low, wilson_high = wilson_interval(hits, trials, settings.level)
     return {
-        "route": route_interval(successes[counted], settings, counted_segments(counted, segments)),
+        "route": route_interval(successes[counted], settings, counted_segments(counted, segments), persistence_of),
         "wilson": {"low": wilson_low, "high": wilson_high},
     }

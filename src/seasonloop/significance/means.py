@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.significance.intervals import mean_variance, route_interval, t_quantile
+from seasonloop.significance.intervals import mean_variance, persistence, route_interval, t_quantile
 
 
 def mean_interval(
@@ -30,9 +30,14 @@ def mean_interval(
     if not correct_by_pair:
         raise ValueError("mean_interval: no season pair to average over")
     first = np.asarray(places_by_pair[0])
+    # the pairs' outcomes are one kind of series: their runs' persistence is pooled
+    pooled = persistence(np.asarray(correct, np.float64) for correct in correct_by_pair)
     if all(np.array_equal(first, places) for places in places_by_pair[1:]):
-        return route_interval(np.mean([np.asarray(c, np.float64) for c in correct_by_pair], axis=0), settings)
-    spreads = [mean_variance(np.asarray(correct, np.float64), settings) for correct in correct_by_pair]
+        mean = np.mean([np.asarray(c, np.float64) for c in correct_by_pair], axis=0)
+        return route_interval(mean, settings, persistence_of=pooled)
+    spreads = [
+        mean_variance(np.asarray(correct, np.float64), settings, persistence_of=pooled) for correct in correct_by_pair
+    ]
     reasons = [spread.reason for spread in spreads if spread.reason is not None]
     if reasons:
         return {"low": None, "high": None, "reason": reasons[0]}

@@ -57,18 +57,24 @@ def holm(p_values: Sequence[float]) -> np.ndarray:
 
 
 def paired_difference(
-    first: np.ndarray, second: np.ndarray, settings: StatisticsConfig, segments: Sequence[int] | None = None
+    first: np.ndarray,
+    second: np.ndarray,
+    settings: StatisticsConfig,
+    segments: Sequence[int] | None = None,
+    persistence_of: float | None = None,
 ) -> dict[str, Any]:
     """first's fraction correct minus second's on the same queries (bool arrays in route order;
-    segments: the lengths of independent routes joined one after another), its interval, the
-    discordant counts and the p-value (None, with the reason, where a route is too short)."""
+    segments: the lengths of independent routes joined one after another), its interval (inside
+    [-1, 1]), the discordant counts and the p-value (None, with the reason, where a route is too
+    short for its runs). persistence_of: ω of the differences' kind (the table's, `differences`);
+    None: estimated from this one."""
     first, second = np.asarray(first, bool), np.asarray(second, bool)
     if first.shape != second.shape:
         raise ValueError(f"paired comparison: {first.shape[0]} queries against {second.shape[0]}: not the same queries")
-    change = first.astype(np.float64) - second.astype(np.float64)
+    change = differences(first, second)
     difference = float(change.mean())
     counts = {"first_only": int((first & ~second).sum()), "second_only": int((~first & second).sum())}
-    spread = mean_variance(change, settings, segments)
+    spread = mean_variance(change, settings, segments, persistence_of)
     if spread.reason is not None:
         return {"difference": difference, "low": None, "high": None, **counts, "p_value": None, "reason": spread.reason}
     error = math.sqrt(spread.variance)
@@ -79,8 +85,8 @@ def paired_difference(
         p_value = 1.0 if difference == 0 else 0.0
     compared: dict[str, Any] = {
         "difference": difference,
-        "low": difference - half,
-        "high": difference + half,
+        "low": max(difference - half, -1.0),
+        "high": min(difference + half, 1.0),
         **counts,
         "degrees": spread.degrees,
         "p_value": p_value,
@@ -89,6 +95,11 @@ def paired_difference(
     if len(first) < NEAR_BOUNDARY_QUERIES and any(not NEAR_BOUNDARY <= share <= 1 - NEAR_BOUNDARY for share in shares):
         compared["interval_note"] = NEAR_BOUNDARY_NOTE
     return compared
+
+
+def differences(first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """The per-query differences a paired comparison tests (first correct minus second correct)."""
+    return np.asarray(first, bool).astype(np.float64) - np.asarray(second, bool).astype(np.float64)
 
 
 def with_verdicts(comparisons: Sequence[dict[str, Any]], alpha: float) -> list[dict[str, Any]]:

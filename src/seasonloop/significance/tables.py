@@ -23,7 +23,8 @@ from typing import Any
 import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.significance.paired import paired_difference, with_verdicts
+from seasonloop.significance.intervals import persistence, routes_of
+from seasonloop.significance.paired import differences, paired_difference, with_verdicts
 
 Variant = tuple[str, str, str]  # (metric, matcher, suffix): seasonloop.evaluation.matchers.evaluations
 
@@ -79,9 +80,15 @@ def pair_comparisons(
 
     judged = {}
     for name, comparisons in tables.items():
+        # the table's comparisons are one kind of statement: their runs' persistence is pooled
+        table_persistence = persistence(
+            route
+            for first, second in comparisons
+            for route in routes_of(differences(correct(first), correct(second)), segments)
+        )
         rows = []
         for first, second in comparisons:
-            difference = paired_difference(correct(first), correct(second), settings, segments)
+            difference = paired_difference(correct(first), correct(second), settings, segments, table_persistence)
             rows.append({"first": first, "second": second, **difference})
         judged[name] = with_verdicts(rows, settings.alpha)
     return judged

@@ -70,6 +70,7 @@ FULL_GRID = {
     "table_learners": 7,
     "pooled_routes": 5,
     "pooled_n": (158, 1000),
+    "pooled_pairs": 6,  # the default run's pairs: an evaluation's persistence is pooled over them
 }
 SMALL_GRID = {
     "n": (20, 158),
@@ -78,6 +79,7 @@ SMALL_GRID = {
     "table_learners": 4,
     "pooled_routes": 3,
     "pooled_n": (158,),
+    "pooled_pairs": 6,
 }
 LLSW_SCALE = 0.4  # Lazarus, Lewis, Stock and Watson (2018)'s rule: nu = 0.4 n^(2/3)
 # LLSW's rule beside the params' on the n where the two differ most (it is there for comparison)
@@ -367,17 +369,13 @@ def drawn(rng, replicates: int, n: int, fractions: Sequence[float], dependence: 
         yield [np.concatenate([route[k] for route in per_route], axis=1) for k in range(len(fractions))]
 
 
-# the season pairs a learner's evaluation pools its runs' persistence over (the default run's six)
-POOLED_PAIRS = 6
-
-
-def coverage_cell(rng, settings, n, p, dependence, replicates) -> dict[str, Any]:
+def coverage_cell(rng, settings, n, p, dependence, replicates, pairs_pooled=1) -> dict[str, Any]:
     """Coverage of the fraction's interval along the route and of Wilson's, one route of n queries;
-    the runs' persistence pooled over POOLED_PAIRS pairs' outcomes of one learner (as the evaluate
-    stage pools them), drawn as learners of one pair (sharing the dependence's `share`)."""
+    the runs' persistence pooled over `pairs_pooled` pairs' outcomes of one learner (as the evaluate
+    stage pools a run's pairs), drawn as learners of one pair (sharing the dependence's `share`)."""
     every = np.ones(n, bool)
     route, wilson = [], []
-    for pairs in drawn(rng, replicates, n, [p] * POOLED_PAIRS, dependence):
+    for pairs in drawn(rng, replicates, n, [p] * pairs_pooled, dependence):
         for r in range(len(pairs[0])):
             pooled = persistence(pair[r] for pair in pairs)
             interval = fraction_interval(pairs[0][r], every, settings, persistence_of=pooled)
@@ -463,7 +461,7 @@ def run_grid(
                 rng = np.random.default_rng([seed, int(1000 * p), n, list(dependences).index(kind)])
                 started = time.perf_counter()
                 row: dict[str, Any] = {"dependence": kind, "n": n, "p": p, "routes": 1}
-                row["coverage"] = coverage_cell(rng, settings, n, p, dependence, replicates)
+                row["coverage"] = coverage_cell(rng, settings, n, p, dependence, replicates, grid["pooled_pairs"])
                 row["false_positive"] = table_cell(rng, settings, n, p, dependence, replicates, grid["table_learners"])
                 row["power"] = {
                     f"{difference:.2f}": power_cell(
@@ -502,6 +500,7 @@ OUT_OF_SAMPLE_GRID = {
     "table_learners": 8,  # the default run's learners: a table of 28 comparisons
     "pooled_routes": 5,
     "pooled_n": (158, 1800),
+    "pooled_pairs": 1,  # the real half's one pair: an evaluation's persistence from its own outcomes
 }
 BLOCK_LENGTHS = (20, 80)  # all right or all wrong for 20 to 80 queries: a snowy stretch
 BLOCK_SHARE = 0.5  # a pair's learners take the stretch's common outcome half the time

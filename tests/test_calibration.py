@@ -114,3 +114,19 @@ def test_the_out_of_sample_models_have_the_dependence_they_name():
         "+delta",
         "+smoothed",
     ]
+
+
+def test_the_smallest_difference_found_needs_every_larger_one_found_too():
+    from benchmarks.studies.check_power import smallest_found
+
+    assert smallest_found({"0.050": 0.3, "0.100": 0.85, "0.200": 0.99}) == 0.10
+    # a dip above it (noise, or a refused cell) moves it up: found means found from there on
+    assert smallest_found({"0.050": 0.81, "0.100": 0.79, "0.200": 0.9}) == 0.20
+    assert smallest_found({"0.050": 0.1, "0.100": None}) is None
+
+
+def test_power_under_holm_is_below_power_alone_and_grows_with_the_gap():
+    small = power_cell(np.random.default_rng(12), SETTINGS, 400, 0.5, 0.05, SINGLE_LIKE, 60, 4)
+    large = power_cell(np.random.default_rng(12), SETTINGS, 400, 0.5, 0.30, SINGLE_LIKE, 60, 4)
+    assert small["power_holm"]["rate"] <= small["power"]["rate"]
+    assert large["power_holm"]["rate"] > small["power_holm"]["rate"] and large["power_holm"]["rate"] >= 0.8

@@ -355,7 +355,10 @@ def test_no_interval_is_narrower_than_wilsons_and_differences_stay_inside_minus_
     alternating = np.tile([True, False], 80)
     interval = fraction_interval(alternating, np.ones(160, bool), SETTINGS)
     assert interval["route"]["effective_queries"] <= 160
-    assert interval["route"]["low"] <= interval["wilson"]["low"] and interval["route"]["high"] >= interval["wilson"]["high"]
+    assert (
+        interval["route"]["low"] <= interval["wilson"]["low"]
+        and interval["route"]["high"] >= interval["wilson"]["high"]
+    )
     first = np.ones(160, bool)
     second = np.repeat(np.random.default_rng(2).random(16) < 0.1, 10)
     compared = paired_difference(first, second, SETTINGS)

@@ -14,11 +14,13 @@ runs the project's statistics on them (seasonloop.significance, the code every s
   their latent (a place hard for one is hard for the others), fitted to the run's mean correlation
   between two learners' outcomes on the same queries;
 - on a grid of n (queries a route), fraction p, dependence and routes (1, or 5 pooled), R routes
-  each: the real coverage of the 95% interval of a fraction (the evaluate stage's), with Wilson's
-  (independent queries) beside it; the real false-positive rate of the paired test (two learners
-  with equal laws) per comparison, and per table (7 equal learners, 21 comparisons, Holm: the
-  family the legend names); its power at differences of 3, 5 and 10 points, and the coverage of
-  the difference's interval there;
+  each: the real coverage of the 95% interval of a fraction (the evaluate stage's, the runs'
+  persistence pooled over the grid's `pooled_pairs` pairs as the evaluate stage pools a run's
+  pairs), with Wilson's (independent queries) beside it; the real false-positive rate of the paired
+  test (equal learners, the persistence pooled over the table's comparisons as the compare stage
+  pools it) per comparison, and per table (7 equal learners, 21 comparisons, Holm: the family the
+  legend names); its power at differences of 3, 5 and 10 points, alone and under Holm over the
+  table, and the coverage of the difference's interval there;
 - every statistic at the params' statistics settings, and at LLSW's published degrees_scale 0.4
   beside them (the rule the project's scale departs from).
 Monte Carlo error: a rate c measured on R routes has standard error sqrt(c (1 - c) / R) (0.49

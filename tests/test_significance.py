@@ -362,4 +362,4 @@ def test_no_interval_is_narrower_than_wilsons_and_differences_stay_inside_minus_
     first = np.ones(160, bool)
     second = np.repeat(np.random.default_rng(2).random(16) < 0.1, 10)
     compared = paired_difference(first, second, SETTINGS)
-    assert -1.0 <= compared["low"] and compared["high"] <= 1.0
+    assert compared["low"] >= -1.0 and compared["high"] <= 1.0

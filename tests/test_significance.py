@@ -15,6 +15,7 @@ from scipy.stats import t as student
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.settings import StatisticsConfig
 from seasonloop.significance.intervals import (
+    Runs,
     cosine_degrees,
     cosine_variance,
     fraction_interval,
@@ -72,6 +73,9 @@ def test_an_interval_of_a_constant_counts_its_stretches_not_its_queries():
     q2 = student.ppf(0.975, degrees) ** 2
     assert interval["effective_queries"] == degrees + 1 and interval["high"] == 1.0
     assert interval["low"] == pytest.approx((degrees + 1) / (degrees + 1 + q2))
+    # where series of its kind vary, their runs say how many independent queries it is worth
+    assert route_interval(np.ones(100), SETTINGS, runs=Runs(0.0, 4.0))["effective_queries"] == 25
+    assert route_interval(np.ones(100), SETTINGS, runs=Runs(0.0, 1.0))["effective_queries"] == 100
 
 
 def test_runs_of_outcomes_widen_the_interval_beyond_wilsons():
@@ -183,8 +187,8 @@ def test_routes_pooled_keep_their_own_variances():
     pooled = mean_variance(np.concatenate(routes), SETTINGS, [400, 200, 600])
     # each route's cosine terms from the routes' persistence, pooled over them
     together = persistence(routes)
-    assert together > 0
-    parts = [mean_variance(route, SETTINGS, persistence_of=together) for route in routes]
+    assert together.omega > 0
+    parts = [mean_variance(route, SETTINGS, runs=together) for route in routes]
     weights = [400 / 1200, 200 / 1200, 600 / 1200]
     assert pooled.variance == pytest.approx(sum(w * w * part.variance for w, part in zip(weights, parts)))
     squares = sum((w * w * part.variance) ** 2 / part.degrees for w, part in zip(weights, parts))
@@ -336,10 +340,12 @@ def test_persistence_reads_the_runs_of_an_ar_with_a_nugget():
     series = math.sqrt(a) * ar + math.sqrt(1 - a) * rng.standard_normal((40, 2000))
     # r_k = a phi^k: omega = [2 a phi (1 + phi) / (1 - phi)^3] / [1 + 2 a phi / (1 - phi)]
     known = (2 * a * phi * (1 + phi) / (1 - phi) ** 3) / (1 + 2 * a * phi / (1 - phi))
-    assert persistence(series) == pytest.approx(known, rel=0.15)
-    # independent queries show no dependence, and a constant none to estimate
-    assert persistence(rng.random((6, 158)) < 0.5) == 0.0
-    assert persistence([np.ones(158)]) == 0.0
+    found = persistence(series)
+    assert found.omega == pytest.approx(known, rel=0.15)
+    assert found.inflation == pytest.approx(1 + 2 * a * phi / (1 - phi), rel=0.1)
+    # independent queries show no dependence, and a constant nothing to estimate it from
+    assert persistence(rng.random((6, 158)) < 0.5) == Runs(0.0, 1.0)
+    assert persistence([np.ones(158)]) == Runs()
 
 
 def test_long_runs_cut_the_degrees_and_too_long_ones_are_refused():

@@ -380,7 +380,7 @@ def coverage_cell(rng, settings, n, p, dependence, replicates, pairs_pooled=1) -
     for pairs in drawn(rng, replicates, n, [p] * pairs_pooled, dependence):
         for r in range(len(pairs[0])):
             pooled = persistence(pair[r] for pair in pairs)
-            interval = fraction_interval(pairs[0][r], every, settings, persistence_of=pooled)
+            interval = fraction_interval(pairs[0][r], every, settings, runs=pooled)
             route.append(covers(interval["route"], p))
             wilson.append(covers(interval["wilson"], p))
     return {"route": rate(route), "wilson": rate(wilson)}

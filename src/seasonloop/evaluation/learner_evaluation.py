@@ -149,9 +149,9 @@ def metric_intervals(outcomes_of_pairs: Sequence[QueryOutcomes], statistics: Sta
     return [
         {
             "fraction_correct": fraction_interval(
-                outcomes.correct, np.ones_like(outcomes.correct), statistics, persistence_of=correct
+                outcomes.correct, np.ones_like(outcomes.correct), statistics, runs=correct
             ),
-            "recall_at_1": fraction_interval(outcomes.hit_at_1, outcomes.has_match, statistics, persistence_of=recall),
+            "recall_at_1": fraction_interval(outcomes.hit_at_1, outcomes.has_match, statistics, runs=recall),
         }
         for outcomes in outcomes_of_pairs
     ]

@@ -36,8 +36,9 @@ in general.
 
 Below MIN_DEGREES (a route too short for its own variance) no interval is given: it says "not
 enough queries" instead of a number. A route whose queries all succeed (or all fail) shows no
-variance to estimate: its effective number of queries is then ν + 1 (the cosine terms' worth of
-independent stretches), not n.
+variance of its own: its effective number of queries is n over the long-run variance's multiple
+of the variance that the series of its kind show (1 + 2 Σ r_k of the fit), or ν + 1 (the cosine
+terms' worth of independent stretches) where none of them varies; never n by default.
 """
 
 from __future__ import annotations
@@ -84,15 +85,23 @@ def min_queries(settings: StatisticsConfig) -> int:
     return n
 
 
-def persistence(series: Iterable[np.ndarray]) -> float:
-    """ω = Σ k² γ_k / Σ γ_k (queries²) of series of one kind, from their autocorrelations at lags
-    1..PERSISTENCE_LAGS pooled (each series centred on its own mean; the autocovariances summed over
-    the series, then divided by their variances' sum), read through an AR(1) with a nugget:
-    r_k = c φ^k for k >= 1, (c, φ) least squares over the lags (φ on a grid, c in closed form),
-    ω = [2 c φ (1 + φ) / (1 - φ)³] / [1 + 2 c φ / (1 - φ)]. 0 where no series varies (nothing to
-    estimate it from) or the lags do not show dependence: their correlations' sum below
-    DEPENDENCE_EVIDENCE standard errors of independent queries' (sqrt(lags / queries)), where a
-    small positive drift of noise would fit as a slow decay and ω would be set by chance."""
+@dataclass(frozen=True)
+class Runs:
+    """The runs of one kind of series, from their pooled autocorrelations (`persistence`): omega,
+    the autocovariances' mean squared lag (queries²; 0: no dependence shown), and inflation, the
+    long-run variance over the variance (1 + 2 Σ r_k; None: no series varied, nothing is known)."""
+
+    omega: float = 0.0
+    inflation: float | None = None
+
+
+def persistence(series: Iterable[np.ndarray]) -> Runs:
+    """The Runs of series of one kind from their autocorrelations at lags 1..PERSISTENCE_LAGS pooled
+    (autocovariances of the centred series summed, over their variances' sum), read through an
+    AR(1) with a nugget, r_k = c φ^k (least squares; φ on a grid, c in closed form): inflation
+    1 + 2 c φ / (1 - φ), ω = [2 c φ (1 + φ) / (1 - φ)³] / inflation. No dependence (ω 0, inflation
+    1) where the lags' correlations sum to less than DEPENDENCE_EVIDENCE standard errors of
+    independent queries' (sqrt(lags / queries)): noise would fit as a slow decay, ω set by chance."""
     lags = np.arange(1, PERSISTENCE_LAGS + 1)
     variance, covariances, queries = 0.0, np.zeros(len(lags)), 0
     for values in series:
@@ -103,18 +112,19 @@ def persistence(series: Iterable[np.ndarray]) -> float:
         queries += len(centred)
         covariances += [float(centred[:-lag] @ centred[lag:]) for lag in lags]
     if variance <= 0:
-        return 0.0
+        return Runs()
     correlations = covariances / variance
     if correlations.sum() < DEPENDENCE_EVIDENCE * math.sqrt(len(lags) / queries):
-        return 0.0
+        return Runs(0.0, 1.0)
     powers = PHI_GRID[:, None] ** lags[None, :]  # (grid, lags)
     c = np.clip(powers @ correlations / np.einsum("gl,gl->g", powers, powers), 0.0, 1.0)
     misfit = np.sum((correlations[None, :] - c[:, None] * powers) ** 2, axis=1)
     best = int(np.argmin(misfit))
     phi, c_best = float(PHI_GRID[best]), float(c[best])
-    if c_best <= 0 or phi <= 0:
-        return 0.0
-    return (2 * c_best * phi * (1 + phi) / (1 - phi) ** 3) / (1 + 2 * c_best * phi / (1 - phi))
+    if c_best <= 0:
+        return Runs(0.0, 1.0)
+    inflation = 1 + 2 * c_best * phi / (1 - phi)
+    return Runs((2 * c_best * phi * (1 + phi) / (1 - phi) ** 3) / inflation, inflation)
 
 
 def cosine_variance(values: np.ndarray, degrees: int) -> np.ndarray:
@@ -133,25 +143,23 @@ def cosine_variance(values: np.ndarray, degrees: int) -> np.ndarray:
 @dataclass(frozen=True)
 class MeanVariance:
     """The variance of a series' mean (variance, along the route) and its degrees of freedom, or
-    why there is none (reason); stretches: the routes' cosine terms plus one each, what a series
-    without variance counts as independent queries."""
+    why there is none (reason); independent: what a series without variance counts as independent
+    queries (n over the runs' inflation; the routes' cosine terms plus one each where nothing is
+    known of the runs)."""
 
     variance: float
     degrees: float
     reason: str | None = None
-    stretches: float = math.nan
+    independent: float = math.nan
 
 
 def mean_variance(
-    values: np.ndarray,
-    settings: StatisticsConfig,
-    segments: Sequence[int] | None = None,
-    persistence_of: float | None = None,
+    values: np.ndarray, settings: StatisticsConfig, segments: Sequence[int] | None = None, runs: Runs | None = None
 ) -> MeanVariance:
     """The variance of values.mean() along the route(s): one route (segments None), or independent
     routes of segments[i] queries one after another (their weighted sum, Satterthwaite's degrees).
-    persistence_of: ω of the kind of series these values are (`persistence`, pooled over the
-    statement's series); None: estimated from these values alone."""
+    runs: those of the kind of series these values are (`persistence`, pooled over the statement's
+    series); None: estimated from these values alone."""
     values = np.asarray(values, np.float64)
     lengths = [len(values)] if segments is None else [int(length) for length in segments]
     if sum(lengths) != len(values):
@@ -160,17 +168,20 @@ def mean_variance(
     if min(lengths) < least:
         return MeanVariance(math.nan, math.nan, f"not enough queries ({min(lengths)} on a route, fewer than {least})")
     ends = np.cumsum(lengths)
-    if persistence_of is None:
-        persistence_of = persistence(routes_of(values, segments))
+    if runs is None:
+        runs = persistence(routes_of(values, segments))
     total, parts = len(values), []
     for length, end in zip(lengths, ends):
         # a route of several needs one cosine term of its own; the routes' sum needs MIN_DEGREES
-        route_degrees = cosine_degrees(length, settings, persistence_of)
+        route_degrees = cosine_degrees(length, settings, runs.omega)
         if route_degrees < (MIN_DEGREES if len(lengths) == 1 else 1):
-            return MeanVariance(math.nan, math.nan, runs_too_long(length, persistence_of))
+            return MeanVariance(math.nan, math.nan, runs_too_long(length, runs.omega))
         route_variance = float(cosine_variance(values[end - length : end], route_degrees)) * length / total**2
         parts.append((route_variance, route_degrees))
-    stretches = float(sum(route_degrees + 1 for _, route_degrees in parts))
+    if runs.inflation is None:
+        independent = float(sum(route_degrees + 1 for _, route_degrees in parts))
+    else:
+        independent = total / runs.inflation
     variance = sum(part for part, _ in parts)
     squares = sum(part * part / route_degrees for part, route_degrees in parts)
     # Satterthwaite: one route keeps its own; routes without variance add nothing (none at all: as if
@@ -180,8 +191,8 @@ def mean_variance(
     else:
         pooled = len(parts) ** 2 / sum(1.0 / route_degrees for _, route_degrees in parts)
     if pooled < MIN_DEGREES:
-        return MeanVariance(math.nan, math.nan, runs_too_long(min(lengths), persistence_of))
-    return MeanVariance(variance, pooled, stretches=stretches)
+        return MeanVariance(math.nan, math.nan, runs_too_long(min(lengths), runs.omega))
+    return MeanVariance(variance, pooled, independent=independent)
 
 
 def routes_of(values: np.ndarray, segments: Sequence[int] | None = None) -> list[np.ndarray]:
@@ -191,10 +202,10 @@ def routes_of(values: np.ndarray, segments: Sequence[int] | None = None) -> list
     return np.split(values, np.cumsum(segments)[:-1])
 
 
-def runs_too_long(n_queries: int, persistence_of: float) -> str:
+def runs_too_long(n_queries: int, omega: float) -> str:
     """Why a route of n_queries whose runs have persistence ω has no interval."""
     return (
-        f"runs too long for this many queries: outcomes correlated over about {math.sqrt(persistence_of):.0f} "
+        f"runs too long for this many queries: outcomes correlated over about {math.sqrt(omega):.0f} "
         f"queries leave {n_queries} queries fewer than {MIN_DEGREES} degrees of freedom"
     )
 
@@ -230,19 +241,17 @@ def wilson_interval(successes: int, trials: int, level: float) -> tuple[float, f
 
 
 def route_interval(
-    values: np.ndarray,
-    settings: StatisticsConfig,
-    segments: Sequence[int] | None = None,
-    persistence_of: float | None = None,
+    values: np.ndarray, settings: StatisticsConfig, segments: Sequence[int] | None = None, runs: Runs | None = None
 ) -> dict[str, Any]:
     """{low, high, effective_queries, degrees} of the mean of `values` (each in [0, 1], in route
     order), or {low: None, high: None, reason} when the route is too short for its runs. The score
     interval with n_eff = mean (1 - mean) / var(mean), at most n (never narrower than Wilson's):
     for 0/1 outcomes the binomial's trials that would be as informative. A route whose values are
-    all equal has no variance to estimate: n_eff is its cosine terms plus one (ν + 1 stretches),
-    not n. persistence_of: as mean_variance."""
+    all equal has no variance of its own to estimate: n_eff is n over the runs' inflation (the
+    series of its kind say how long runs are), or ν + 1 stretches where none of them varies.
+    runs: as mean_variance."""
     values = np.asarray(values, np.float64)
-    spread = mean_variance(values, settings, segments, persistence_of)
+    spread = mean_variance(values, settings, segments, runs)
     if spread.reason is not None:
         return {"low": None, "high": None, "reason": spread.reason}
     share = float(values.mean())
@@ -250,7 +259,7 @@ def route_interval(
     if binomial > 0 and spread.variance > 0:
         effective = min(binomial / spread.variance, float(len(values)))
     else:
-        effective = min(spread.stretches, float(len(values)))
+        effective = min(spread.independent, float(len(values)))
     low, high = score_interval(share, effective, t_quantile(settings.level, spread.degrees))
     return {"low": low, "high": high, "effective_queries": effective, "degrees": spread.degrees}
 
@@ -259,7 +268,7 @@ def route_intervals(series: Mapping[str, np.ndarray], settings: StatisticsConfig
     """route_interval of each of several series of one kind (a descriptor's pairs, a learner's
     training-season sets), their runs' persistence pooled."""
     pooled = persistence(series.values())
-    return {name: route_interval(values, settings, persistence_of=pooled) for name, values in series.items()}
+    return {name: route_interval(values, settings, runs=pooled) for name, values in series.items()}
 
 
 def counted_segments(counted: np.ndarray, segments: Sequence[int] | None) -> list[int] | None:
@@ -275,7 +284,7 @@ def fraction_interval(
     counted: np.ndarray,
     settings: StatisticsConfig,
     segments: Sequence[int] | None = None,
-    persistence_of: float | None = None,
+    runs: Runs | None = None,
 ) -> dict[str, Any]:
     """The route's interval (route_interval) and Wilson's (independent queries) of the fraction of
     the counted queries that succeed (fraction correct: every query counted; recall@1: the queries
@@ -286,6 +295,6 @@ def fraction_interval(
         return {"route": None, "wilson": None}
     wilson_low, wilson_high = wilson_interval(hits, trials, settings.level)
     return {
-        "route": route_interval(successes[counted], settings, counted_segments(counted, segments), persistence_of),
+        "route": route_interval(successes[counted], settings, counted_segments(counted, segments), runs),
         "wilson": {"low": wilson_low, "high": wilson_high},
     }

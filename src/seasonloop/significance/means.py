@@ -34,10 +34,8 @@ def mean_interval(
     pooled = persistence(np.asarray(correct, np.float64) for correct in correct_by_pair)
     if all(np.array_equal(first, places) for places in places_by_pair[1:]):
         mean = np.mean([np.asarray(c, np.float64) for c in correct_by_pair], axis=0)
-        return route_interval(mean, settings, persistence_of=pooled)
-    spreads = [
-        mean_variance(np.asarray(correct, np.float64), settings, persistence_of=pooled) for correct in correct_by_pair
-    ]
+        return route_interval(mean, settings, runs=pooled)
+    spreads = [mean_variance(np.asarray(correct, np.float64), settings, runs=pooled) for correct in correct_by_pair]
     reasons = [spread.reason for spread in spreads if spread.reason is not None]
     if reasons:
         return {"low": None, "high": None, "reason": reasons[0]}

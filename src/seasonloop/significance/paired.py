@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.significance.intervals import mean_variance, t_quantile
+from seasonloop.significance.intervals import Runs, mean_variance, t_quantile
 
 VERDICTS = ("better", "worse", "no difference", "not enough queries")
 # benchmarks/studies/check_calibration.py (docs/statistics.md, table calibration_difference_coverage): the
@@ -61,20 +61,20 @@ def paired_difference(
     second: np.ndarray,
     settings: StatisticsConfig,
     segments: Sequence[int] | None = None,
-    persistence_of: float | None = None,
+    runs: Runs | None = None,
 ) -> dict[str, Any]:
     """first's fraction correct minus second's on the same queries (bool arrays in route order;
     segments: the lengths of independent routes joined one after another), its interval (inside
     [-1, 1]), the discordant counts and the p-value (None, with the reason, where a route is too
-    short for its runs). persistence_of: ω of the differences' kind (the table's, `differences`);
-    None: estimated from this one."""
+    short for its runs). runs: those of the differences' kind (the table's, `differences`); None:
+    estimated from this one."""
     first, second = np.asarray(first, bool), np.asarray(second, bool)
     if first.shape != second.shape:
         raise ValueError(f"paired comparison: {first.shape[0]} queries against {second.shape[0]}: not the same queries")
     change = differences(first, second)
     difference = float(change.mean())
     counts = {"first_only": int((first & ~second).sum()), "second_only": int((~first & second).sum())}
-    spread = mean_variance(change, settings, segments, persistence_of)
+    spread = mean_variance(change, settings, segments, runs)
     if spread.reason is not None:
         return {"difference": difference, "low": None, "high": None, **counts, "p_value": None, "reason": spread.reason}
     error = math.sqrt(spread.variance)

@@ -295,9 +295,10 @@ def test_the_mean_over_pairs_of_the_same_places_keeps_their_correlation():
     # independent would give a narrower interval)
     assert mean_interval([correct, correct], [places, places], SETTINGS) == pytest.approx(alone)
     # one pair right exactly where the other is wrong: the mean is one half at every query
-    # (a mean without variance counts stretches, not queries: no narrower than a route's cosine terms allow)
+    # (a mean without variance counts n over the pairs' runs' inflation, not n)
     half = mean_interval([correct, ~correct], [places, places], SETTINGS)
-    assert half["low"] < 0.5 < half["high"] and half["effective_queries"] == half["degrees"] + 1
+    inflation = persistence([correct, ~correct]).inflation
+    assert half["low"] < 0.5 < half["high"] and half["effective_queries"] == pytest.approx(160 / inflation)
 
 
 def test_the_mean_over_pairs_of_other_places_is_bounded_by_their_errors():

@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 
 from seasonloop.reporting.study import STUDY_FRACTION_CORRECT, STUDY_PR_LANDMARKS
+from seasonloop.significance.intervals import RUNS_TOO_LONG
 
 
 def fraction_correct_table(
@@ -62,8 +63,10 @@ def markdown_table(table: pd.DataFrame, index_name: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-# where a route is too short for an interval (seasonloop.significance.intervals.MIN_DEGREES)
+# where a route is too short for an interval (seasonloop.significance.intervals.MIN_DEGREES), or
+# too short for its runs (the interval's reason begins with intervals.RUNS_TOO_LONG)
 NO_INTERVAL = "[not enough queries]"
+LONG_RUNS = "[runs too long]"
 
 
 def with_interval(percent: float, low: float | None = None, high: float | None = None) -> str:
@@ -79,11 +82,13 @@ def with_interval(percent: float, low: float | None = None, high: float | None =
 
 def percent_cell(value: float, interval: Mapping[str, float | None] | None = None) -> str:
     """with_interval's cell of a fraction (not %) and its interval {low, high} (fractions; low None
-    where the route was too short for one) where it has one."""
+    where the route was too short for one: LONG_RUNS where its runs made it so) where it has one."""
     if not interval:
         return with_interval(100 * value)
     low, high = interval["low"], interval["high"]
     if low is None or high is None:
+        if str(interval.get("reason", "")).startswith(RUNS_TOO_LONG):
+            return f"{100 * value:.1f} {LONG_RUNS}"
         return with_interval(100 * value, np.nan, np.nan)
     return with_interval(100 * value, 100 * low, 100 * high)
 

@@ -91,7 +91,8 @@ def write_tables(out: Path, results: EvaluationResults, runtime: Mapping[str, Ma
     study = study_table(results.labels, results.pairs)
     (out / "fraction_correct.md").write_text(
         "Fraction of correct matches (%), ours with its 95% interval along the route in square brackets "
-        "(the study's in round brackets where it gives one)\n\n"
+        "(the study's in round brackets where it gives one; [not enough queries]: too few for an interval, "
+        "or for the length of the runs of the learner's outcomes, as metrics/eval's reason says)\n\n"
         + side_by_side_markdown(ours, study, interval_tables(results.metrics, results.pairs))
     )
     long = ours.reset_index(names="method").melt(id_vars="method", var_name="pair", value_name="fraction_correct")

@@ -56,9 +56,9 @@ from seasonloop.params.settings import StatisticsConfig
 # one cosine term leaves a variance estimate with one degree of freedom: a t_1 (Cauchy) interval
 # 12.7 standard errors wide each side at 95%, and no check that the route's spectrum is flat
 MIN_DEGREES = 2
+RUNS_TOO_LONG = "runs too long for this many queries"  # how such a reason begins: tables say which
 EXACT = 1e-9  # added before a floor: a product that is an integer in exact arithmetic stays one
-# the autocorrelations the persistence is fitted to: lags 1..10, where a run's outcomes still correlate
-PERSISTENCE_LAGS = 10
+PERSISTENCE_LAGS = 10  # the lags the persistence is fitted to, where a run's outcomes still correlate
 # one-sided 5%: the lags' correlations must show dependence before it sets ν (`persistence`)
 DEPENDENCE_EVIDENCE = 1.645
 # φ searched on a grid over (0, 0.999] (ω grows as 1 / (1 - φ)³: a trend, not runs, at φ = 1)
@@ -203,9 +203,9 @@ def routes_of(values: np.ndarray, segments: Sequence[int] | None = None) -> list
 
 
 def runs_too_long(n_queries: int, omega: float) -> str:
-    """Why a route of n_queries whose runs have persistence ω has no interval."""
+    """Why a route of n_queries whose runs have persistence ω has no interval (RUNS_TOO_LONG first)."""
     return (
-        f"runs too long for this many queries: outcomes correlated over about {math.sqrt(omega):.0f} "
+        f"{RUNS_TOO_LONG}: outcomes correlated over about {math.sqrt(omega):.0f} "
         f"queries leave {n_queries} queries fewer than {MIN_DEGREES} degrees of freedom"
     )
 

@@ -123,7 +123,8 @@ def test_tables_text(tmp_path, results):
     markdown = (tmp_path / "fraction_correct.md").read_text()
     assert markdown.startswith(
         "Fraction of correct matches (%), ours with its 95% interval along the route in square brackets "
-        "(the study's in round brackets where it gives one)\n\n"
+        "(the study's in round brackets where it gives one; [not enough queries]: too few for an interval, "
+        "or for the length of the runs of the learner's outcomes, as metrics/eval's reason says)\n\n"
         "| method | summer-fall | winter-fall |\n|---|---|---|\n"
     )
     # ours with its interval, then the study's number in brackets where it gives one

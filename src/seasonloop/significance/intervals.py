@@ -17,7 +17,7 @@ the spectrum's mean over frequencies up to ν π / n, close to its value at 0 (w
 the mean needs) only while runs are short against n / ν. LLSW's size-power trade-off gives
 ν ∝ (n² / ω)^(1/3), ω = Σ k² γ_k / Σ γ_k the autocovariances' mean squared lag (queries²: long
 runs, large ω), so ν = min(floor(degrees_scale n^(2/3)), floor(persistence_scale (n² / ω)^(1/3))).
-ω is not known: it is estimated (`persistence`) from the lag-1 and lag-2 autocorrelations pooled
+ω is not known: it is estimated (`persistence`) from the autocorrelations at lags 1-10 pooled
 over the series of one kind of statement (a learner's evaluations of one matcher on every season
 pair; the comparisons of one table), read through an AR(1) with a nugget (a run's outcomes are
 runs of an AR(1) plus independent misses: r_k = c φ^k). A route whose runs leave ν below

@@ -60,9 +60,9 @@ from scipy.special import ndtri
 
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.significance.intervals import fraction_interval, min_queries, persistence, routes_of
+from seasonloop.significance.intervals import fraction_interval, min_queries, persistence
 from seasonloop.significance.means import mean_interval
-from seasonloop.significance.paired import differences, paired_difference, with_verdicts
+from seasonloop.significance.tables import table_verdicts
 
 LAGS = tuple(range(1, 11))
 FULL_GRID = {
@@ -387,17 +387,11 @@ def coverage_cell(rng, settings, n, p, dependence, replicates, pairs_pooled=1) -
 
 
 def judged_table(outcomes: Sequence[np.ndarray], settings, segments) -> list[dict[str, Any]]:
-    """Every comparison of a table of learners (outcomes: one bool array each), first in
-    combinations order, with the table's persistence pooled and Holm's verdicts (as
-    seasonloop.significance.tables.pair_comparisons)."""
-    compared = list(combinations(range(len(outcomes)), 2))
-    pooled = persistence(
-        route for i, j in compared for route in routes_of(differences(outcomes[i], outcomes[j]), segments)
+    """Every comparison of a table of learners (outcomes: one bool array each) in combinations
+    order, as the compare stage judges a table (seasonloop.significance.tables.table_verdicts)."""
+    return table_verdicts(
+        [(outcomes[i], outcomes[j]) for i, j in combinations(range(len(outcomes)), 2)], settings, segments
     )
-    rows = [paired_difference(outcomes[i], outcomes[j], settings, segments, pooled) for i, j in compared]
-    if rows[0]["p_value"] is None:
-        return rows
-    return with_verdicts(rows, settings.alpha)
 
 
 def table_cell(rng, settings, n, p, dependence, replicates, size, routes=1) -> dict[str, Any]:

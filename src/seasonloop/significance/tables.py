@@ -78,17 +78,25 @@ def pair_comparisons(
                 raise ValueError(f"{label}: its queries are not those of {first_label} (rerun the evaluate stages)")
         return loaded[label][1]
 
-    judged = {}
-    for name, comparisons in tables.items():
-        # the table's comparisons are one kind of statement: their runs' persistence is pooled
-        table_persistence = persistence(
-            route
-            for first, second in comparisons
-            for route in routes_of(differences(correct(first), correct(second)), segments)
-        )
-        rows = []
-        for first, second in comparisons:
-            difference = paired_difference(correct(first), correct(second), settings, segments, table_persistence)
-            rows.append({"first": first, "second": second, **difference})
-        judged[name] = with_verdicts(rows, settings.alpha)
-    return judged
+    return {
+        name: [
+            {"first": first, "second": second, **row}
+            for (first, second), row in zip(
+                comparisons,
+                table_verdicts(
+                    [(correct(first), correct(second)) for first, second in comparisons], settings, segments
+                ),
+            )
+        ]
+        for name, comparisons in tables.items()
+    }
+
+
+def table_verdicts(
+    compared: Sequence[tuple[np.ndarray, np.ndarray]], settings: StatisticsConfig, segments: Sequence[int] | None = None
+) -> list[dict[str, Any]]:
+    """paired_difference of each (first, second) outcome arrays of one table, the runs' persistence
+    pooled over the table's differences (one kind of statement), with Holm's verdicts over the table."""
+    runs = persistence(route for first, second in compared for route in routes_of(differences(first, second), segments))
+    rows = [paired_difference(first, second, settings, segments, runs) for first, second in compared]
+    return with_verdicts(rows, settings.alpha)

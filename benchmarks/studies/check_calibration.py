@@ -49,6 +49,7 @@ import json
 import math
 import time
 from collections.abc import Callable, Sequence
+from functools import partial
 from itertools import combinations
 from pathlib import Path
 from typing import Any
@@ -58,6 +59,7 @@ import yaml
 from scipy import optimize, signal
 from scipy.special import ndtri
 
+from benchmarks.cells import Cells, source_hash
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.settings import StatisticsConfig
 from seasonloop.significance.intervals import fraction_interval, min_queries, persistence
@@ -281,13 +283,24 @@ MEANS_N = (158, 3259)
 MEANS_FRACTIONS = {"like the default run": (0.9, 0.9, 0.85, 0.35, 0.25, 0.1), "all 0.5": (0.5,) * 6}
 
 
-def calibrate_means(settings, dependences, shares, replicates, seed) -> list[dict]:
+def calibrate_means(settings, dependences, shares, replicates, seed, cells: Cells | None = None) -> list[dict]:
     rows = []
     for k, (kind, dependence) in enumerate(dependences.items()):
         for n in MEANS_N:
             for name, fractions in MEANS_FRACTIONS.items():
                 rng = np.random.default_rng([seed, 11, n, k, len(rows)])
-                cell = means_cell(rng, settings, n, fractions, dependence, shares[kind]["pair_share"], replicates)
+                share = shares[kind]["pair_share"]
+                arguments = {
+                    "statistics": dataclasses.asdict(settings),
+                    "model": describe_model(dependence),
+                    "share": share,
+                    "seed": [seed, 11, n, k, len(rows)],
+                    "fractions": fractions,
+                    "replicates": replicates,
+                }
+                cell = stored(
+                    cells, arguments, partial(means_cell, rng, settings, n, fractions, dependence, share, replicates)
+                )
                 rows.append({"dependence": kind, "n": n, "fractions": name, "coverage": cell})
                 print(f"{kind:>6} n={n:>5} {name}: coverage {cell['rate']:.3f}", flush=True)
     return rows
@@ -446,45 +459,80 @@ def power_cell(rng, settings, n, p, difference, dependence, replicates, size, ro
 
 
 def run_grid(
-    settings: StatisticsConfig, dependences: dict[str, Dependence], grid: dict, replicates: int, seed: int
+    settings: StatisticsConfig,
+    dependences: dict[str, Dependence],
+    grid: dict,
+    replicates: int,
+    seed: int,
+    cells: Cells | None = None,
 ) -> list[dict]:
-    """Every cell of the grid, one row each (module doc)."""
+    """Every cell of the grid, one row each (module doc); `cells`: finished cells kept and reused."""
     rows = []
-    for kind, dependence in dependences.items():
+    for index, (kind, dependence) in enumerate(dependences.items()):
+        arguments = {
+            "statistics": dataclasses.asdict(settings),
+            "model": describe_model(dependence),
+            "index": index,
+            "grid": grid,
+            "replicates": replicates,
+            "seed": seed,
+        }
         for n in grid["n"]:
             for p in grid["p"]:
-                # a seed per cell: a cell's numbers do not depend on which other cells run
-                rng = np.random.default_rng([seed, int(1000 * p), n, list(dependences).index(kind)])
-                started = time.perf_counter()
-                row: dict[str, Any] = {"dependence": kind, "n": n, "p": p, "routes": 1}
-                row["coverage"] = coverage_cell(rng, settings, n, p, dependence, replicates, grid["pooled_pairs"])
-                row["false_positive"] = table_cell(rng, settings, n, p, dependence, replicates, grid["table_learners"])
-                row["power"] = {
-                    f"{difference:.2f}": power_cell(
-                        rng, settings, n, p, difference, dependence, replicates // 2, grid["table_learners"]
-                    )
-                    for difference in grid["differences"]
-                }
-                row["seconds"] = round(time.perf_counter() - started, 1)
+                row = stored(
+                    cells,
+                    {**arguments, "n": n, "p": p, "routes": 1},
+                    partial(grid_cell, settings, kind, index, dependence, grid, n, p, replicates, seed),
+                )
                 rows.append(row)
                 print(summary_line(row), flush=True)
         for n in grid["pooled_n"]:
-            p = 0.5
-            rng = np.random.default_rng([seed, 7, n, list(dependences).index(kind)])
             routes = grid["pooled_routes"]
-            row = {"dependence": kind, "n": n, "p": p, "routes": routes}
-            row["false_positive"] = table_cell(
-                rng, settings, n, p, dependence, replicates, grid["table_learners"], routes
+            row = stored(
+                cells,
+                {**arguments, "n": n, "p": 0.5, "routes": routes},
+                partial(pooled_cell, settings, kind, index, dependence, grid, n, replicates, seed),
             )
-            row["power"] = {
-                f"{difference:.2f}": power_cell(
-                    rng, settings, n, p, difference, dependence, replicates // 2, grid["table_learners"], routes
-                )
-                for difference in grid["differences"]
-            }
             rows.append(row)
             print(summary_line(row), flush=True)
     return rows
+
+
+def stored(cells: Cells | None, arguments: dict, compute: Callable[[], dict]) -> dict:
+    return compute() if cells is None else cells.get(arguments, compute)
+
+
+def grid_cell(settings, kind, index, dependence, grid, n, p, replicates, seed) -> dict[str, Any]:
+    """One route of n queries at fraction p: coverage, false positives, power (module doc)."""
+    # a seed per cell: a cell's numbers do not depend on which other cells run
+    rng = np.random.default_rng([seed, int(1000 * p), n, index])
+    started = time.perf_counter()
+    row: dict[str, Any] = {"dependence": kind, "n": n, "p": p, "routes": 1}
+    row["coverage"] = coverage_cell(rng, settings, n, p, dependence, replicates, grid["pooled_pairs"])
+    row["false_positive"] = table_cell(rng, settings, n, p, dependence, replicates, grid["table_learners"])
+    row["power"] = {
+        f"{difference:.2f}": power_cell(
+            rng, settings, n, p, difference, dependence, replicates // 2, grid["table_learners"]
+        )
+        for difference in grid["differences"]
+    }
+    row["seconds"] = round(time.perf_counter() - started, 1)
+    return row
+
+
+def pooled_cell(settings, kind, index, dependence, grid, n, replicates, seed) -> dict[str, Any]:
+    """grid["pooled_routes"] routes of n queries pooled, at p 0.5: false positives and power."""
+    p, routes = 0.5, grid["pooled_routes"]
+    rng = np.random.default_rng([seed, 7, n, index])
+    row: dict[str, Any] = {"dependence": kind, "n": n, "p": p, "routes": routes}
+    row["false_positive"] = table_cell(rng, settings, n, p, dependence, replicates, grid["table_learners"], routes)
+    row["power"] = {
+        f"{difference:.2f}": power_cell(
+            rng, settings, n, p, difference, dependence, replicates // 2, grid["table_learners"], routes
+        )
+        for difference in grid["differences"]
+    }
+    return row
 
 
 # the n the docs report: the real half's and the default route's queries a pair on the study's
@@ -528,7 +576,7 @@ def describe_model(dependence: Any) -> dict[str, Any]:
 
 
 def calibrate_out_of_sample(
-    settings: StatisticsConfig, models: dict[str, Any], grid: dict, replicates: int, seed: int
+    settings: StatisticsConfig, models: dict[str, Any], grid: dict, replicates: int, seed: int, cells=None
 ) -> dict:
     """run_grid of the out-of-sample models at the settings, with the settings they ran under."""
     print(f"statistics: {dataclasses.asdict(settings)} (min queries a route: {min_queries(settings)})")
@@ -541,7 +589,7 @@ def calibrate_out_of_sample(
             "params": {
                 "statistics": dataclasses.asdict(settings),
                 "min_queries": min_queries(settings),
-                "rows": run_grid(settings, models, grid, replicates, seed),
+                "rows": run_grid(settings, models, grid, replicates, seed, cells),
             }
         },
     }
@@ -561,20 +609,33 @@ def summary_line(row: dict) -> str:
 
 
 def calibrate(
-    settings: StatisticsConfig, dependences: dict[str, Dependence], grid: dict, replicates: int, seed: int
+    settings: StatisticsConfig,
+    dependences: dict[str, Dependence],
+    grid: dict,
+    replicates: int,
+    seed: int,
+    cells: Cells | None = None,
 ) -> dict:
     """The grid at the settings' degrees_scale and at LLSW's, with the settings they ran under."""
     record: dict[str, Any] = {"replicates": replicates, "seed": seed, "grid": grid, "runs": {}}
     llsw_grid = {**grid, "n": tuple(n for n in grid["n"] if n in LLSW_N) or grid["n"], "pooled_n": ()}
-    for name, scale, cells in (("params", settings.degrees_scale, grid), ("llsw", LLSW_SCALE, llsw_grid)):
+    for name, scale, grid_cells in (("params", settings.degrees_scale, grid), ("llsw", LLSW_SCALE, llsw_grid)):
         scaled = dataclasses.replace(settings, degrees_scale=scale)
         print(f"statistics: {dataclasses.asdict(scaled)} (min queries a route: {min_queries(scaled)})")
         record["runs"][name] = {
             "statistics": dataclasses.asdict(scaled),
             "min_queries": min_queries(scaled),
-            "rows": run_grid(scaled, dependences, cells, replicates, seed),
+            "rows": run_grid(scaled, dependences, grid_cells, replicates, seed, cells),
         }
     return record
+
+
+def kept(name: str) -> Cells:
+    """The finished cells of record `name`, kept so that a run cut short resumes (benchmarks.cells),
+    keyed by this file's code and the significance package's."""
+    here = Path(__file__)
+    significance = here.parents[2] / "src" / "seasonloop" / "significance"
+    return Cells(name, source_hash([here, *significance.glob("*.py")]))
 
 
 def main() -> None:
@@ -600,7 +661,9 @@ def main() -> None:
     if args.real is not None:
         real = measure_dependence(read_evaluations(args.real), matcher_of)
         models = out_of_sample_models(fits, real)
-        record = calibrate_out_of_sample(settings, models, OUT_OF_SAMPLE_GRID, args.replicates, args.seed)
+        record = calibrate_out_of_sample(
+            settings, models, OUT_OF_SAMPLE_GRID, args.replicates, args.seed, kept("check_calibration_out_of_sample")
+        )
         record["fitted"] = {"default": fits, "real": real}
         record["workspaces"] = {"default": str(args.workspace), "real": str(args.real)}
         record["headline"] = headline(record)
@@ -609,7 +672,9 @@ def main() -> None:
     if args.means:
         dependences = {kind: Dependence(**fit["dependence"]) for kind, fit in fits.items()}
         shares = {kind: pair_share(evaluations, kind, fit["mean_fraction_correct"]) for kind, fit in fits.items()}
-        rows = calibrate_means(settings, dependences, shares, args.replicates, args.seed)
+        rows = calibrate_means(
+            settings, dependences, shares, args.replicates, args.seed, kept("check_calibration_means")
+        )
         low, high = min(row["coverage"]["rate"] for row in rows), max(row["coverage"]["rate"] for row in rows)
         record = {
             "replicates": args.replicates,
@@ -624,7 +689,8 @@ def main() -> None:
         save_and_report("check_calibration_means", record, machine())
         return
     dependences = {"independent": INDEPENDENT, **{kind: Dependence(**fit["dependence"]) for kind, fit in fits.items()}}
-    record = calibrate(settings, dependences, SMALL_GRID if args.small else FULL_GRID, args.replicates, args.seed)
+    grid = SMALL_GRID if args.small else FULL_GRID
+    record = calibrate(settings, dependences, grid, args.replicates, args.seed, kept("check_calibration"))
     record["fitted"] = fits
     record["workspace"] = str(args.workspace)
     record["headline"] = headline(record)

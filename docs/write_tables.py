@@ -32,6 +32,7 @@ sys.path[:0] = [str(ROOT / "src"), str(ROOT)]  # the library, and the benchmarks
 
 from seasonloop.ablations.cae_widths import width_table  # noqa: E402
 from seasonloop.machine import cpu_model  # noqa: E402
+from seasonloop.preset import preset_text  # noqa: E402
 from seasonloop.reporting.comparisons import claim_cell, claims_markdown, legend  # noqa: E402
 from seasonloop.reporting.readings import READINGS, claims_beside, claims_every_record_holds  # noqa: E402
 from seasonloop.reporting.summary import percent_cell  # noqa: E402
@@ -411,22 +412,36 @@ def rewrite(text: str, provenance: dict, folder: str = "docs/results") -> str:
     return re.sub(r"<!-- table: (\w+) -->\n.*?<!-- /table -->", replace, text, flags=re.S)
 
 
-def snapshot(names: list[str], command: str, workspace: Path = ROOT) -> None:
-    """Copy the named tables' output files of `workspace` (this repository, or a clone that ran
-    other params) into docs/results/ and record where they came from."""
+def run_state(workspace: Path, command: str, preset: str | None = None) -> tuple[str, bool, str]:
+    """(commit, uncommitted changes, command) of the run in `workspace`. `preset`: the workspace is
+    its commit with that preset applied and `dvc repro` run (checked: params.yaml is exactly the
+    preset's text over the commit's, no other tracked file but dvc.lock changed), so its tables
+    come from a committed state and the command that reproduces them."""
     git = ["git", "-C", str(workspace)]
     commit = subprocess.run(
         [*git, "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
     ).stdout.strip()
-    dirty = bool(
-        subprocess.run(
-            [*git, "status", "--porcelain", "--untracked-files=no"], capture_output=True, text=True, check=True
-        ).stdout.strip()
-    )
+    changed = subprocess.run(
+        [*git, "status", "--porcelain", "--untracked-files=no"], capture_output=True, text=True, check=True
+    ).stdout.splitlines()
     bench_source = workspace / "bench_source.json"  # a folder of bench_full_run.py: its own commit only sets params
     if bench_source.is_file():
         made_from = json.loads(bench_source.read_text())["made_from"]
-        commit, dirty = made_from["commit"], made_from["dirty"]
+        return made_from["commit"], made_from["dirty"], command
+    if preset is None:
+        return commit, bool(changed), command
+    committed = subprocess.run([*git, "show", "HEAD:params.yaml"], capture_output=True, text=True, check=True).stdout
+    others = [line[3:] for line in changed if line[3:] not in ("params.yaml", "dvc.lock")]
+    if others or (workspace / "params.yaml").read_text() != preset_text(preset, committed, workspace / "presets"):
+        reason = f"changed: {', '.join(others)}" if others else f"params.yaml is not preset {preset} applied"
+        raise ValueError(f"{workspace}: not commit {commit} with preset {preset} applied ({reason})")
+    return commit, False, f"python -m seasonloop.preset {preset} && dvc repro"
+
+
+def snapshot(names: list[str], command: str, workspace: Path = ROOT, preset: str | None = None) -> None:
+    """Copy the named tables' output files of `workspace` (this repository, or a clone that ran
+    other params or a preset: run_state) into docs/results/ and record where they came from."""
+    commit, dirty, command = run_state(workspace, command, preset)
     provenance = json.loads(PROVENANCE.read_text()) if PROVENANCE.is_file() else {}
     RESULTS.mkdir(parents=True, exist_ok=True)
     for name in names:
@@ -454,13 +469,19 @@ def main() -> None:
     )
     parser.add_argument("--command", default="dvc repro", help="the command that produced the outputs (recorded)")
     parser.add_argument(
+        "--preset", help="the clone is its commit with this preset applied, then `dvc repro` (checked, recorded)"
+    )
+    parser.add_argument(
         "--from", dest="workspace", type=Path, default=ROOT, help="the clone whose outputs to copy (default: this one)"
     )
     args = parser.parse_args()
     if args.snapshot is not None:
         # none named: every table of this clone's default run and benchmarks, not the runs of other params
         snapshot(
-            args.snapshot or [name for name in TABLES if name not in OTHER_RUNS], args.command, args.workspace.resolve()
+            args.snapshot or [name for name in TABLES if name not in OTHER_RUNS],
+            args.command,
+            args.workspace.resolve(),
+            args.preset,
         )
     provenance = json.loads(PROVENANCE.read_text()) if PROVENANCE.is_file() else {}
     for document in DOCUMENTS:

@@ -107,15 +107,19 @@ def applied_text(params_text: str, changes: Mapping[str, Any], header: str, sour
     return "".join(f"# {line}\n" for line in header.splitlines()) + text.getvalue()
 
 
+def preset_text(name: str, params_text: str, folder: Path, params_name: str = "params.yaml") -> str:
+    """The text apply_preset writes: params_text with preset `name` (folder/<name>.yaml) applied."""
+    header = (
+        f"{folder.name}/{name}.yaml applied over this file by `python -m seasonloop.preset {name}` "
+        f"(`git checkout {params_name}` goes back)"
+    )
+    return applied_text(params_text, preset_changes(name, folder), header, f"{folder / name}.yaml")
+
+
 def apply_preset(name: str, params: Path, folder: Path) -> dict[str, Any]:
     """Write preset `name` over the params file (see the module doc); the values it set."""
     changes = preset_changes(name, folder)
-    text = params.read_text()
-    header = (
-        f"{folder.name}/{name}.yaml applied over this file by `python -m seasonloop.preset {name}` "
-        f"(`git checkout {params.name}` goes back)"
-    )
-    params.write_text(applied_text(text, changes, header, f"{folder / name}.yaml"))
+    params.write_text(preset_text(name, params.read_text(), folder, params.name))
     return changes
 
 

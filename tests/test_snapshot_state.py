@@ -1,0 +1,56 @@
+"""docs/write_tables.py's run_state: a table from a preset's run names a committed state only when
+the run's folder is exactly that commit with the preset applied."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "docs"))
+
+from write_tables import run_state  # noqa: E402
+
+from seasonloop.preset import apply_preset  # noqa: E402
+
+
+def git(folder: Path, *args: str) -> None:
+    subprocess.run(["git", "-C", str(folder), *args], check=True, capture_output=True)
+
+
+@pytest.fixture
+def clone(tmp_path: Path) -> Path:
+    (tmp_path / "presets").mkdir()
+    (tmp_path / "presets" / "wide.yaml").write_text("split:\n  folds: 10\n")
+    (tmp_path / "params.yaml").write_text("split:\n  folds: 1  # the study's split\n")
+    (tmp_path / "dvc.lock").write_text("schema: '2.0'\n")
+    git(tmp_path, "init", "-q")
+    git(tmp_path, "-c", "user.name=t", "-c", "user.email=t@t", "add", ".")
+    git(tmp_path, "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "start")
+    return tmp_path
+
+
+def test_a_preset_run_is_its_commit_and_the_command_that_reproduces_it(clone):
+    apply_preset("wide", clone / "params.yaml", clone / "presets")
+    (clone / "dvc.lock").write_text("schema: '2.0'\nstages: {}\n")  # dvc repro rewrites the lock
+    commit, dirty, command = run_state(clone, "dvc repro", "wide")
+    assert not dirty and command == "python -m seasonloop.preset wide && dvc repro" and len(commit) >= 7
+    assert run_state(clone, "dvc repro")[1]  # without the preset named: uncommitted changes
+
+
+def test_params_edited_beyond_the_preset_are_refused(clone):
+    apply_preset("wide", clone / "params.yaml", clone / "presets")
+    with (clone / "params.yaml").open("a") as file:
+        file.write("seed: 1\n")
+    with pytest.raises(ValueError, match="params.yaml is not preset wide applied"):
+        run_state(clone, "dvc repro", "wide")
+
+
+def test_another_changed_file_is_refused(clone):
+    apply_preset("wide", clone / "params.yaml", clone / "presets")
+    (clone / "presets" / "wide.yaml").write_text("split:\n  folds: 5\n")
+    with pytest.raises(ValueError, match="changed: presets/wide.yaml"):
+        run_state(clone, "dvc repro", "wide")

@@ -19,6 +19,7 @@ import platform
 import sys
 import time
 from contextlib import ExitStack
+from functools import partial
 from importlib.metadata import version
 from pathlib import Path
 from typing import Any
@@ -31,6 +32,7 @@ from seasonloop.data.datasets import count_folds, fold_dir, split_images_file, t
 from seasonloop.io import staged_dir, write_json
 from seasonloop.models.core.learner import FeatureLearner
 from seasonloop.models.core.lookup import get_learner, load_learner
+from seasonloop.models.core.parallel import fit_threads, run_each
 
 
 def fit_here(
@@ -64,9 +66,10 @@ def fit_here(
             live.next_step()
 
         learner.import_libraries()  # before the timer: fit_seconds is the fit, not Python's imports
-        start = time.perf_counter()
-        info = learner.fit(images, progress=True, on_epoch=on_epoch, places=places)
-        fit_seconds = time.perf_counter() - start
+        with fit_threads(int(param(params, "train.threads"))):
+            start = time.perf_counter()
+            info = learner.fit(images, progress=True, on_epoch=on_epoch, places=places)
+            fit_seconds = time.perf_counter() - start
     whole_route = param(params, "split.test_fraction") == 1
     facts = {
         "fit_seconds": fit_seconds,
@@ -100,6 +103,20 @@ def fitted_elsewhere(method: str, models_dir: Path, season: str) -> tuple[Featur
     return learner, learner.fit_info, facts
 
 
+def save_fold(learner: FeatureLearner, out: Path, fold: int, folds: int) -> None:
+    folder = fold_dir(out, fold, folds)
+    folder.mkdir(parents=True, exist_ok=True)
+    learner.save(folder)
+
+
+def fit_fold(method: str, params: dict[str, Any], seasons: list[str], folds: int, out: Path, fold: int):
+    """fit_here of fold `fold` saved in its folder of `out` (run_each may run it in another
+    process: the learner stays there); (its fit info, the record's facts)."""
+    learner, info, facts = fit_here(method, params, seasons, fold, folds)
+    save_fold(learner, out, fold % folds, folds)
+    return info, facts
+
+
 @stage_main
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
@@ -109,24 +126,24 @@ def main() -> None:
     seasons = train_seasons(params)
     folds = count_folds(SPLIT)
     others: list[dict[str, Any]] = []  # the record of each fold but the study's
-    if param(params, "train.fitted") == "elsewhere":
-        learner, info, facts = fitted_elsewhere(method, Path(param(params, "train.models_dir")), seasons[0])
-        fitted = [learner] * folds
-    else:
-        fitted = []
-        if get_learner(method).learns:
-            for fold in range(folds - 1):
-                learner, info, facts = fit_here(method, params, seasons, fold, folds)
-                fitted.append(learner)
-                others.append({"fold": fold, **facts, "info": info})
-        # the study's fold last: the one logs/<method> and the record's own keys describe
-        learner, info, facts = fit_here(method, params, seasons, -1, folds)
-        fitted += [learner] * (folds - len(fitted))
     with staged_dir(Path("models") / method) as out:
-        for fold, model in enumerate(fitted):
-            folder = fold_dir(out, fold, folds)
-            folder.mkdir(parents=True, exist_ok=True)
-            model.save(folder)
+        if param(params, "train.fitted") == "elsewhere":
+            learner, info, facts = fitted_elsewhere(method, Path(param(params, "train.models_dir")), seasons[0])
+        elif not get_learner(method).learns:
+            learner, info, facts = fit_here(method, params, seasons, -1, folds)
+        else:
+            # the study's fold last: the one logs/<method> and the record's own keys describe
+            fitted = run_each(
+                partial(fit_fold, method, params, seasons, folds, out),
+                [*range(folds - 1), -1],
+                int(param(params, "train.jobs")),
+            )
+            others = [{"fold": fold, **facts, "info": info} for fold, (info, facts) in enumerate(fitted[:-1])]
+            info, facts = fitted[-1]
+            learner = None
+        if learner is not None:  # the same model for every fold
+            for fold in range(folds):
+                save_fold(learner, out, fold, folds)
     write_json(
         Path("metrics/fit") / f"{method}.json",
         {

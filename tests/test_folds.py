@@ -249,6 +249,14 @@ def test_a_run_of_every_fold_tests_every_place_and_keeps_the_study_split(tmp_pat
     assert [entry["fold"] for entry in fit["folds"]] == list(range(folds - 1))
     assert all((root / f"models/pca/folds/{k}/pca.joblib").is_file() for k in range(folds - 1))
 
+    # the folds fitted two at once (joblib), one thread each: the bytes of one after another
+    def fold_models(jobs: int) -> list[bytes]:
+        result = repro_with(root, f"split.folds={folds}", f"train.jobs={jobs}", "train.threads=1", targets=("fit@pca",))
+        assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+        return [path.read_bytes() for path in sorted((root / "models/pca").rglob("pca.joblib"))]
+
+    assert fold_models(2) == fold_models(1)
+
 
 def test_the_report_says_which_numbers_pool_the_folds():
     dataset = {

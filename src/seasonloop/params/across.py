@@ -12,6 +12,7 @@ def check_across(params: Mapping[str, Any]) -> None:
     """Every check of this module on a whole, section-checked params.yaml."""
     check_whole_route(params)
     check_sampled_sequences(params)
+    check_fit_threads(params)
 
 
 def check_whole_route(params: Mapping[str, Any]) -> None:
@@ -50,4 +51,14 @@ def check_sampled_sequences(params: Mapping[str, Any]) -> None:
         season, k = next(iter(sampled.items()))
         raise ValueError(
             f"split.test_every.{season}: every {k}th place leaves no sequence to match; set evaluate.matchers: [single]"
+        )
+
+
+def check_fit_threads(params: Mapping[str, Any]) -> None:
+    """Fits at once share the cores: each needs its thread count stated, since a fit's bytes depend on
+    it (the libraries' default is every core, which jobs at once would not have)."""
+    if params["train"]["jobs"] > 1 and not params["train"]["threads"]:
+        raise ValueError(
+            f"train.jobs: {params['train']['jobs']} fits at once need train.threads set (a fit's bytes "
+            "depend on its threads; e.g. train.threads: 1 with train.jobs: 2 on 2 cores)"
         )

@@ -188,6 +188,8 @@ class TrainConfig(Section):
     augmented: bool = setting(boolean)
     fitted: str = setting(one_of(*WHERE_FITTED))
     models_dir: str = setting(text)
+    jobs: int = setting(integer(1))  # fits at once (a learner's folds: seasonloop.models.core.parallel)
+    threads: int = setting(integer(0))  # threads each fit uses (0: the libraries' defaults)
 
 
 @dataclass(frozen=True)

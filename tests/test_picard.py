@@ -71,6 +71,29 @@ def test_a_stopped_fit_says_so_and_a_seed_fixes_the_result(mixture):
         np.testing.assert_array_equal(second.to_arrays()[key], value)
 
 
+class StopsEarlyOnce(TorchPicard):
+    """TorchPicard whose first run stops at 1e-3 and calls it met, as an iterate does whose stored
+    model misses tol by the float32 rounding of its sources (here by far more)."""
+
+    def _rotate(self, whitened, unmixing, progress, tol, max_iter):
+        self.aims = [*getattr(self, "aims", []), (tol, max_iter)]
+        if len(self.aims) == 1:
+            rotated = super()._rotate(whitened, unmixing, progress, 1e-3, max_iter)
+            self.converged_ = True
+            return rotated
+        return super()._rotate(whitened, unmixing, progress, tol, max_iter)
+
+
+def test_a_stored_model_that_misses_tol_goes_on_from_where_it_stopped(mixture):
+    data, _ = mixture
+    ica = StopsEarlyOnce(N_SOURCES, max_iter=500, tol=1e-7, seed=0, precision="float64").fit(data)
+    first_run = TorchPicard(N_SOURCES, max_iter=500, tol=1e-3, seed=0, precision="float64").fit(data)
+    assert first_run.gradient_ > 1e-7  # the first stop left the stored model above tol
+    # then on from that unmixing, aiming at a tenth of tol, with what was left of the budget
+    assert ica.aims == [(1e-7, 500), (1e-8, 500 - first_run.n_iter_)]
+    assert ica.converged_ and ica.gradient_ < 1e-7 and ica.n_iter_ > first_run.n_iter_
+
+
 def test_progress_bar_shows_the_gradient(mixture, capsys):
     data, _ = mixture
     TorchPicard(N_SOURCES, max_iter=5, seed=0).fit(data, progress=True)

@@ -27,13 +27,15 @@ class TorchFastICA(TorchICA):
     algorithm = "parallel"
     criterion_name = "change"
 
-    def _rotate(self, whitened: torch.Tensor, unmixing: torch.Tensor, progress: bool) -> torch.Tensor:
+    def _rotate(
+        self, whitened: torch.Tensor, unmixing: torch.Tensor, progress: bool, tol: float, max_iter: int
+    ) -> torch.Tensor:
         """The parallel fixed-point iteration from `unmixing`."""
         score = DENSITIES[self.fun].score
         n_samples = whitened.shape[1]
         self.converged_ = False
-        bar = tqdm(total=self.max_iter, desc="FastICA iterations", unit="it", disable=not progress)
-        for iteration in range(1, self.max_iter + 1):  # noqa: B007 (its last value is n_iter_)
+        bar = tqdm(total=max_iter, desc="FastICA iterations", unit="it", disable=not progress)
+        for iteration in range(1, max_iter + 1):  # noqa: B007 (its last value is n_iter_)
             squashed, mean_derivative = score(unmixing @ whitened)
             expectation = squashed @ whitened.T / n_samples  # E[g(y) z^T]
             del squashed
@@ -44,8 +46,8 @@ class TorchFastICA(TorchICA):
             change = float(((updated * unmixing).sum(dim=1).abs() - 1.0).abs().max())
             unmixing = updated
             bar.update()
-            bar.set_postfix(change=f"{change:.2g}", tol=f"{self.tol:.2g}", refresh=False)
-            if change < self.tol:
+            bar.set_postfix(change=f"{change:.2g}", tol=f"{tol:.2g}", refresh=False)
+            if change < tol:
                 self.converged_ = True
                 break
         bar.close()

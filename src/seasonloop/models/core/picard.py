@@ -50,7 +50,9 @@ class TorchPicard(TorchICA):
     algorithm = "picard-o"
     criterion_name = "gradient"
 
-    def _rotate(self, whitened: torch.Tensor, unmixing: torch.Tensor, progress: bool) -> torch.Tensor:
+    def _rotate(
+        self, whitened: torch.Tensor, unmixing: torch.Tensor, progress: bool, tol: float, max_iter: int
+    ) -> torch.Tensor:
         density = DENSITIES[self.fun]
         n_samples = whitened.shape[1]
         sources = unmixing @ whitened
@@ -61,8 +63,8 @@ class TorchPicard(TorchICA):
         self.converged_ = False
         self.sign_changes_ = self.gradient_steps_ = 0
         fresh = True  # sources = W z computed from W, not updated along the way
-        bar = tqdm(total=self.max_iter, desc="Picard-O iterations", unit="it", disable=not progress)
-        for iteration in range(1, self.max_iter + 1):  # noqa: B007 (its last value is n_iter_)
+        bar = tqdm(total=max_iter, desc="Picard-O iterations", unit="it", disable=not progress)
+        for iteration in range(1, max_iter + 1):  # noqa: B007 (its last value is n_iter_)
             if iteration % REFRESH_EVERY == 0 and not fresh:
                 unmixing, sources, loss = self._refresh(unmixing, whitened)
                 fresh = True
@@ -72,8 +74,8 @@ class TorchPicard(TorchICA):
             gradient_norm = float(gradient.abs().max())
             self.trace_.append((time.perf_counter() - self.started_, gradient_norm))
             bar.update()
-            bar.set_postfix(gradient=f"{gradient_norm:.2g}", tol=f"{self.tol:.2g}", refresh=False)
-            if gradient_norm < self.tol:
+            bar.set_postfix(gradient=f"{gradient_norm:.2g}", tol=f"{tol:.2g}", refresh=False)
+            if gradient_norm < tol:
                 if fresh:
                     self.converged_ = True
                     break
@@ -190,7 +192,9 @@ class LibraryPicard(TorchICA):
     algorithm = "picard-o"
     criterion_name = "gradient"
 
-    def _rotate(self, whitened: torch.Tensor, unmixing: torch.Tensor, progress: bool) -> torch.Tensor:
+    def _rotate(
+        self, whitened: torch.Tensor, unmixing: torch.Tensor, progress: bool, tol: float, max_iter: int
+    ) -> torch.Tensor:
         import warnings
 
         from picard import picard
@@ -211,8 +215,8 @@ class LibraryPicard(TorchICA):
                 whiten=False,
                 centering=False,
                 return_n_iter=True,
-                max_iter=self.max_iter,
-                tol=self.tol,
+                max_iter=max_iter,
+                tol=tol,
                 w_init=unmixing.double().cpu().numpy(),
                 check_fun=False,
                 verbose=True,  # its only report of each iteration's gradient: traced by _TracedPrints
@@ -226,7 +230,7 @@ class LibraryPicard(TorchICA):
         self.n_iter_ = int(n_iter) + 1  # its count starts at 0
         # its last gradient norm is only printed: the same measure, from its result
         self.criterion_ = float(gradient_of_sources(rotated @ whitened, self.fun).abs().max())
-        self.converged_ = self.criterion_ < self.tol
+        self.converged_ = self.criterion_ < tol
         if self.converged_:  # the iteration that met tol stops before printing
             self.trace_.append((time.perf_counter() - self.started_, self.criterion_))
         return rotated

@@ -26,8 +26,7 @@ from seasonloop.models.core.ica_stationarity import relative_gradient
 
 # Rows per block when centring and projecting, so no centred copy of the whole data is made.
 BLOCK_ROWS = 8192
-# times a gradient solver goes on when its iterate met tol and the stored model did not (fit)
-STORED_RETRIES = 3
+STORED_RETRIES = 3  # times a solver goes on when its iterate met tol and the stored model did not
 
 
 def symmetric_decorrelation(unmixing: torch.Tensor) -> torch.Tensor:
@@ -162,23 +161,28 @@ class TorchICA(ABC):
         self.mean_ = mean.cpu().numpy()
         self.whitening_ = whitening.cpu().numpy()
         self._store(unmixing, whitened, data)
-        # The stored model describes images with float32 sources, so its gradient can miss tol by
-        # their rounding where the solver's iterate met it (one fold of ten on the default route
-        # with every place tested: 1.0006e-7 against 1e-7). The solver then goes on from where it
-        # stopped, aiming at a tenth of what it aimed at, within what is left of max_iter.
+        # The stored model's float32 sources can miss tol by their rounding where the iterate met it
+        # (a fold of the default route's every-place run: 1.0006e-7 against 1e-7): the solver then
+        # goes on from where it stopped, aiming at a tenth of its aim, within what is left of max_iter.
         aim, retries = self.tol, 0
-        while (
-            self.criterion_name == "gradient"
-            and self.converged_
-            and self.gradient_ >= self.tol
-            and self.n_iter_ < self.max_iter
-            and retries < STORED_RETRIES
-        ):
-            aim, retries, done = aim / 10, retries + 1, self.n_iter_
+        while self._stored_misses_tol() and retries < STORED_RETRIES:
+            aim, retries, done = aim / 10, retries + 1, self.n_iter_ or 0
             unmixing = self._rotate(whitened, unmixing, progress, aim, self.max_iter - done)
-            self.n_iter_ += done
+            self.n_iter_ = done + (self.n_iter_ or 0)
             self._store(unmixing, whitened, data)
         return self
+
+    def _stored_misses_tol(self) -> bool:
+        """A gradient solver's iterate met tol, the stored model did not, and iterations are left."""
+        gradient, n_iter = self.gradient_, self.n_iter_
+        return (
+            self.criterion_name == "gradient"
+            and bool(self.converged_)
+            and gradient is not None
+            and gradient >= self.tol
+            and n_iter is not None
+            and n_iter < self.max_iter
+        )
 
     def _store(self, unmixing: torch.Tensor, whitened: torch.Tensor, data: np.ndarray) -> None:
         """The model of the orthogonal `unmixing`, each source scaled to unit variance (scikit-learn's

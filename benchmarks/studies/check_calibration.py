@@ -509,13 +509,7 @@ def grid_cell(settings, kind, index, dependence, grid, n, p, replicates, seed) -
     started = time.perf_counter()
     row: dict[str, Any] = {"dependence": kind, "n": n, "p": p, "routes": 1}
     row["coverage"] = coverage_cell(rng, settings, n, p, dependence, replicates, grid["pooled_pairs"])
-    row["false_positive"] = table_cell(rng, settings, n, p, dependence, replicates, grid["table_learners"])
-    row["power"] = {
-        f"{difference:.2f}": power_cell(
-            rng, settings, n, p, difference, dependence, replicates // 2, grid["table_learners"]
-        )
-        for difference in grid["differences"]
-    }
+    row.update(tests_cell(rng, settings, n, p, dependence, replicates, grid))
     row["seconds"] = round(time.perf_counter() - started, 1)
     return row
 
@@ -524,15 +518,26 @@ def pooled_cell(settings, kind, index, dependence, grid, n, replicates, seed) ->
     """grid["pooled_routes"] routes of n queries pooled, at p 0.5: false positives and power."""
     p, routes = 0.5, grid["pooled_routes"]
     rng = np.random.default_rng([seed, 7, n, index])
-    row: dict[str, Any] = {"dependence": kind, "n": n, "p": p, "routes": routes}
-    row["false_positive"] = table_cell(rng, settings, n, p, dependence, replicates, grid["table_learners"], routes)
-    row["power"] = {
-        f"{difference:.2f}": power_cell(
-            rng, settings, n, p, difference, dependence, replicates // 2, grid["table_learners"], routes
-        )
-        for difference in grid["differences"]
+    return {
+        "dependence": kind,
+        "n": n,
+        "p": p,
+        "routes": routes,
+        **tests_cell(rng, settings, n, p, dependence, replicates, grid, routes),
     }
-    return row
+
+
+def tests_cell(rng, settings, n, p, dependence, replicates, grid, routes=1) -> dict[str, Any]:
+    """The paired tests on `routes` routes of n queries at fraction p: false positives of a table of
+    equal learners, then power at each of the grid's differences (half the replicates each)."""
+    size = grid["table_learners"]
+    return {
+        "false_positive": table_cell(rng, settings, n, p, dependence, replicates, size, routes),
+        "power": {
+            f"{difference:.2f}": power_cell(rng, settings, n, p, difference, dependence, replicates // 2, size, routes)
+            for difference in grid["differences"]
+        },
+    }
 
 
 # the n the docs report: the real half's and the default route's queries a pair on the study's

@@ -127,10 +127,15 @@ def main() -> None:
     folds = count_folds(SPLIT)
     others: list[dict[str, Any]] = []  # the record of each fold but the study's
     with staged_dir(Path("models") / method) as out:
-        if param(params, "train.fitted") == "elsewhere":
-            learner, info, facts = fitted_elsewhere(method, Path(param(params, "train.models_dir")), seasons[0])
-        elif not get_learner(method).learns:
-            learner, info, facts = fit_here(method, params, seasons, -1, folds)
+        elsewhere = param(params, "train.fitted") == "elsewhere"
+        if elsewhere or not get_learner(method).learns:
+            # one model, the same in every fold's folder
+            if elsewhere:
+                learner, info, facts = fitted_elsewhere(method, Path(param(params, "train.models_dir")), seasons[0])
+            else:
+                learner, info, facts = fit_here(method, params, seasons, -1, folds)
+            for fold in range(folds):
+                save_fold(learner, out, fold, folds)
         else:
             # the study's fold last: the one logs/<method> and the record's own keys describe
             fitted = run_each(
@@ -140,10 +145,6 @@ def main() -> None:
             )
             others = [{"fold": fold, **facts, "info": info} for fold, (info, facts) in enumerate(fitted[:-1])]
             info, facts = fitted[-1]
-            learner = None
-        if learner is not None:  # the same model for every fold
-            for fold in range(folds):
-                save_fold(learner, out, fold, folds)
     write_json(
         Path("metrics/fit") / f"{method}.json",
         {

@@ -178,6 +178,56 @@ def test_routes_are_read_from_commits_with_the_same_pipeline():
     assert routes_of(exps[:1], lambda newer, older: True) == {}
 
 
+def test_routes_of_a_preset_are_its_experiments_only():
+    from tools.replicate_routes import routes_of
+
+    exps = [
+        shown("c3", 0, {"route-every_place-0": 0, "route-every_place-2": 2, "route-5": 5, "route-other-1": 1}),
+        shown("c2", 0, {"route-every_place-1": 1}),
+    ]
+    routes = routes_of(exps, lambda newer, older: True, "every_place")
+    # no committed baseline: the commit's own run has the committed params, not the preset's
+    assert routes == {
+        "route-every_place-0": {"rev": "c3-route-every_place-0", "seed": 0},
+        "route-every_place-1": {"rev": "c2-route-every_place-1", "seed": 1},
+        "route-every_place-2": {"rev": "c3-route-every_place-2", "seed": 2},
+    }
+    # and a preset's routes are not the committed params' routes
+    assert set(routes_of(exps, lambda newer, older: True)) == {"route-0 (baseline)", "route-5"}
+
+
+def test_a_preset_route_is_queued_with_the_presets_settings(monkeypatch):
+    import subprocess
+
+    import tools.replicate_routes as replicate
+
+    calls = []
+
+    def dvc(*args: str) -> subprocess.CompletedProcess:
+        calls.append(args)
+        done = "a route-every_place-2 Success\n\nWorker status: 0 active, 0 idle\n"
+        return subprocess.CompletedProcess(args, 0, done if args == ("queue", "status") else "", "")
+
+    monkeypatch.setattr(replicate, "dvc", dvc)
+    monkeypatch.setattr(replicate, "start_workers", lambda jobs: None)
+    monkeypatch.setattr(replicate.time, "sleep", lambda seconds: None)
+    monkeypatch.setattr(replicate.subprocess, "run", lambda *a, **k: subprocess.CompletedProcess(a, 0, "", ""))
+    replicate.queue_routes([2], jobs=1, stages=["summary"], preset="every_place")
+    queued = calls[0]
+    assert queued[:5] == ("exp", "run", "--queue", "-n", "route-every_place-2")
+    assert "synthetic.seed=2" in queued and "split.folds=10" in queued and queued[-1] == "summary"
+
+
+def test_preset_settings_are_the_presets_values_as_dvc_sets_them():
+    from tools.replicate_routes import preset_settings
+
+    assert preset_settings(None) == []
+    settings = preset_settings("real_half")
+    assert "split.folds=10" in settings and "data.seasons=[summer, winter]" in settings
+    with pytest.raises(FileNotFoundError, match="no_such_preset"):
+        preset_settings("no_such_preset")
+
+
 def test_the_queue_wait_starts_workers_again_when_they_all_exit_with_routes_queued(monkeypatch):
     import subprocess
 

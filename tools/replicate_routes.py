@@ -2,6 +2,11 @@
 
     python -m tools.replicate_routes run --seeds 1 2 3 4 [--jobs 1]
     python -m tools.replicate_routes collect
+    python -m tools.replicate_routes run --preset every_place --seeds 0 1 2 3 4
+
+With `--preset NAME` every route, the committed run's own seed among them, is an experiment named
+route-<NAME>-<seed> with the preset's settings (presets/NAME.yaml, as `-S` settings), so the routes
+of a preset need no commit of their own; `collect --preset NAME` reads those back.
 
 `run` queues one DVC experiment per seed, everything else as in params.yaml
 (`dvc exp run --queue -n route-<seed> -S synthetic.seed=<seed> <stages>`: the stages that write
@@ -23,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import subprocess
 import sys
 import tempfile
@@ -37,6 +43,7 @@ from tqdm import tqdm
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.params.seasons import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
+from seasonloop.preset import overlay, preset_changes
 from seasonloop.reporting.replicates import (
     claims_across_routes,
     claims_in,
@@ -89,10 +96,40 @@ def route_stages(root: Path = REPO) -> list[str]:
         ]
 
 
-def queue_routes(seeds: list[int], jobs: int, stages: list[str]) -> float:
-    """Queue and run one experiment per seed, up to `stages` (route_stages); the queue's wall seconds."""
-    for seed in seeds:
-        dvc("exp", "run", "--queue", "-n", f"{PREFIX}{seed}", "-S", f"synthetic.seed={seed}", *stages)
+PRESETS = REPO / "presets"
+
+
+def route_name(seed: int, preset: str | None = None) -> str:
+    """The experiment of a route: route-<seed>, or route-<preset>-<seed> under a preset."""
+    return f"{PREFIX}{preset}-{seed}" if preset else f"{PREFIX}{seed}"
+
+
+def is_route(name: str, preset: str | None = None) -> bool:
+    """Whether an experiment's name is a route's of `preset` (None: the committed params')."""
+    return re.fullmatch(re.escape(route_name(0, preset)[:-1]) + r"\d+", name) is not None
+
+
+def preset_settings(preset: str | None) -> list[str]:
+    """The preset's values as `dvc exp run -S` settings (section.key=value, values in YAML's flow
+    style, as DVC parses them); none without a preset."""
+    if preset is None:
+        return []
+    settings = []
+    for section, values in preset_changes(preset, PRESETS).items():
+        pairs = values.items() if isinstance(values, dict) else [(None, values)]
+        for key, value in pairs:
+            text = yaml.safe_dump(value, default_flow_style=True, width=10**6).strip().removesuffix("\n...")
+            settings.append(f"{section}.{key}={text}" if key is not None else f"{section}={text}")
+    return settings
+
+
+def queue_routes(seeds: list[int], jobs: int, stages: list[str], preset: str | None = None) -> float:
+    """Queue and run one experiment per seed (with the preset's settings), up to `stages`
+    (route_stages); the queue's wall seconds."""
+    extra = [flag for setting in preset_settings(preset) for flag in ("-S", setting)]
+    names = [route_name(seed, preset) for seed in seeds]
+    for seed, name in zip(seeds, names):
+        dvc("exp", "run", "--queue", "-n", name, "-S", f"synthetic.seed={seed}", *extra, *stages)
     started = workers_started = time.monotonic()
     start_workers(jobs)
     # `dvc queue status` costs ~0.8 s of CPU: asked every 10 s, and at once when a route's
@@ -103,12 +140,11 @@ def queue_routes(seeds: list[int], jobs: int, stages: list[str]) -> float:
             refs = subprocess.run(
                 ["git", "for-each-ref", "--format=%(refname)", "refs/exps"], cwd=REPO, capture_output=True, text=True
             ).stdout.split()
-            now_finished = sum(any(ref.endswith(f"/{PREFIX}{seed}") for ref in refs) for seed in seeds)
+            now_finished = sum(any(ref.endswith(f"/{name}") for ref in refs) for name in names)
             if now_finished != finished or time.monotonic() - asked >= 10:
                 status, asked, finished = dvc("queue", "status").stdout, time.monotonic(), now_finished
                 done = sum(
-                    any(f"{PREFIX}{seed} " in line for seed in seeds) and "Success" in line
-                    for line in status.splitlines()
+                    any(f"{name} " in line for name in names) and "Success" in line for line in status.splitlines()
                 )
                 progress.update(done - progress.n)
                 if not any(word in status for word in ("Queued", "Running")):
@@ -125,11 +161,13 @@ def queue_routes(seeds: list[int], jobs: int, stages: list[str]) -> float:
     return time.monotonic() - started
 
 
-def queue_cost(seeds: list[int]) -> dict[str, Any]:
-    """{queue_seconds, jobs, queue_timed (how)} of the last `run` when it queued exactly the extra routes of `seeds`
-    (every seed but the first, the baseline's), else None for each."""
+def queue_cost(seeds: list[int], preset: str | None = None) -> dict[str, Any]:
+    """{queue_seconds, jobs, queue_timed (how)} of the last `run` when it queued exactly the routes
+    of `seeds` that are experiments (every seed but the first, the baseline's; under a preset every
+    seed) with that preset, else None for each."""
     queued = json.loads(QUEUE.read_text()) if QUEUE.is_file() else {}
-    if sorted(queued.get("seeds", [])) != sorted(seeds[1:]):
+    queued_routes = seeds if preset else seeds[1:]
+    if sorted(queued.get("seeds", [])) != sorted(queued_routes) or queued.get("preset") != preset:
         return {"queue_seconds": None, "jobs": None, "queue_timed": None}
     return {
         "queue_seconds": queued["seconds"],
@@ -138,11 +176,14 @@ def queue_cost(seeds: list[int]) -> dict[str, Any]:
     }
 
 
-def routes_of(shown: list[dict[str, Any]], same_pipeline: Callable[[str, str], bool]) -> dict[str, dict[str, Any]]:
+def routes_of(
+    shown: list[dict[str, Any]], same_pipeline: Callable[[str, str], bool], preset: str | None = None
+) -> dict[str, dict[str, Any]]:
     """name -> {rev, seed} of the routes in `dvc exp show --json`: the newest commit that has
-    experiments named route-<seed> (the baseline route, its params.yaml's seed, first), those
-    experiments, and those of older commits whose pipeline is the same (same_pipeline(newer, older):
-    a commit that changed only docs leaves the routes comparable); the newest route of a seed."""
+    experiments named as routes (route_name), those experiments, and those of older commits whose
+    pipeline is the same (same_pipeline(newer, older): a commit that changed only docs leaves the
+    routes comparable); the newest route of a seed. Without a preset the commit's own run is the
+    baseline route (its params.yaml's seed), first; under a preset every route is an experiment."""
     routes: dict[str, dict[str, Any]] = {}
     newest = None
     for baseline in shown:
@@ -154,16 +195,26 @@ def routes_of(shown: list[dict[str, Any]], same_pipeline: Callable[[str, str], b
                 continue
             for rev in experiment["revs"]:
                 name = rev.get("name") or ""
-                if name.startswith(PREFIX) and rev["data"].get("params"):
+                if is_route(name, preset) and rev["data"].get("params"):
                     seed = int(rev["data"]["params"]["params.yaml"]["data"]["synthetic"]["seed"])
                     if newest is None:
                         newest = baseline["rev"]
-                        own = int(baseline["data"]["params"]["params.yaml"]["data"]["synthetic"]["seed"])
-                        routes[f"{PREFIX}{own} (baseline)"] = {"rev": newest, "seed": own}
+                        if preset is None:
+                            own = int(baseline["data"]["params"]["params.yaml"]["data"]["synthetic"]["seed"])
+                            routes[f"{PREFIX}{own} (baseline)"] = {"rev": newest, "seed": own}
                     if seed not in {route["seed"] for route in routes.values()}:
                         routes[name] = {"rev": rev["rev"], "seed": seed}
-    baseline_route = list(routes.items())[:1]
-    return dict(baseline_route + sorted(list(routes.items())[1:], key=lambda item: item[1]["seed"]))
+    first = list(routes.items())[:1] if preset is None else []
+    return dict(first + sorted(list(routes.items())[len(first) :], key=lambda item: item[1]["seed"]))
+
+
+def commit_of(shown: list[dict[str, Any]], rev: str) -> str:
+    """The commit of `dvc exp show --json` that is `rev` or has it as an experiment."""
+    for baseline in shown:
+        experiments = baseline.get("experiments") or []
+        if baseline["rev"] == rev or any(r["rev"] == rev for experiment in experiments for r in experiment["revs"]):
+            return baseline["rev"]
+    raise ValueError(f"replicate_routes: {rev} is not in `dvc exp show`")
 
 
 def same_pipeline(newer: str, older: str) -> bool:
@@ -184,20 +235,24 @@ def fetch(rev: str, folder: Path) -> None:
         fs.get(path, str(target), recursive=path.startswith("data/"))
 
 
-def collect(measured_on: dict[str, Any]) -> Path:
-    routes = routes_of(json.loads(dvc("exp", "show", "--json", "-n", str(SEARCHED)).stdout), same_pipeline)
+def collect(measured_on: dict[str, Any], preset: str | None = None) -> Path:
+    shown = json.loads(dvc("exp", "show", "--json", "-n", str(SEARCHED)).stdout)
+    routes = routes_of(shown, same_pipeline, preset)
     if not routes:
+        flag = f" --preset {preset}" if preset else ""
         raise SystemExit(
-            f"replicate_routes: no experiment named {PREFIX}<seed> on the last {SEARCHED} commits: "
-            "run `replicate_routes.py run` first"
+            f"replicate_routes: no experiment named {route_name(0, preset)[:-1]}<seed> on the last {SEARCHED} "
+            f"commits: run `replicate_routes.py run{flag}` first"
         )
-    baseline = next(iter(routes.values()))["rev"]
-    # the baseline's params: the routes' own, but for synthetic.seed
+    # the routes' params but for synthetic.seed: the commit's params.yaml, with the preset's values
+    commit = commit_of(shown, next(iter(routes.values()))["rev"])
     params = yaml.safe_load(
         subprocess.run(
-            ["git", "show", f"{baseline}:params.yaml"], cwd=REPO, capture_output=True, text=True, check=True
+            ["git", "show", f"{commit}:params.yaml"], cwd=REPO, capture_output=True, text=True, check=True
         ).stdout
     )
+    if preset:
+        params = overlay(params, preset_changes(preset, PRESETS), f"{PRESETS / preset}.yaml")
     evaluate = EvaluateConfig.from_params(params)
     settings = StatisticsConfig.from_params(params)
     seasons = params["data"]["seasons"]
@@ -221,9 +276,10 @@ def collect(measured_on: dict[str, Any]) -> Path:
     claims, left_out = claims_in(next(iter(comparisons.values())), claims)
     record = {
         "routes": routes,
+        "preset": preset,
         "pairs": pairs,
         # the last `run`'s queue, when it queued these routes' seeds
-        **queue_cost([route["seed"] for route in routes.values()]),
+        **queue_cost([route["seed"] for route in routes.values()], preset),
         "fraction_correct": fraction_spread(summaries),
         # the training-season ablation: label -> training set -> spread; the largest set against the smallest
         "training_seasons": {"fraction_correct": fraction_spread(training), "first_to_last": first_to_last(training)},
@@ -239,34 +295,48 @@ def collect(measured_on: dict[str, Any]) -> Path:
     return write_result("replicate_routes", record, measured_on)
 
 
-def save_queue(seeds: list[int], jobs: int, seconds: float) -> None:
+def save_queue(seeds: list[int], jobs: int, seconds: float, preset: str | None = None) -> None:
     """The queue's cost, kept apart so that a later `collect` reports it (QUEUE)."""
     QUEUE.parent.mkdir(parents=True, exist_ok=True)
-    QUEUE.write_text(json.dumps({"seeds": seeds, "jobs": jobs, "seconds": seconds}) + "\n")
+    QUEUE.write_text(json.dumps({"seeds": seeds, "jobs": jobs, "seconds": seconds, "preset": preset}) + "\n")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("action", choices=["run", "collect"])
-    parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3, 4], help="synthetic.seed of each extra route")
+    parser.add_argument(
+        "--seeds",
+        type=int,
+        nargs="+",
+        default=[1, 2, 3, 4],
+        help="synthetic.seed of each route run as an experiment (the committed run's own seed is a route "
+        "without a preset; under one, name it too)",
+    )
     parser.add_argument("--jobs", type=int, default=1, help="experiments run at a time (dvc queue start -j)")
+    parser.add_argument("--preset", help="run every route with presets/PRESET.yaml's settings (e.g. every_place)")
     args = parser.parse_args()
+    if args.preset:
+        preset_settings(args.preset)  # an unknown preset: one line naming it, before anything is queued
     measured_on = {**machine(), "source": git_state()}
     if args.action == "run":
-        save_queue(args.seeds, args.jobs, queue_routes(args.seeds, args.jobs, route_stages()))
-    print(collect(measured_on))
+        seconds = queue_routes(args.seeds, args.jobs, route_stages(), args.preset)
+        save_queue(args.seeds, args.jobs, seconds, args.preset)
+    print(collect(measured_on, args.preset))
 
 
 def _routes_line(record: dict) -> str:
     """Which routes a replicate record stands on, and what their queue cost."""
     seeds = ", ".join(str(route["seed"]) for route in record["routes"].values())
+    preset = record.get("preset")
+    queued = len(record["routes"]) - (0 if preset else 1)
     cost = (
-        f"; the queue of the {len(record['routes']) - 1} extra routes took {record['queue_seconds'] / 60:.0f} min, "
+        f"; the queue of the {queued} {'' if preset else 'extra '}routes took {record['queue_seconds'] / 60:.0f} min, "
         f"{record['jobs']} at a time, on {record['machine']['cpu']}"
         if record.get("queue_seconds")
         else ""
     )
-    return f"{len(record['routes'])} routes (synthetic.seed {seeds}){cost}."
+    under = f", each with preset {preset} (`--preset {preset}`)" if preset else ""
+    return f"{len(record['routes'])} routes (synthetic.seed {seeds}){under}{cost}."
 
 
 def _spread_cell(spread: dict) -> str:

@@ -8,6 +8,7 @@ from ica_data import images
 
 from benchmarks.speed import bench_ica
 from seasonloop.models.core.lookup import get_learner
+from tools.repository import learner_params
 
 
 def result(trace: list[tuple[float, float]], final: float) -> dict:
@@ -25,7 +26,9 @@ def test_a_gradient_that_dips_below_the_target_and_rises_again_does_not_count():
 
 def test_sklearn_fastica_is_traced_iterate_by_iterate():
     train = images(400, 0)
-    learner = get_learner("ica")({"n_components": 6, "solver": "sklearn", "max_iter": 3, "change_tol": 1e-12}, seed=1)
+    learner = get_learner("ica")(
+        learner_params("ica", {"n_components": 6, "solver": "sklearn", "max_iter": 3, "change_tol": 1e-12}), seed=1
+    )
     record, seconds, trace = bench_ica.traced_sklearn_fit(lambda: learner.fit(train, progress=False), "logcosh")
     # the initial matrix, then each of its iterations
     assert len(trace) == record["n_iter"] + 1 == 4

@@ -25,6 +25,7 @@ from seasonloop.params.schema import check_whole
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.reporting.html import build_report
 from seasonloop.reporting.model_sections import cae_widths_section
+from tools.repository import learner_params
 
 PARAMS = Path(__file__).resolve().parents[1] / "params.yaml"
 
@@ -73,22 +74,27 @@ def test_sweep_record_table_and_figure(tmp_path):
         matchers=("single",),
     )
     sequence = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2, window_at_breaks="clip")
-    raw = RawPatchNorm({"patch_size": 4}, seed=0)
+    raw = RawPatchNorm(learner_params("raw_patchnorm", {"patch_size": 4}), seed=0)
     raw.fit(summer, progress=False)
     fitted_channels = []
 
     def new_cae(channels):
         fitted_channels.append(channels)
         return ConvolutionalAutoEncoder(
-            {
-                "channels": channels,
-                "kernels": [3, 3, 3],
-                "max_epochs": 2,
-                "batch_size": 8,
-                "patch_size": 4,
-                "validation_block": 3,
-                "precision": "float32",
-            },
+            learner_params(
+                "cae",
+                {
+                    "channels": channels,
+                    "kernels": [3, 3, 3],
+                    "max_epochs": 2,
+                    "batch_size": 8,
+                    "patch_size": 4,
+                    "validation_block": 3,
+                    "precision": "float32",
+                    "max_train_images": 0,
+                    "max_validation_images": 0,
+                },
+            ),
             seed=0,
         )
 

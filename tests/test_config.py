@@ -177,10 +177,18 @@ def test_the_whole_file_is_checked_before_any_stage_works():
         check_whole(params)
 
 
-def test_every_learner_default_passes_its_own_check():
+def test_a_learner_has_no_default_of_its_own_so_params_yaml_holds_the_only_one():
+    # a learner declares each key's check, never a value: a section without a key is refused with
+    # the key's name, so no value can hide in the code and differ from params.yaml's
+    params = yaml.safe_load((REPO / "params.yaml").read_text())
     for name in LEARNERS:
         learner = get_learner(name)
-        learner.check_params({key: param.default for key, param in learner.PARAMS.items()})
+        assert all(callable(check) and not hasattr(check, "default") for check in learner.PARAMS.values())
+        learner.check_params(params[name])
+        key = next(iter(learner.PARAMS))
+        partial = {k: v for k, v in params[name].items() if k != key}
+        with pytest.raises(ValueError, match=rf"^{name}\.{key}: missing"):
+            learner(partial)
 
 
 def test_the_torch_ica_solvers_implement_every_value_ica_declares():

@@ -10,6 +10,7 @@ from seasonloop.models.core.learner import RUN_KEYS, to_float
 from seasonloop.models.core.lookup import get_learner, load_learner
 from seasonloop.models.core.torch_ica import WHITEN_SOLVERS
 from seasonloop.models.ica import ICA_SOLVERS
+from tools.repository import learner_params
 
 N_SOURCES, N_FEATURES, N_SAMPLES = 6, 16, 4000
 
@@ -110,7 +111,7 @@ def test_ica_learner_fastica_solver_saves_and_loads_identically(tmp_path):
     train, test = images(600, 0), images(50, 1)
     # the relative gradient FastICA reaches on its own change_tol decides converged: a tol it meets
     params = {"n_components": 8, "solver": "fastica", "device": "cpu", "tol": 1e-3}
-    learner = get_learner("ica")(params, seed=2)
+    learner = get_learner("ica")(learner_params("ica", params), seed=2)
     info = learner.fit(train, progress=False)
     assert info["solver"] == "fastica" and info["device"] == "cpu" and info["converged"] is True
     assert info["own_criterion"]["name"] == "change" and info["own_criterion"]["met"] is True
@@ -131,7 +132,7 @@ def test_ica_learner_fastica_solver_saves_and_loads_identically(tmp_path):
     np.testing.assert_array_equal(loaded.describe(test), descriptors)
 
     # Same data, scikit-learn solver: the same descriptors up to float32 rounding.
-    reference = get_learner("ica")({**params, "solver": "sklearn", "device": "auto"}, seed=2)
+    reference = get_learner("ica")(learner_params("ica", {**params, "solver": "sklearn", "device": "auto"}), seed=2)
     reference.fit(train, progress=False)
     np.testing.assert_allclose(reference.describe(test), descriptors, atol=1e-2)
     reference.save(tmp_path / "sklearn")
@@ -140,16 +141,16 @@ def test_ica_learner_fastica_solver_saves_and_loads_identically(tmp_path):
 
 
 def test_ica_learner_fastica_solver_records_non_convergence_and_checks_params():
-    learner = get_learner("ica")({"n_components": 8, "max_iter": 2, "solver": "fastica"}, seed=0)
+    learner = get_learner("ica")(learner_params("ica", {"n_components": 8, "max_iter": 2, "solver": "fastica"}), seed=0)
     info = learner.fit(images(200, 0), progress=False)
     assert info["converged"] is False and info["n_iter"] == info["max_iter"] == 2
     assert info["convergence_warnings"]
     with pytest.raises(ValueError, match=r"ica\.algorithm"):
-        get_learner("ica")({"solver": "fastica", "algorithm": "deflation"})
+        get_learner("ica")(learner_params("ica", {"solver": "fastica", "algorithm": "deflation"}))
     with pytest.raises(ValueError, match=r"ica\.solver"):
-        get_learner("ica")({"solver": "jax"})
+        get_learner("ica")(learner_params("ica", {"solver": "jax"}))
     with pytest.raises(ValueError, match=r"ica\.device"):
-        get_learner("ica")({"solver": "sklearn", "device": "cuda"})
+        get_learner("ica")(learner_params("ica", {"solver": "sklearn", "device": "cuda"}))
 
 
 def test_whitening_is_white_for_ill_conditioned_data():
@@ -172,7 +173,16 @@ def test_every_registered_ica_solver_and_whitening_fits_saves_and_loads(tmp_path
     train, test = images(300, 0), images(20, 1)
     precision = "float64" if solver == "python_picard" else "float32"
     learner = get_learner("ica")(
-        {"n_components": 6, "solver": solver, "whiten_solver": whiten_solver, "device": "cpu", "precision": precision},
+        learner_params(
+            "ica",
+            {
+                "n_components": 6,
+                "solver": solver,
+                "whiten_solver": whiten_solver,
+                "device": "cpu",
+                "precision": precision,
+            },
+        ),
         seed=1,
     )
     info = learner.fit(train, progress=False)
@@ -192,12 +202,12 @@ def test_unknown_solvers_are_one_line_errors_naming_the_key_and_the_choices():
         ),
         ({"solver": "sklearn", "device": "cuda"}, "ica.device = 'cuda' needs ica.solver = 'picard' or 'fastica'"),
         (
-            {"solver": "python_picard"},
+            {"solver": "python_picard", "precision": "float32"},
             "ica.precision = 'float32' needs ica.solver = 'picard' or 'fastica' or 'sklearn'",
         ),
     ):
         with pytest.raises(ValueError) as error:
-            get_learner("ica")(params)
+            get_learner("ica")(learner_params("ica", params))
         assert str(error.value) == message
     with pytest.raises(ValueError, match="whiten_solver must be one of eigh, svd, got 'qr'"):
         TorchFastICA(3, whiten_solver="qr")

@@ -22,6 +22,7 @@ import pytest
 from seasonloop.data.frames import list_frame_files, sample_video
 from seasonloop.data.synthetic import SeasonRide, render_route
 from seasonloop.models.core.lookup import get_learner
+from tools.repository import learner_params
 from tools.small_runs import DATA_PATH
 from workspaces import make_workspace, repro_with
 
@@ -135,7 +136,7 @@ def test_a_vpr_bench_dataset_runs_with_one_command_on_every_query(tmp_path):
     elsewhere = tmp_path / "fitted_elsewhere"
     images = np.random.default_rng(0).integers(0, 256, (64, 32, 64), dtype=np.uint8)
     for name, params in (("raw_patchnorm", {}), ("pca", {"n_discard": 2, "n_keep": 8})):
-        learner = get_learner(name)(params, seed=0)
+        learner = get_learner(name)(learner_params(name, params), seed=0)
         learner.fit(images, progress=False)
         learner.save(elsewhere / name)
     settings = ("train.fitted=elsewhere", f"train.models_dir={elsewhere}", f"data.frames_dir={data}")

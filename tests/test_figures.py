@@ -11,6 +11,7 @@ from seasonloop.evaluation.descriptors import autoencoder_descriptors
 from seasonloop.models.core.lookup import get_learner
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.reporting.figures import AE_DESCRIPTORS, draw_figures
+from tools.repository import learner_params
 
 EVALUATE = EvaluateConfig(
     pairs=("summer-fall",),
@@ -92,7 +93,7 @@ def test_the_global_ica_basis_figure_shows_the_mixing_columns_of_the_fitted_ica(
 
     rng = np.random.default_rng(0)
     images = (128 + 4 * rng.laplace(size=(300, 6)) @ rng.normal(size=(6, 8 * 16))).clip(0, 255)  # little clipped
-    ica = get_learner("ica")({"n_components": 6, "device": "cpu"}, seed=0)
+    ica = get_learner("ica")(learner_params("ica", {"n_components": 6, "device": "cpu"}), seed=0)
     images = images.astype(np.uint8)
     ica.fit(images.reshape(300, 8, 16), progress=False)
     shown = {}
@@ -112,7 +113,7 @@ def test_the_global_ica_basis_figure_shows_the_mixing_columns_of_the_fitted_ica(
 def test_patchnorm_output_is_the_learners_output_patchnorm_descriptor():
     rng = np.random.default_rng(1)
     images = (rng.random((40, 16, 32)) * 255).astype(np.uint8)
-    learner = get_learner("fae")({"hidden": 8, "max_epochs": 1, "batch_size": 16})
+    learner = get_learner("fae")(learner_params("fae", {"hidden": 8, "max_epochs": 1, "batch_size": 16}))
     learner.fit(images, progress=False)
     _, output = learner.describe_code_and_output(images[:6], batch_size=4)
     normalised = learner.patchnorm_output(output, images.shape[1:])

@@ -8,6 +8,7 @@ import pytest
 
 from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.models.core.lookup import get_learner
+from tools.repository import learner_params
 
 
 def vpr_bench_hog(image: np.ndarray) -> np.ndarray:
@@ -35,7 +36,7 @@ def images(n: int, seed: int) -> np.ndarray:
 
 def test_hog_is_vpr_benchs_descriptor_and_score():
     database, queries = images(5, 0), images(3, 1)
-    learner = get_learner("hog")({}, seed=0)
+    learner = get_learner("hog")(learner_params("hog", {}), seed=0)
     learner.fit(database, progress=False)
     described = learner.describe(np.concatenate([database, queries]))
     expected = np.stack([vpr_bench_hog(image).ravel() for image in np.concatenate([database, queries])])
@@ -50,6 +51,6 @@ def test_hog_is_vpr_benchs_descriptor_and_score():
 
 def test_hog_settings_opencv_cannot_take_are_refused_by_name():
     with pytest.raises(ValueError, match=r"hog\.block = 16 and hog\.block_stride = 7 do not tile hog\.size = 512"):
-        get_learner("hog")({"block_stride": 7}, seed=0)
+        get_learner("hog")(learner_params("hog", {"block_stride": 7}), seed=0)
     with pytest.raises(ValueError, match=r"hog\.cell = 12 .* must divide hog\.block = 16"):
-        get_learner("hog")({"cell": 12}, seed=0)
+        get_learner("hog")(learner_params("hog", {"cell": 12}), seed=0)

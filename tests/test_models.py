@@ -17,6 +17,7 @@ from seasonloop.models.core.learner import RUN_KEYS, FeatureLearner, to_float
 from seasonloop.models.core.lookup import get_learner, load_learner
 from seasonloop.models.core.upsampling import UpsampledConv2d
 from seasonloop.models.registry import LEARNERS
+from tools.repository import learner_params
 
 N_PER_FAMILY = 100
 HEIGHT, WIDTH = 16, 32
@@ -69,7 +70,7 @@ def fitted(families):
 
     def get(name: str) -> FeatureLearner:
         if name not in cache:
-            learner = get_learner(name)(TEST_PARAMS[name][0], seed=3)
+            learner = get_learner(name)(learner_params(name, TEST_PARAMS[name][0]), seed=3)
             learner.fit(families[0], progress=False)
             cache[name] = learner
         return cache[name]
@@ -91,7 +92,7 @@ def test_registry_lists_every_learner():
     for name in LEARNERS:
         learner_class = get_learner(name)
         assert learner_class.name == name and learner_class.__module__ == f"seasonloop.models.{name}"
-        learner_class(seed=0)  # defaults pass their own validation
+        learner_class(learner_params(name), seed=0)  # params.yaml's section passes its validation
 
 
 def test_the_registry_imports_only_the_learner_asked_for():
@@ -147,7 +148,7 @@ def test_descriptor_shape_and_family_separation(name, fitted, families):
 
 @pytest.mark.parametrize("name", list(TEST_PARAMS))
 def test_fit_is_deterministic_for_a_seed(name, fitted, families):
-    refit = get_learner(name)(TEST_PARAMS[name][0], seed=3)
+    refit = get_learner(name)(learner_params(name, TEST_PARAMS[name][0]), seed=3)
     refit.fit(families[0], progress=False)
     np.testing.assert_array_equal(refit.describe(families[0]), fitted(name).describe(families[0]))
 
@@ -156,7 +157,7 @@ def test_fit_is_deterministic_for_a_seed(name, fitted, families):
 def test_a_models_bytes_are_its_content(name, fitted, families, tmp_path):
     """The same fit twice saves byte-identical files: no time, device or thread count in models/
     (those are the run's facts: fit returns them for metrics/fit/), so DVC sees the same model."""
-    refit = get_learner(name)(TEST_PARAMS[name][0], seed=3)
+    refit = get_learner(name)(learner_params(name, TEST_PARAMS[name][0]), seed=3)
     info = refit.fit(families[0], progress=False)
     assert refit.fit_info is not None and not set(RUN_KEYS) & set(refit.fit_info)
     for saved, learner in (("first", fitted(name)), ("second", refit)):
@@ -172,7 +173,7 @@ def test_a_models_bytes_are_its_content(name, fitted, families, tmp_path):
 # change it; its randomized solver does use the seed.
 @pytest.mark.parametrize("name", ["ica", "ica_bovw", "fae"])
 def test_other_seed_changes_the_model(name, fitted, families):
-    other = get_learner(name)(TEST_PARAMS[name][0], seed=4)
+    other = get_learner(name)(learner_params(name, TEST_PARAMS[name][0]), seed=4)
     other.fit(families[0], progress=False)
     assert not np.array_equal(other.describe(families[0]), fitted(name).describe(families[0]))
 
@@ -192,7 +193,7 @@ def test_saved_learner_loads_with_identical_descriptors(name, fitted, families, 
 
 def test_pca_without_discard_reconstructs_like_sklearn(families):
     images = families[0]
-    learner = get_learner("pca")({"n_discard": 0, "n_keep": 12}, seed=5)
+    learner = get_learner("pca")(learner_params("pca", {"n_discard": 0, "n_keep": 12}), seed=5)
     learner.fit(images, progress=False)
     flat = to_float(images).reshape(len(images), -1)
     reference = PCA(n_components=12, svd_solver="randomized", random_state=5).fit(flat)
@@ -206,11 +207,11 @@ def test_pca_without_discard_reconstructs_like_sklearn(families):
 
 
 def test_pca_fit_info_and_too_many_components(families):
-    learner = get_learner("pca")({"n_discard": 3, "n_keep": 5}, seed=0)
+    learner = get_learner("pca")(learner_params("pca", {"n_discard": 3, "n_keep": 5}), seed=0)
     info = learner.fit(families[0], progress=False)
     assert 0 < info["explained_variance_ratio_kept"] < info["explained_variance_ratio_discarded"] < 1
     with pytest.raises(ValueError, match=r"pca\.n_discard \+ pca\.n_keep"):
-        get_learner("pca")({"n_discard": 150, "n_keep": 100}).fit(families[0], progress=False)
+        get_learner("pca")(learner_params("pca", {"n_discard": 150, "n_keep": 100})).fit(families[0], progress=False)
 
 
 def independent_pattern_images(n: int, seed: int) -> np.ndarray:
@@ -227,9 +228,9 @@ def test_whitened_pca_matches_ica_distances_under_cosine_and_euclidean_only():
 
     train, database, queries = (independent_pattern_images(n, seed) for n, seed in ((3000, 0), (60, 1), (50, 2)))
     k = 6
-    ica = get_learner("ica")({"n_components": k, "max_iter": 400}, seed=0)
+    ica = get_learner("ica")(learner_params("ica", {"n_components": k, "max_iter": 400}), seed=0)
     assert ica.fit(train, progress=False)["converged"]
-    whitened = get_learner("pca_whiten")({"n_discard": 0, "n_keep": k}, seed=0)
+    whitened = get_learner("pca_whiten")(learner_params("pca_whiten", {"n_discard": 0, "n_keep": k}), seed=0)
     whitened.fit(train, progress=False)
     # Unit variance on the training images, as FastICA's sources.
     np.testing.assert_allclose(whitened.describe(train).std(axis=0), 1.0, atol=1e-4)
@@ -254,15 +255,21 @@ def test_pca_whiten_refuses_components_it_cannot_resolve(solver):
     # rounding noise scaled up to unit variance. In float64 (core/projection.py) covariance_eigh,
     # which forms the uncentred X^T X, resolves the faint ones too (in float32 it did not).
     few = independent_pattern_images(60, 0)
-    get_learner("pca_whiten")({"n_keep": 59, "svd_solver": solver}).fit(few, progress=False)
+    get_learner("pca_whiten")(learner_params("pca_whiten", {"n_keep": 59, "svd_solver": solver})).fit(
+        few, progress=False
+    )
     with pytest.raises(
         ValueError, match=rf"pca_whiten\.n_discard \+ pca_whiten\.n_keep = 60 exceeds the 59 .*'{solver}'"
     ):
-        get_learner("pca_whiten")({"n_keep": 60, "svd_solver": solver}).fit(few, progress=False)
+        get_learner("pca_whiten")(learner_params("pca_whiten", {"n_keep": 60, "svd_solver": solver})).fit(
+            few, progress=False
+        )
 
 
 def test_ica_records_non_convergence_without_warning(families):
-    learner = get_learner("ica")({"n_components": 8, "max_iter": 2, "whiten_solver": "svd"}, seed=0)
+    learner = get_learner("ica")(
+        learner_params("ica", {"n_components": 8, "max_iter": 2, "whiten_solver": "svd"}), seed=0
+    )
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         info = learner.fit(families[0], progress=False)
@@ -272,11 +279,15 @@ def test_ica_records_non_convergence_without_warning(families):
 
 
 def test_ica_training_subset_and_component_limit(families):
-    learner = get_learner("ica")({"n_components": 8, "whiten_solver": "svd", "max_train_images": 50}, seed=0)
+    learner = get_learner("ica")(
+        learner_params("ica", {"n_components": 8, "whiten_solver": "svd", "max_train_images": 50}), seed=0
+    )
     info = learner.fit(families[0], progress=False)
     assert info["n_train_images"] == 50 and info["n_train_images_available"] == 2 * N_PER_FAMILY
     with pytest.raises(ValueError, match=r"ica\.n_components"):
-        get_learner("ica")({"n_components": 60, "max_train_images": 50}).fit(families[0], progress=False)
+        get_learner("ica")(learner_params("ica", {"n_components": 60, "max_train_images": 50})).fit(
+            families[0], progress=False
+        )
 
 
 def test_ica_bovw_histograms_filters_and_word_examples(fitted, families):
@@ -289,7 +300,7 @@ def test_ica_bovw_histograms_filters_and_word_examples(fitted, families):
     assert examples.shape == (5, 3, 4, 4)
     assert np.nanmin(examples) >= 0 and np.nanmax(examples) <= 1
     with pytest.raises(ValueError, match="n_components"):
-        get_learner("ica_bovw")({"patch_size": 4, "n_components": 16})
+        get_learner("ica_bovw")(learner_params("ica_bovw", {"patch_size": 4, "n_components": 16}))
 
 
 @pytest.mark.parametrize("name, code_length", [("fae", 32), ("cae", 16 * (HEIGHT // 4) * (WIDTH // 4))])
@@ -308,7 +319,7 @@ def test_autoencoder_descriptors_and_epoch_callback(name, code_length, fitted, f
     np.testing.assert_array_equal(output_once, learner.describe_as(images, "output", batch_size=5))
     epochs_seen = []
     params = {**TEST_PARAMS[name][0], "max_epochs": 2, "max_train_images": 40}
-    info = get_learner(name)(params).fit(
+    info = get_learner(name)(learner_params(name, params)).fit(
         families[0], progress=False, on_epoch=lambda epoch, metrics: epochs_seen.append((epoch, metrics))
     )
     assert [epoch for epoch, _ in epochs_seen] == [1, 2] and info["n_train_images"] == 40
@@ -321,14 +332,18 @@ def test_autoencoder_descriptors_and_epoch_callback(name, code_length, fitted, f
 @pytest.mark.parametrize("name", ["raw_patchnorm", "pca", "pca_whiten", "ica"])
 def test_learners_without_epochs_say_so_and_report_none(name, families):
     epochs_seen = []
-    get_learner(name)(TEST_PARAMS[name][0]).fit(
+    get_learner(name)(learner_params(name, TEST_PARAMS[name][0])).fit(
         families[0], progress=False, on_epoch=lambda epoch, metrics: epochs_seen.append(epoch)
     )
     assert epochs_seen == [] and not get_learner(name).trains_in_epochs
 
 
 def test_cae_layers_match_table_5():
-    learner = get_learner("cae")(seed=0)
+    from seasonloop.ablations.cae_widths import TABLE5_CHANNELS
+
+    learner = get_learner("cae")(
+        learner_params("cae", {"channels": list(TABLE5_CHANNELS), "kernels": [11, 5, 3]}), seed=0
+    )
     learner.input_shape = (32, 64)
     model = learner._build_model(32, 64)
     convolutions = [module for module in model.modules() if isinstance(module, torch.nn.Conv2d)]
@@ -381,13 +396,13 @@ def test_upsampled_conv_is_upsample_then_same_conv(kernel, channels_last):
 def test_cae_rejects_size_not_divisible_by_4():
     images = np.zeros((4, 18, 32), dtype=np.uint8)
     with pytest.raises(ValueError, match="divisible by 4"):
-        get_learner("cae")({"channels": [2, 2, 2], "patch_size": 2}).fit(images, progress=False)
+        get_learner("cae")(learner_params("cae", {"channels": [2, 2, 2], "patch_size": 2})).fit(images, progress=False)
 
 
 @pytest.mark.skipif(torch.cuda.is_available(), reason="needs a machine without CUDA")
 def test_cuda_requested_without_cuda_raises(families):
     with pytest.raises(ValueError, match=r"fae\.device"):
-        get_learner("fae")({"device": "cuda"}).fit(families[0], progress=False)
+        get_learner("fae")(learner_params("fae", {"device": "cuda"})).fit(families[0], progress=False)
 
 
 @pytest.mark.parametrize(
@@ -409,7 +424,7 @@ def test_cuda_requested_without_cuda_raises(families):
 )
 def test_bad_params_raise_naming_the_key(name, params, match):
     with pytest.raises(ValueError, match=match):
-        get_learner(name)(params)
+        get_learner(name)(learner_params(name, params))
 
 
 def test_unknown_method_and_missing_directory(tmp_path, monkeypatch):
@@ -429,7 +444,7 @@ def test_unknown_method_and_missing_directory(tmp_path, monkeypatch):
 
 @pytest.mark.parametrize("name", list(LEARNERS))
 def test_describe_and_save_before_fit_raise(name, tmp_path):
-    learner = get_learner(name)(seed=0)
+    learner = get_learner(name)(learner_params(name), seed=0)
     with pytest.raises(RuntimeError, match="fit"):
         learner.describe(np.zeros((2, 32, 64), dtype=np.uint8))
     with pytest.raises(RuntimeError, match="fit"):
@@ -465,7 +480,9 @@ def test_pca_seed_matters_only_to_the_randomized_solver(families):
     fitted = {}
     for solver in ("covariance_eigh", "randomized"):
         for seed in (3, 4):
-            learner = get_learner("pca")({"n_discard": 2, "n_keep": 16, "svd_solver": solver}, seed=seed)
+            learner = get_learner("pca")(
+                learner_params("pca", {"n_discard": 2, "n_keep": 16, "svd_solver": solver}), seed=seed
+            )
             learner.fit(families[0], progress=False)
             fitted[solver, seed] = learner.describe(families[0])
     np.testing.assert_array_equal(fitted["covariance_eigh", 3], fitted["covariance_eigh", 4])

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param, to_float
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, to_float
 from seasonloop.params.checks import integer
 
 
@@ -32,7 +32,7 @@ class RandomProjection(FeatureLearner):
     """Descriptor = the pixels times a seeded Gaussian matrix of n_dims columns."""
 
     name = "random_projection"
-    PARAMS = {"n_dims": Param(32, integer(1))}
+    PARAMS = {"n_dims": integer(1)}
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         n_pixels = images.shape[1] * images.shape[2]

@@ -13,6 +13,7 @@ import pytest
 from seasonloop.models.core.lookup import get_learner
 from seasonloop.models.core.parallel import fit_threads, run_each
 from seasonloop.params.across import check_fit_threads
+from tools.repository import learner_params
 
 # small sections: the learners take their other settings' defaults
 SECTIONS = {"pca": {"n_discard": 0, "n_keep": 12}, "ica": {"n_components": 8, "max_iter": 200}}
@@ -22,7 +23,7 @@ def fitted_bytes(method: str, section: dict, folder: Path, fold: int) -> str:
     """A small learner fitted on fold `fold`'s images at 1 thread, saved; the sha256 of its files."""
     rng = np.random.default_rng(fold)
     images = rng.integers(0, 256, (120, 16, 32), dtype=np.uint8)  # 512 pixels: seconds, not minutes
-    learner = get_learner(method)(section, seed=0)
+    learner = get_learner(method)(learner_params(method, section), seed=0)
     learner.import_libraries()
     with fit_threads(1):
         learner.fit(images, progress=False, places=np.arange(len(images)))

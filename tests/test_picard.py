@@ -11,6 +11,7 @@ from seasonloop.models.core.ica_stationarity import amari_distance, relative_gra
 from seasonloop.models.core.learner import RUN_KEYS
 from seasonloop.models.core.lookup import get_learner, load_learner
 from seasonloop.models.core.picard import LibraryPicard, TorchPicard
+from tools.repository import learner_params
 
 N_SUPER, N_SUB, N_FEATURES, N_SAMPLES = 5, 3, 16, 5000
 N_SOURCES = N_SUPER + N_SUB
@@ -126,9 +127,10 @@ def test_every_solver_traces_the_gradient_of_each_iterate(mixture, estimator):
         assert traced.trace_[iterations][1] == pytest.approx(stopped.gradient_, rel=1e-3)
 
 
-def test_ica_learner_defaults_to_picard_and_records_the_shared_measure(tmp_path):
+def test_ica_learner_with_picard_in_float32_records_the_shared_measure(tmp_path):
     train, test = images(600, 0), images(50, 1)
-    learner = get_learner("ica")({"n_components": 8, "device": "cpu"}, seed=2)
+    changes = {"n_components": 8, "device": "cpu", "solver": "picard", "precision": "float32"}
+    learner = get_learner("ica")(learner_params("ica", changes), seed=2)
     info = learner.fit(train, progress=False)
     assert info["solver"] == "picard" and info["precision"] == "float32"
     assert info["converged"] is True and info["gradient"] < info["tol"] == 1e-7
@@ -143,7 +145,9 @@ def test_ica_learner_defaults_to_picard_and_records_the_shared_measure(tmp_path)
     assert loaded.fit_info == learner.fit_info == {key: value for key, value in info.items() if key not in RUN_KEYS}
     np.testing.assert_array_equal(loaded.describe(test), learner.describe(test))
     # every solver reports converged by the same measure: FastICA meets its own test long before
-    fastica = get_learner("ica")({"n_components": 8, "device": "cpu", "solver": "fastica"}, seed=2)
+    fastica = get_learner("ica")(
+        learner_params("ica", {"n_components": 8, "device": "cpu", "solver": "fastica"}), seed=2
+    )
     record = fastica.fit(train, progress=False)
     assert record["own_criterion"]["name"] == "change" and record["own_criterion"]["met"] is True
     assert record["converged"] == (record["gradient"] < 1e-7)

@@ -14,6 +14,7 @@ from seasonloop.models.core import training as _training
 from seasonloop.models.core.arithmetic import resolve_precision
 from seasonloop.models.core.lookup import get_learner
 from seasonloop.models.core.training import TrainingConfig, mean_loss, train_until_plateau, validation_places
+from tools.repository import learner_params
 
 CPU = torch.device("cpu")
 
@@ -127,7 +128,7 @@ def test_bfloat16_training_keeps_float32_weights_loss_and_descriptors(name):
     params = {"max_epochs": 2, "batch_size": 16, "precision": "bfloat16", "patch_size": 4, "validation_block": 3}
     if name == "cae":
         params |= {"channels": [2, 4, 4], "kernels": [3, 3, 3], "max_validation_images": 0}
-    learner = get_learner(name)(params, seed=0)
+    learner = get_learner(name)(learner_params(name, params), seed=0)
     info = learner.fit(frames, progress=False, places=np.tile(np.arange(30), 2))
     assert info["precision"] == "bfloat16" and np.isfinite(info["best_validation_loss"])
     assert all(parameter.dtype == torch.float32 for parameter in learner.model.parameters())
@@ -139,7 +140,10 @@ def test_validation_holds_out_every_image_of_its_places():
     frames = (rng.random((120, 8, 16)) * 255).astype(np.uint8)
     places = np.tile(np.arange(60), 2)  # originals then one augmented copy each
     learner = get_learner("fae")(
-        {"max_epochs": 1, "hidden": 4, "patch_size": 4, "validation_fraction": 0.2, "validation_block": 10}, seed=0
+        learner_params(
+            "fae", {"max_epochs": 1, "hidden": 4, "patch_size": 4, "validation_fraction": 0.2, "validation_block": 10}
+        ),
+        seed=0,
     )
     info = learner.fit(frames, progress=False, places=places)
     assert info["n_validation_places"] == 10 and info["n_validation_images"] == 20
@@ -163,7 +167,7 @@ def test_learning_rate_is_cut_at_the_lr_patience_th_epoch_without_improvement():
     with pytest.raises(ValueError, match="lr_patience"):
         _training.learning_rate_schedule(optimiser, config(lr_patience=0))
     with pytest.raises(ValueError, match=r"fae\.lr_patience"):
-        get_learner("fae")({"lr_patience": 0})
+        get_learner("fae")(learner_params("fae", {"lr_patience": 0}))
 
 
 class BlowsUpAfter(nn.Module):

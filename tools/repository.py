@@ -8,7 +8,9 @@ import shutil
 import subprocess
 import sys
 import tempfile
+from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 import yaml
 
@@ -99,3 +101,10 @@ def dvc(root: Path, *args: str, env: dict[str, str] | None = None) -> subprocess
         capture_output=True,
         text=True,
     )
+
+
+def learner_params(name: str, changes: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """params.yaml's section of learner `name` (its values: a learner declares only checks) with
+    `changes` set: a learner as the project's params make it, for tests and benchmarks."""
+    section = yaml.safe_load((REPO / "params.yaml").read_text())[name]
+    return {**section, **(changes or {})}

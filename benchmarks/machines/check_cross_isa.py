@@ -28,6 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
+from tools.repository import learner_params
+
 # torch's own kernels, oneDNN's (convolutions) and MKL's (the FAE's matrix products)
 CAPPED = {"ATEN_CPU_CAPABILITY": "avx2", "ONEDNN_MAX_CPU_ISA": "AVX2", "MKL_ENABLE_INSTRUCTIONS": "AVX2"}
 LEARNERS = {"fae": {}, "cae": {"channels": [6, 16, 24], "batch_size": 32}}
@@ -50,7 +52,7 @@ def fit_once(name: str, precision: str, images: int, epochs: int, out: Path) -> 
         "max_validation_images": 0,
         "device": "cpu",
     }
-    learner = get_learner(name)(params, seed=0)
+    learner = get_learner(name)(learner_params(name, params), seed=0)
     info = learner.fit(data, progress=False, places=np.arange(len(data)) // 2)
     weights = {key: value.detach().float().numpy() for key, value in learner.model.state_dict().items()}
     np.savez(out, **weights)

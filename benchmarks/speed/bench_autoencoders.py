@@ -35,6 +35,7 @@ from seasonloop.evaluation.metrics import evaluate_pair
 from seasonloop.models.core.arithmetic import cpu_has_native_bfloat16
 from seasonloop.models.core.lookup import get_learner
 from tools.records import machine, write_result
+from tools.repository import learner_params
 
 
 @dataclass(frozen=True)
@@ -116,7 +117,8 @@ def learner_for(name: str, variant: Variant, device: str, seed: int, **params):
     if variant.batch_size:
         params["batch_size"] = variant.batch_size
     learner = get_learner(name)(
-        {"precision": variant.precision, "device": device, "max_train_images": 0, **params}, seed=seed
+        learner_params(name, {"precision": variant.precision, "device": device, "max_train_images": 0, **params}),
+        seed=seed,
     )
     learner.channels_last = variant.channels_last  # the class's choice, overridden to measure both
     if variant.compiled:
@@ -144,7 +146,7 @@ def throughput(name: str, variant: Variant, device: str, images: np.ndarray, see
     """Training images/s (one epoch of fit, validated on 2 images) and inference images/s (describe)."""
     places = np.arange(len(images))
     one_epoch = {"max_epochs": 1, "max_validation_images": 2, "validation_block": 1, **params}
-    batch = variant.batch_size or get_learner(name).PARAMS["batch_size"].default
+    batch = variant.batch_size or learner_params(name)["batch_size"]
     # warm-up on one batch: CUDA context, oneDNN primitive creation (torch.compile compiles on
     # its first call, so the timed fit below reuses nothing: its compile time is in the figure
     # unless the warm-up's compiled kernels are cached, which inductor does on disk)

@@ -42,6 +42,7 @@ from benchmarks.common import load_note, save_and_report, timed, training_images
 from seasonloop.models.core.ica_stationarity import amari_distance, relative_gradient
 from seasonloop.models.core.lookup import get_learner
 from tools.records import machine
+from tools.repository import learner_params
 
 # (name, ica.solver, ica.precision): every solver, the torch ones in both precisions
 SOLVERS = (
@@ -112,7 +113,7 @@ def fit_in_this_process(settings: dict) -> dict:
     pipeline's ICALearner; its fit record, wall time, gradient trace (seconds since the fit began,
     whitening included; the gradient of each iterate) and this process's peak memory."""
     data = np.load(settings["data"])
-    learner = get_learner("ica")(settings["params"], seed=settings["seed"])
+    learner = get_learner("ica")(learner_params("ica", settings["params"]), seed=settings["seed"])
     images = data if data.ndim == 3 else data.reshape(len(data), 32, 64)
     if settings["params"]["solver"] == "sklearn":
         record, seconds, trace = traced_sklearn_fit(lambda: learner.fit(images), settings["params"]["fun"])

@@ -51,7 +51,7 @@ from seasonloop.models.core import torch_learner, training
 from seasonloop.models.core.lookup import get_learner
 from seasonloop.models.core.upsampling import UpsampledConv2d
 from tools.records import machine, write_result
-from tools.repository import REPO
+from tools.repository import REPO, learner_params
 
 sys.path.insert(0, str(REPO / "stages"))
 import _datasets as stage_datasets  # noqa: E402  (the stages' binding of params to data/split, data/augmented)
@@ -150,7 +150,7 @@ def fraction_correct(learner, params: dict) -> dict[str, float]:
 
 def fit_once(name: str, section: dict, overrides: dict, seed: int, data: tuple) -> dict:
     section_overrides = {key: value for key, value in overrides.items() if key not in IMPLEMENTATIONS}
-    learner = get_learner(name)({**section, **section_overrides}, seed=seed)
+    learner = get_learner(name)(learner_params(name, {**section, **section_overrides}), seed=seed)
     images, places, params = data
     with contextlib.ExitStack() as implementation:
         for key in overrides.keys() & IMPLEMENTATIONS.keys():  # values checked by parse_settings

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from seasonloop.models.core.learner import Param
 from seasonloop.models.core.torch_learner import TorchAutoEncoderLearner
 from seasonloop.params.checks import integer
 
@@ -27,14 +26,10 @@ class ConvolutionalAutoEncoder(TorchAutoEncoderLearner):
     LIBRARIES = (*TorchAutoEncoderLearner.LIBRARIES, "seasonloop.models.core.upsampling")
     channels_last = True  # oneDNN convolutions are faster on NHWC activations (bench_autoencoders.py)
     PARAMS = {
-        "channels": Param([96, 256, 384], three_positive_integers),
-        "kernels": Param([11, 5, 3], three_positive_integers),
-        "output_kernel": Param(3, integer(1)),
+        "channels": three_positive_integers,
+        "kernels": three_positive_integers,
+        "output_kernel": integer(1),
         **TorchAutoEncoderLearner.PARAMS,
-        # Full-size CAE is ~9 GMAC per 32x64 image forward: train on a subset by default.
-        "batch_size": Param(64, integer(1)),
-        "max_train_images": Param(512, integer(0)),
-        "max_validation_images": Param(128, integer(0)),
     }
 
     def _check_image_size(self, height: int, width: int) -> None:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from seasonloop.models.core.learner import Param
 from seasonloop.models.core.torch_learner import TorchAutoEncoderLearner
 from seasonloop.params.checks import integer, one_of
 
@@ -19,11 +18,7 @@ class FullyConnectedAutoEncoder(TorchAutoEncoderLearner):
     """One hidden layer auto-encoder; descriptor from its code or (patch-normalised) output."""
 
     name = "fae"
-    PARAMS = {
-        "hidden": Param(512, integer(1)),
-        "activation": Param("relu", one_of(*ACTIVATIONS)),
-        **TorchAutoEncoderLearner.PARAMS,
-    }
+    PARAMS = {"hidden": integer(1), "activation": one_of(*ACTIVATIONS), **TorchAutoEncoderLearner.PARAMS}
 
     def _build_model(self, height: int, width: int) -> AutoEncoder:
         from torch import nn

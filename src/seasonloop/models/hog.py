@@ -1,7 +1,7 @@
 """VPR-Bench's HOG (VPR_Techniques/HOG_VPR.py): OpenCV's HOGDescriptor of the image resized to
 512 x 512, blocks of 16 x 16 pixels every 8, cells of 16, 9 orientation bins; nothing learned.
 
-VPR-Bench matches it by cosine similarity, evaluate.metric's default. It describes the images every
+VPR-Bench matches it by cosine similarity, params.yaml's evaluate.metric. It describes the images every
 learner here is given (the study's preprocessed grayscale images), not the dataset's own images as
 VPR-Bench does: the comparison with the study's learners is at equal input.
 """
@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner
 from seasonloop.params.checks import integer
 
 
@@ -25,11 +25,11 @@ class HOG(FeatureLearner):
     learns = False
     LIBRARIES = ("cv2",)
     PARAMS = {
-        "size": Param(512, integer(8)),  # the image is resized to size x size: HOG's window
-        "block": Param(16, integer(1)),
-        "block_stride": Param(8, integer(1)),
-        "cell": Param(16, integer(1)),
-        "bins": Param(9, integer(1)),
+        "size": integer(8),  # the image is resized to size x size: HOG's window
+        "block": integer(1),
+        "block_stride": integer(1),
+        "cell": integer(1),
+        "bins": integer(1),
     }
 
     def _validate_params(self) -> None:

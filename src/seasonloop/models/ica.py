@@ -4,7 +4,7 @@ ICA_SOLVERS is the registry of ica.solver values. All of them centre, whiten to 
 principal axes and look for the orthogonal unmixing of the whitened data that is a stationary
 point of the same contrast (log cosh for fun "logcosh"); they differ in how they get there:
 
-- "picard" (default): Picard-O, L-BFGS under the orthogonal constraint, in torch (float32 or
+- "picard" (params.yaml's): Picard-O, L-BFGS under the orthogonal constraint, in torch (float32 or
   float64, CUDA when present; seasonloop.models.core.picard.TorchPicard). It stops when the
   relative gradient is below ica.tol.
 - "python_picard": the same algorithm by python-picard itself (float64 numpy, the CPU).
@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param, select_training_subset, to_float
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
 from seasonloop.models.core.torch_learner import DEVICES
 from seasonloop.params.checks import integer, number, one_of
 
@@ -224,20 +224,20 @@ class ICALearner(FeatureLearner):
         "seasonloop.models.core.picard",
     )
     PARAMS = {
-        "n_components": Param(128, integer(1)),
-        "algorithm": Param("parallel", one_of(*ICA_ALGORITHMS)),
-        "fun": Param("logcosh", one_of(*ICA_FUNCTIONS)),
-        "max_iter": Param(2000, integer(1)),
-        "tol": Param(1e-7, number(0, None, low_open=True)),
-        "change_tol": Param(1e-4, number(0, None, low_open=True)),
-        "whiten_solver": Param("eigh", one_of(*WHITEN_SOLVERS)),
-        "max_train_images": Param(0, integer(0)),
-        "solver": Param("picard", one_of(*ICA_SOLVERS)),
-        "device": Param("auto", one_of(*DEVICES)),
-        "precision": Param("float32", one_of(*ICA_PRECISIONS)),
+        "n_components": integer(1),
+        "algorithm": one_of(*ICA_ALGORITHMS),
+        "fun": one_of(*ICA_FUNCTIONS),
+        "max_iter": integer(1),
+        "tol": number(0, None, low_open=True),
+        "change_tol": number(0, None, low_open=True),
+        "whiten_solver": one_of(*WHITEN_SOLVERS),
+        "max_train_images": integer(0),
+        "solver": one_of(*ICA_SOLVERS),
+        "device": one_of(*DEVICES),
+        "precision": one_of(*ICA_PRECISIONS),
     }
 
-    def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
+    def __init__(self, params: Mapping[str, Any], seed: int = 0):
         super().__init__(params, seed)
         self.estimator: FastICA | TorchICA | None = None
 

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param, to_float, with_contiguous_arrays
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, to_float, with_contiguous_arrays
 from seasonloop.params.checks import integer, number, one_of
 
 if TYPE_CHECKING:
@@ -46,18 +46,17 @@ class ICABoVW(FeatureLearner):
     name = "ica_bovw"
     LIBRARIES = ("sklearn.cluster", "sklearn.decomposition", "joblib", "seasonloop.models.core.fastica_sklearn")
     PARAMS = {
-        "patch_size": Param(8, integer(1)),
-        "stride": Param(4, integer(1)),
-        "n_train_patches": Param(50000, integer(2)),
-        # Removing each patch's DC leaves patch_size**2 - 1 dimensions, hence 63 not 64.
-        "n_components": Param(63, integer(1)),
-        "n_words": Param(200, integer(1)),
-        "kmeans": Param("minibatch", one_of(*KMEANS_KINDS)),
-        "max_iter": Param(400, integer(1)),
-        "tol": Param(1e-4, number(0, None, low_open=True)),
+        "patch_size": integer(1),
+        "stride": integer(1),
+        "n_train_patches": integer(2),
+        "n_components": integer(1),
+        "n_words": integer(1),
+        "kmeans": one_of(*KMEANS_KINDS),
+        "max_iter": integer(1),
+        "tol": number(0, None, low_open=True),
     }
 
-    def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
+    def __init__(self, params: Mapping[str, Any], seed: int = 0):
         super().__init__(params, seed)
         self.ica: FastICA | None = None
         self.kmeans: KMeans | MiniBatchKMeans | None = None

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from seasonloop.models.core.projection import PrincipalComponentLearner, principal_component_params
+from seasonloop.models.core.projection import PRINCIPAL_COMPONENT_PARAMS, PrincipalComponentLearner
 
 
 class PCALearner(PrincipalComponentLearner):
@@ -10,4 +10,4 @@ class PCALearner(PrincipalComponentLearner):
     n_discard, which carry most of the change of light and season, are dropped."""
 
     name = "pca"
-    PARAMS = principal_component_params(n_discard=100, n_keep=100)
+    PARAMS = PRINCIPAL_COMPONENT_PARAMS

@@ -13,8 +13,8 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.models.core.learner import EpochCallback, Param, select_training_subset
-from seasonloop.models.core.projection import PrincipalComponentLearner, principal_component_params
+from seasonloop.models.core.learner import EpochCallback, select_training_subset
+from seasonloop.models.core.projection import PRINCIPAL_COMPONENT_PARAMS, PrincipalComponentLearner
 from seasonloop.params.checks import integer
 
 # A kept component below this many roundings (of the solver's float type: float64, see
@@ -28,7 +28,7 @@ class WhitenedPCALearner(PrincipalComponentLearner):
     by its standard deviation on the training images (population, as FastICA's whitening)."""
 
     name = "pca_whiten"
-    PARAMS = {**principal_component_params(n_discard=0, n_keep=128), "max_train_images": Param(0, integer(0))}
+    PARAMS = {**PRINCIPAL_COMPONENT_PARAMS, "max_train_images": integer(0)}
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         # The same seeded subset as ICA's max_train_images, so both can see the same images.

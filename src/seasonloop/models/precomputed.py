@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param, PlaceRows
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, PlaceRows
 from seasonloop.params.checks import text
 
 
@@ -23,7 +23,7 @@ class PrecomputedDescriptors(FeatureLearner):
 
     name = "precomputed"
     learns = False
-    PARAMS = {"dir": Param("data/nordland/descriptors", text)}
+    PARAMS = {"dir": text}
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         folder = Path(self.params["dir"])

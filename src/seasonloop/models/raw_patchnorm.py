@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from seasonloop.data.patchnorm import PATCH_NORM_MODES, patch_normalise
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner
 from seasonloop.params.checks import integer, one_of
 
 
@@ -17,7 +17,7 @@ class RawPatchNorm(FeatureLearner):
 
     name = "raw_patchnorm"
     learns = False
-    PARAMS = {"patch_size": Param(8, integer(1)), "mode": Param("zscore", one_of(*PATCH_NORM_MODES))}
+    PARAMS = {"patch_size": integer(1), "mode": one_of(*PATCH_NORM_MODES)}
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:
         height, width = self.image_shape

@@ -27,15 +27,6 @@ EpochCallback = Callable[[int, dict[str, float]], None]
 
 
 @dataclass(frozen=True)
-class Param:
-    """One key of a learner's params section: the value it takes when params.yaml leaves it out,
-    and the check a given value must pass (seasonloop.params.checks)."""
-
-    default: Any
-    check: Check
-
-
-@dataclass(frozen=True)
 class PlaceRows:
     """Which frames of a season's source a batch of test images shows: the season, each image's
     row among the source's frames (before data.frame_step and data.offsets) and how many frames the
@@ -109,10 +100,11 @@ class FeatureLearner(ABC):
     """
 
     name: ClassVar[str]
-    # the learner's params section (its name is `name`): every key with its default and check,
-    # declared once; params.yaml's section is checked against it before any stage works, and the
-    # given params again when the learner is built
-    PARAMS: ClassVar[dict[str, Param]]
+    # the learner's params section (its name is `name`): every key with the check its value must pass
+    # (seasonloop.params.checks). The values live in params.yaml's section only, so a setting has one
+    # default: the section is checked against PARAMS before any stage works (every key set, none
+    # unknown), and the given params again when the learner is built
+    PARAMS: ClassVar[dict[str, Check]]
     # the libraries its methods import when they compute (torch, scikit-learn, ...): the fit stage
     # imports them before its timer starts, so that fit_seconds is the learner's work and not
     # Python's imports (tests/test_models.py: a fit imports nothing heavy that is not listed)
@@ -122,9 +114,9 @@ class FeatureLearner(ABC):
     # False: a descriptor that learns nothing from the training images (fit records their size only)
     learns: ClassVar[bool] = True
 
-    def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
-        self.check_params(params or {})
-        self.params: dict[str, Any] = {key: param.default for key, param in self.PARAMS.items()} | dict(params or {})
+    def __init__(self, params: Mapping[str, Any], seed: int = 0):
+        self.check_params(params)
+        self.params: dict[str, Any] = {key: params[key] for key in self.PARAMS}  # in PARAMS' order, as saved
         self.seed = int(seed)
         self.fit_info: dict[str, Any] | None = None
         self.input_shape: tuple[int, int] | None = None
@@ -138,14 +130,17 @@ class FeatureLearner(ABC):
 
     @classmethod
     def check_params(cls, params: Mapping[str, Any]) -> None:
-        """Check the keys given for this learner (a partial section is fine: the defaults fill the
-        rest); a ValueError names the first unknown key or bad value."""
+        """Check a learner's whole params section (params.yaml's holds every key: there are no
+        defaults elsewhere); a ValueError names the first missing or unknown key or bad value."""
         if not isinstance(params, Mapping):
             raise ValueError(f"{cls.name}: expected a mapping of the learner's params, got {params!r}")
         for key, value in params.items():
             if key not in cls.PARAMS:
                 raise ValueError(f"{cls.name}.{key}: unknown key (known: {', '.join(cls.PARAMS)})")
-            cls.PARAMS[key].check(f"{cls.name}.{key}", value)
+            cls.PARAMS[key](f"{cls.name}.{key}", value)
+        missing = [key for key in cls.PARAMS if key not in params]
+        if missing:
+            raise ValueError(f"{cls.name}.{missing[0]}: missing (params.yaml's {cls.name} section sets every key)")
 
     # ----- param checks shared by the subclasses -----
     def _key(self, key: str) -> str:

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param, to_float, with_contiguous_arrays
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, to_float, with_contiguous_arrays
 from seasonloop.params.checks import integer, one_of
 
 if TYPE_CHECKING:
@@ -19,13 +19,8 @@ ESTIMATOR_FILE = "pca.joblib"
 SVD_SOLVERS = ("auto", "full", "covariance_eigh", "arpack", "randomized")
 
 
-def principal_component_params(n_discard: int, n_keep: int) -> dict[str, Param]:
-    """The params of a learner on components [n_discard, n_discard + n_keep), with these defaults."""
-    return {
-        "n_discard": Param(n_discard, integer(0)),
-        "n_keep": Param(n_keep, integer(1)),
-        "svd_solver": Param("covariance_eigh", one_of(*SVD_SOLVERS)),
-    }
+# the params of a learner on components [n_discard, n_discard + n_keep)
+PRINCIPAL_COMPONENT_PARAMS = {"n_discard": integer(0), "n_keep": integer(1), "svd_solver": one_of(*SVD_SOLVERS)}
 
 
 def to_pixels64(images: np.ndarray) -> np.ndarray:
@@ -38,11 +33,11 @@ def to_pixels64(images: np.ndarray) -> np.ndarray:
 
 class PrincipalComponentLearner(FeatureLearner):
     """Descriptor = projections on principal components [n_discard, n_discard + n_keep) of
-    scikit-learn's PCA; a subclass sets `name` and `PARAMS` (principal_component_params and its own)."""
+    scikit-learn's PCA; a subclass sets `name` and `PARAMS` (PRINCIPAL_COMPONENT_PARAMS and its own)."""
 
     LIBRARIES = ("sklearn.decomposition", "joblib")
 
-    def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
+    def __init__(self, params: Mapping[str, Any], seed: int = 0):
         super().__init__(params, seed)
         self.estimator: PCA | None = None
 

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from seasonloop.data.patchnorm import patch_normalise
-from seasonloop.models.core.learner import EpochCallback, FeatureLearner, Param, select_training_subset, to_float
+from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
 from seasonloop.params.checks import integer, number, one_of
 
 if TYPE_CHECKING:
@@ -33,7 +33,7 @@ AE_DESCRIPTORS = ("code", "output", "output_patchnorm")
 class TorchAutoEncoderLearner(FeatureLearner):
     """Common fit/describe/save/load of the auto-encoders; subclasses define the network.
 
-    A subclass's PARAMS extend these (its network's keys, other defaults). `channels_last` says
+    A subclass's PARAMS extend these (its network's keys). `channels_last` says
     whether the network runs faster with NHWC activations (convolutions under oneDNN/cuDNN do).
     """
 
@@ -46,29 +46,29 @@ class TorchAutoEncoderLearner(FeatureLearner):
     trains_in_epochs = True
 
     PARAMS = {
-        "max_epochs": Param(200, integer(1)),
-        "batch_size": Param(128, integer(1)),
-        "learning_rate": Param(1e-3, number(0, None, low_open=True)),
+        "max_epochs": integer(1),
+        "batch_size": integer(1),
+        "learning_rate": number(0, None, low_open=True),
         # stop when the validation loss has not improved by min_delta (relative) for `patience`
         # epochs in a row; halve the learning rate at the lr_patience-th such epoch in a row
-        "patience": Param(5, integer(1)),
-        "min_delta": Param(0.005, number(0, 1, high_open=True)),
-        "lr_patience": Param(2, integer(1)),
-        "lr_factor": Param(0.5, number(0, 1, low_open=True, high_open=True)),
-        "budget_seconds": Param(0, number(0)),  # wall-clock cap on training (0: none); machine-dependent
+        "patience": integer(1),
+        "min_delta": number(0, 1, high_open=True),
+        "lr_patience": integer(1),
+        "lr_factor": number(0, 1, low_open=True, high_open=True),
+        "budget_seconds": number(0),  # wall-clock cap on training (0: none); machine-dependent
         # of the training places (whole blocks), never test places
-        "validation_fraction": Param(0.1, number(0, 1, high_open=True)),
-        "validation_block": Param(10, integer(1)),  # consecutive places per held-out block
-        "max_validation_images": Param(0, integer(0)),  # 0: every image of the validation places
-        "precision": Param("auto", one_of(*PRECISIONS)),  # autocast of the forward pass
-        "threads": Param(0, integer(0)),  # torch CPU threads; 0: torch's default (recorded either way)
-        "descriptor": Param("output_patchnorm", one_of(*AE_DESCRIPTORS)),
-        "patch_size": Param(8, integer(1)),
-        "device": Param("auto", one_of(*DEVICES)),
-        "max_train_images": Param(0, integer(0)),
+        "validation_fraction": number(0, 1, high_open=True),
+        "validation_block": integer(1),  # consecutive places per held-out block
+        "max_validation_images": integer(0),  # 0: every image of the validation places
+        "precision": one_of(*PRECISIONS),  # autocast of the forward pass
+        "threads": integer(0),  # torch CPU threads; 0: torch's default (recorded either way)
+        "descriptor": one_of(*AE_DESCRIPTORS),
+        "patch_size": integer(1),
+        "device": one_of(*DEVICES),
+        "max_train_images": integer(0),
     }
 
-    def __init__(self, params: Mapping[str, Any] | None = None, seed: int = 0):
+    def __init__(self, params: Mapping[str, Any], seed: int = 0):
         super().__init__(params, seed)
         self.model: AutoEncoder | None = None
         self._dtype: torch.dtype | None = None  # the forward pass's, set by fit and load

@@ -84,6 +84,9 @@ class MeanLearner:
         MeanLearner.places.append(places)
         return {"converged": True, "n_iter": len(images), "n_components": 4}  # fit info, as a learner's
 
+    def how_fit_ended(self, info):
+        return {key: info[key] for key in ("converged", "n_iter")}
+
     def describe(self, images, batch_size=1024):
         return images.mean(axis=2)
 
@@ -252,11 +255,13 @@ def test_run_ablation_skips_the_reused_label(tmp_path):
     assert MeanLearner.fitted_on == [10] and list(run.fraction_correct["mean"]) == ["summer"]
 
 
-def test_how_a_fit_ended_reads_iterative_fits_and_the_nested_patch_ica():
-    from seasonloop.fit_ending import how_fit_ended
+def test_how_a_fit_ended_is_the_learners_own_reading_of_its_fit():
+    from seasonloop.models.core.lookup import get_learner
 
     ica = {"converged": True, "gradient": 9e-8, "tol": 1e-7, "n_iter": 300, "solver": "picard"}
-    assert how_fit_ended(ica) == {"converged": True, "gradient": 9e-8, "tol": 1e-7, "n_iter": 300}
+    assert get_learner("ica").how_fit_ended(ica) == {"converged": True, "gradient": 9e-8, "tol": 1e-7, "n_iter": 300}
+    # the bag of words nests its patch ICA's fit and adds k-means'
     bovw = {"ica": {"converged": False, "n_iter": 400}, "kmeans_n_iter": 3, "n_train_patches": 10}
-    assert how_fit_ended(bovw) == {"ica converged": False, "ica n_iter": 400, "kmeans n_iter": 3}
-    assert how_fit_ended({"n_components": 4}) == {}
+    ended = get_learner("ica_bovw").how_fit_ended(bovw)
+    assert ended == {"ica converged": False, "ica n_iter": 400, "kmeans n_iter": 3}
+    assert get_learner("pca").how_fit_ended({"n_components": 4}) == {}

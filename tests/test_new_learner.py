@@ -1,6 +1,7 @@
-"""A new learner is its module, one registry line and its params section, and nothing else: a copy
-of the project gains a learner in exactly those three places and `dvc repro` runs it to the report,
-its params checked by what the module declares, without rerunning the other learners' stages."""
+"""A new learner is its module and its params section (with its name in `learners:` to run it), and
+nothing else: a copy of the project gains a learner in exactly those two files and `dvc repro` runs
+it to the report, its params checked by what the module declares, without rerunning the other
+learners' stages."""
 
 from __future__ import annotations
 
@@ -48,17 +49,11 @@ class RandomProjection(FeatureLearner):
     def _load_state(self, directory: Path) -> None:
         self.matrix = np.load(directory / "matrix.npy")
 '''
-REGISTRY_LINE = '    "random_projection",\n'
 
 
 def add_learner(root: Path) -> None:
-    """The module, its registry line, its params section (and its name in `learners`)."""
+    """The module, its params section and its name in `learners`."""
     (root / "src/seasonloop/models/random_projection.py").write_text(RANDOM_PROJECTION)
-    registry = root / "src/seasonloop/models/registry.py"
-    text = registry.read_text()
-    anchor = '    "precomputed",\n'
-    assert anchor in text
-    registry.write_text(text.replace(anchor, anchor + REGISTRY_LINE))
     params = yaml.safe_load((root / "params.yaml").read_text())
     params["learners"].append("random_projection")
     params["random_projection"] = {"n_dims": 24}
@@ -66,15 +61,11 @@ def add_learner(root: Path) -> None:
 
 
 @pytest.mark.e2e
-def test_a_learner_added_in_three_places_runs_through_dvc_repro(tmp_path, small_seed_cache):
+def test_a_learner_added_in_its_module_and_its_params_runs_through_dvc_repro(tmp_path, small_seed_cache):
     root = committed_run(tmp_path / "workspace", small_seed_cache)  # the run it is added to
     add_learner(root)
     changed = git(root, "status", "--porcelain").stdout.split("\n")
-    assert sorted(line[3:] for line in changed if line) == [
-        "params.yaml",
-        "src/seasonloop/models/random_projection.py",
-        "src/seasonloop/models/registry.py",
-    ]
+    assert sorted(line[3:] for line in changed if line) == ["params.yaml", "src/seasonloop/models/random_projection.py"]
 
     # the copy's own library (the installed one is this checkout's)
     result = dvc(root, "repro", env=tool_env(PYTHONPATH=str(root / "src")))
@@ -85,7 +76,7 @@ def test_a_learner_added_in_three_places_runs_through_dvc_repro(tmp_path, small_
     assert {"random_projection", "random_projection+seq"} <= set(summary)
     assert "random_projection" in (root / "plots/report.html").read_text()
     # the learners the run had are neither refitted nor described or evaluated again (their stages
-    # depend on their own modules, not on the registry's list of names)
+    # depend on their own modules, not on the registry of names)
     ran = {line.split("'")[1] for line in result.stdout.splitlines() if line.startswith("Running stage '")}
     assert {"fit@random_projection", "features@random_projection", "evaluate@random_projection"} <= ran
     assert not ran & {

@@ -220,7 +220,7 @@ def test_sections_show_what_a_subset_run_has(pngs):
     )
     assert "ablation was skipped: it needs two seasons" in page
     assert "using winter-summer" in page and ">50.0</" in page
-    assert "No figure: the learners they show" in page
+    assert "No figure: no learner in learners draws one" in page
     assert page.count("data:image/png;base64,") == 1
 
 

@@ -4,6 +4,9 @@ benchmarks that measure what those tests pay (benchmarks/speed/bench_dvc_yaml.py
 
 from __future__ import annotations
 
+from seasonloop.models.core.lookup import get_learner
+from seasonloop.models.registry import LEARNERS
+
 # Small enough for CI on 2 cores, large enough that every stage has real work: three seasons
 # (so pairs are filtered to the seasons present), every learner, both matchers.
 TINY = {
@@ -12,23 +15,8 @@ TINY = {
     "synthetic": {"seconds": 300, "fps": 2, "width": 128, "height": 72},
     "extract": {"height": 36, "width": 64},
     "split": {"section_length": 100, "test_fraction": 0.3, "gap": 3},
-    # VPR-Bench's HOG of a 128 px square (2,025 numbers), not of 512 px (35,721): the same code
-    "hog": {"size": 128},
-    # arpack: exact to its tolerance, and ~1.2 s less CPU a fit than the default covariance_eigh,
-    # whose eigendecomposition of the 2,048 x 2,048 pixel covariance costs the same for 1,170 images
-    # as for 100,000 images (the default's own case, which test_models' unit tests fit)
-    "pca": {"n_discard": 3, "n_keep": 20, "svd_solver": "arpack"},
-    "pca_whiten": {"n_keep": 16, "svd_solver": "arpack"},
-    "ica": {"n_components": 16, "max_iter": 200},
-    "ica_bovw": {"n_train_patches": 3000, "n_components": 15, "n_words": 20},
-    "fae": {"hidden": 32, "max_epochs": 2},
-    "cae": {
-        "channels": [3, 8, 12],
-        "kernels": [5, 3, 3],
-        "max_epochs": 1,
-        "max_train_images": 64,
-        "max_validation_images": 16,
-    },
+    # each learner's own small settings (its class's TINY_RUN)
+    **{name: dict(get_learner(name).TINY_RUN) for name in LEARNERS if get_learner(name).TINY_RUN},
     # 1/32 is the CAE's own width (reused from fit@cae), 1/16 is trained by the sweep
     "cae_widths": {"widths": [0.03125, 0.0625]},
     # one learner that learns: the ablation stage is the same for every learner (ica's fits, ~10 s

@@ -25,7 +25,7 @@ import yaml
 
 from benchmarks.common import capped_environment, cell_text, copy_repository, load_note
 from benchmarks.pipeline_run import timed_repro
-from seasonloop.fit_ending import how_fit_ended
+from seasonloop.models.core.lookup import get_learner
 from seasonloop.preset import apply_preset, composed_params
 from tools.records import ISA_CAP, git_state, machine, write_result
 from tools.repository import REPO
@@ -77,11 +77,11 @@ def prepare(folder: Path, preset: Path, overrides: dict[str, Any] | None = None)
 
 
 def convergence(folder: Path) -> dict[str, dict]:
-    """learner -> how its fit ended (metrics/fit/<learner>.json; seasonloop's how_fit_ended), and
+    """learner -> how its fit ended (metrics/fit/<learner>.json; the learner's how_fit_ended), and
     "<learner> on <seasons>" for every fit of the training-season ablation that records it."""
     found = {}
     for path in sorted((folder / "metrics" / "fit").glob("*.json")):
-        found[path.stem] = how_fit_ended(json.loads(path.read_text()).get("info", {}))
+        found[path.stem] = get_learner(path.stem).how_fit_ended(json.loads(path.read_text()).get("info", {}))
     for path in sorted((folder / "metrics" / "training_seasons").glob("*.json")):
         for seasons, ended in json.loads(path.read_text()).get("fits", {}).items():
             found[f"{path.stem} on {seasons}"] = ended

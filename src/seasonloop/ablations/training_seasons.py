@@ -33,7 +33,6 @@ import numpy as np
 from seasonloop.evaluation.blocks import evaluate_descriptors
 from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.evaluation.matchers import result_suffix
-from seasonloop.fit_ending import how_fit_ended
 from seasonloop.io import read_json, write_json
 from seasonloop.params.seasons import SEASONS, check_seasons, pair_name, pair_present, parse_pair
 from seasonloop.significance.intervals import route_intervals
@@ -121,7 +120,7 @@ class AblationRun:
     evaluate.metric, "<method>@<metric>" under each of evaluate.extra_metrics) and training-season
     label (the seasons joined by "+"): the fraction correct on the plan's pair, single-image
     matching, and its interval along the route {low, high}; and per method and label how its fit
-    ended (how_fit_ended)."""
+    ended (the learner's how_fit_ended)."""
 
     fraction_correct: dict[str, dict[str, float]]
     intervals: dict[str, dict[str, dict[str, float]]]
@@ -156,7 +155,7 @@ def run_ablation(
             learner = new_learner()
             images, image_places = training_set(chosen)
             info = learner.fit(images, progress=True, places=image_places)
-            run.fits.setdefault(method, {})[label] = how_fit_ended(info)
+            run.fits.setdefault(method, {})[label] = learner.how_fit_ended(info)
             database_descriptors, query_descriptors = (
                 learner.describe(context.test[season], batch_size=context.batch_size) for season in (database, query)
             )

@@ -23,6 +23,13 @@ class ConvolutionalAutoEncoder(TorchAutoEncoderLearner):
     ends in a 1-channel sigmoid conv of output_kernel."""
 
     name = "cae"
+    TINY_RUN = {
+        "channels": [3, 8, 12],
+        "kernels": [5, 3, 3],
+        "max_epochs": 1,
+        "max_train_images": 64,
+        "max_validation_images": 16,
+    }
     LIBRARIES = (*TorchAutoEncoderLearner.LIBRARIES, "seasonloop.models.core.upsampling")
     channels_last = True  # oneDNN convolutions are faster on NHWC activations (bench_autoencoders.py)
     PARAMS = {

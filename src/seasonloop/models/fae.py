@@ -18,6 +18,7 @@ class FullyConnectedAutoEncoder(TorchAutoEncoderLearner):
     """One hidden layer auto-encoder; descriptor from its code or (patch-normalised) output."""
 
     name = "fae"
+    TINY_RUN = {"hidden": 32, "max_epochs": 2}
     PARAMS = {"hidden": integer(1), "activation": one_of(*ACTIVATIONS), **TorchAutoEncoderLearner.PARAMS}
 
     def _build_model(self, height: int, width: int) -> AutoEncoder:

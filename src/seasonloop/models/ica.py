@@ -214,8 +214,9 @@ class ICALearner(FeatureLearner):
     """
 
     name = "ica"
-    # every solver's (which one fits is ica.solver's choice)
-    LIBRARIES = (
+    figures = ("ica_basis",)  # its basis images
+    TINY_RUN = {"n_components": 16, "max_iter": 200}
+    LIBRARIES = (  # every solver's (which one fits is ica.solver's choice)
         "joblib",
         "seasonloop.models.core.arithmetic",
         "seasonloop.models.core.fastica",

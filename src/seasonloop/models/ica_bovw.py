@@ -44,6 +44,8 @@ class ICABoVW(FeatureLearner):
     """FastICA on DC-removed patches, k-means words on the ICA sources, L1-normalised histograms."""
 
     name = "ica_bovw"
+    figures = ("patch_ica",)  # the study's Figures 12 (filters) and 13 (visual words)
+    TINY_RUN = {"n_train_patches": 3000, "n_components": 15, "n_words": 20}
     LIBRARIES = ("sklearn.cluster", "sklearn.decomposition", "joblib", "seasonloop.models.core.fastica_sklearn")
     PARAMS = {
         "patch_size": integer(1),
@@ -55,6 +57,17 @@ class ICABoVW(FeatureLearner):
         "max_iter": integer(1),
         "tol": number(0, None, low_open=True),
     }
+
+    @classmethod
+    def how_fit_ended(cls, info: Mapping[str, Any]) -> dict[str, Any]:
+        """The patch ICA's ending (its info nested under "ica") and k-means' iterations."""
+        ended = super().how_fit_ended(info)
+        nested = info.get("ica")
+        if isinstance(nested, Mapping):
+            ended.update({f"ica {key}": value for key, value in super().how_fit_ended(nested).items()})
+        if "kmeans_n_iter" in info:
+            ended["kmeans n_iter"] = info["kmeans_n_iter"]
+        return ended
 
     def __init__(self, params: Mapping[str, Any], seed: int = 0):
         super().__init__(params, seed)

@@ -28,6 +28,7 @@ class WhitenedPCALearner(PrincipalComponentLearner):
     by its standard deviation on the training images (population, as FastICA's whitening)."""
 
     name = "pca_whiten"
+    TINY_RUN = {"n_keep": 16, "svd_solver": "arpack"}  # as pca's
     PARAMS = {**PRINCIPAL_COMPONENT_PARAMS, "max_train_images": integer(0)}
 
     def _fit(self, images: np.ndarray, progress: bool, on_epoch: EpochCallback | None) -> dict[str, Any]:

@@ -53,8 +53,8 @@ def registered(where: str) -> Check:
 
 
 def check_learner_section(name: str, section: Mapping[str, Any]) -> None:
-    """Check learner `name`'s params section against the params its class declares (a partial
-    section is fine: the class's defaults fill the rest)."""
+    """Check learner `name`'s params section against the params its class declares (every key
+    set: the section holds the only values)."""
     registry(LEARNER_LOOKUP)(name).check_params(section)
 
 

@@ -2,13 +2,14 @@
 
 Figure 2 (PCA projection), 12 and 13 (patch-ICA filters, visual words), 19 (auto-encoder
 descriptors: code vs output vs patch-normalised output), 19b (reconstructions), 19c (loss per
-epoch). Each is drawn only when its learner is in the run; the callers pass the models folder
+epoch). A learner names the figures its fitted model draws (its class's `figures`, keys of FIGURES);
+each is drawn when a learner of the run names it; the callers pass the models folder
 (<models>/<learner>), the test images and the folder to draw into.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -18,14 +19,11 @@ import numpy as np
 from seasonloop.data.ground_truth import PairTruth
 from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.evaluation.descriptors import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
-from seasonloop.models.core.lookup import load_learner
+from seasonloop.models.core.lookup import get_learner, load_learner
 from seasonloop.models.core.torch_learner import AE_DESCRIPTORS
 from seasonloop.params.seasons import pair_name
 from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
 
-AUTOENCODERS = ("fae", "cae")
-# the learners whose models draw_figures loads (dvc.yaml's figures stage depends on their modules)
-FIGURE_LEARNERS = ("pca", "ica_bovw", *AUTOENCODERS)
 N_WORDS_SHOWN, N_EXAMPLES_SHOWN = 12, 10
 FILTERS_PER_ROW = 16
 N_RECONSTRUCTIONS = 2  # test places shown per season
@@ -175,27 +173,62 @@ def ica_basis_figure(ica, path: Path) -> None:
     )
 
 
+def one_model(draw: Callable[[Any, EvaluationContext, Path], None]) -> FigureDrawer:
+    """A figure of one learner's fitted model: draw(learner, context, out)."""
+
+    def drawn(models_dir: Path, names: Sequence[str], context: EvaluationContext, out: Path) -> dict:
+        if len(names) > 1:
+            raise ValueError(f"figures: {', '.join(names)} each name one figure that has room for one learner")
+        draw(load_learner(models_dir / names[0]), context, out)
+        return {}
+
+    return drawn
+
+
+def _pca_projection(pca, context: EvaluationContext, out: Path) -> None:
+    seasons = list(context.test)
+    pca_projection_figure(pca, context.test, context.truths, seasons, out / "fig02_pca_projection.png")
+
+
+def _patch_ica(bovw, context: EvaluationContext, out: Path) -> None:
+    first = next(iter(context.test))
+    ica_figures(bovw, context.test[first], first, out)
+
+
+# a figure a learner may name in its `figures` -> (what it is, for the note when no learner of the run
+# draws it; how it is drawn from the models of the learners that name it: a record per learner)
+FigureDrawer = Callable[[Path, Sequence[str], EvaluationContext, Path], dict]
+FIGURES: dict[str, tuple[str, FigureDrawer]] = {
+    "pca_projection": ("Figure 2", one_model(_pca_projection)),
+    "ica_basis": (
+        "the global ICA basis",
+        one_model(lambda ica, context, out: ica_basis_figure(ica, out / "fig12b_global_ica_basis.png")),
+    ),
+    "patch_ica": ("Figures 12 and 13", one_model(_patch_ica)),
+    "autoencoder": (
+        "Figures 19, 19b, 19c",
+        lambda models_dir, names, context, out: autoencoder_figures(models_dir, names, context, out),
+    ),
+}
+
+
+def figure_learners(learners: Sequence[str]) -> dict[str, list[str]]:
+    """Each figure of FIGURES -> the learners of `learners` that name it (their classes' `figures`)."""
+    named = {name: get_learner(name).figures for name in learners}
+    unknown = sorted({figure for figures in named.values() for figure in figures} - set(FIGURES))
+    if unknown:
+        raise ValueError(f"figures: a learner names {', '.join(unknown)}, not a figure (known: {', '.join(FIGURES)})")
+    return {figure: [name for name in learners if figure in named[name]] for figure in FIGURES}
+
+
 def draw_figures(models_dir: Path, out: Path, learners: Sequence[str], context: EvaluationContext) -> FigureRecords:
-    """Every figure into `out` whose learner is in `learners`, from the models of models_dir/<learner>;
-    the context's test images are every season's."""
-    test, truths = context.test, context.truths
-    seasons = list(test)
-    notes = []
-    if "pca" in learners:
-        pca_projection_figure(load_learner(models_dir / "pca"), test, truths, seasons, out / "fig02_pca_projection.png")
-    else:
-        notes.append("pca is not in learners: no Figure 2")
-    if "ica" in learners:
-        ica_basis_figure(load_learner(models_dir / "ica"), out / "fig12b_global_ica_basis.png")
-    else:
-        notes.append("ica is not in learners: no global ICA basis")
-    if "ica_bovw" in learners:
-        ica_figures(load_learner(models_dir / "ica_bovw"), test[seasons[0]], seasons[0], out)
-    else:
-        notes.append("ica_bovw is not in learners: no Figures 12 and 13")
-    autoencoders = [method for method in AUTOENCODERS if method in learners]
-    if not autoencoders:
-        notes.append("neither fae nor cae is in learners: no Figures 19, 19b, 19c")
-        return FigureRecords(notes=notes)
-    record = autoencoder_figures(models_dir, autoencoders, context, out)
+    """Every figure into `out` that a learner of `learners` names, from the models of
+    models_dir/<learner>; the context's test images are every season's."""
+    notes, record = [], {}
+    for figure, names in figure_learners(learners).items():
+        title, draw = FIGURES[figure]
+        if not names:
+            notes.append(f"no learner in learners draws {title}")
+            continue
+        record.update(draw(models_dir, names, context, out))
     return FigureRecords(record, notes)

@@ -102,7 +102,7 @@ def figures_section(
     """
     blocks: list[Block] = [Image(caption, png) for caption, png in figures.items()]
     if not figures:
-        blocks.append(Text("No figure: the learners they show (pca, ica_bovw, fae, cae) are not in learners."))
+        blocks.append(Text("No figure: no learner in learners draws one (a learner's class names its figures)."))
     if autoencoder_descriptors:
         cells = {
             (method, descriptor): {pair: record_cell(record, pair) for pair in record["fraction_correct"]}
@@ -125,7 +125,7 @@ def figures_section(
 def autoencoder_training_section(training: Mapping[str, Mapping[str, Any]]) -> Section:
     """How each auto-encoder's training ended, training[method][key] (metrics/autoencoder_training.json)."""
     if not training:
-        return Section("Auto-encoder training", [Text("No auto-encoder (fae, cae) is in learners.")])
+        return Section("Auto-encoder training", [Text("No auto-encoder is in learners.")])
     table = pd.DataFrame.from_dict(training, orient="index")
     return Section(
         "Auto-encoder training",

@@ -25,6 +25,9 @@ RUN_KEYS = ("training_seconds", "device", "torch_threads", "cpu_native_bfloat16"
 
 EpochCallback = Callable[[int, dict[str, float]], None]
 
+# Fit-info keys that say how an iterative fit ended (FeatureLearner.how_fit_ended)
+ENDING_KEYS = ("converged", "gradient", "tol", "n_iter", "stop_reason", "epochs_run", "best_validation_loss")
+
 
 @dataclass(frozen=True)
 class PlaceRows:
@@ -113,6 +116,11 @@ class FeatureLearner(ABC):
     trains_in_epochs: ClassVar[bool] = False
     # False: a descriptor that learns nothing from the training images (fit records their size only)
     learns: ClassVar[bool] = True
+    # the study's figures its fitted model draws (keys of seasonloop.reporting.figures.FIGURES)
+    figures: ClassVar[tuple[str, ...]] = ()
+    # its settings in the tests' tiny runs (tools.small_runs: 36 x 64 images, a few hundred places),
+    # where params.yaml's would fit for minutes: a fit of seconds that still does real work
+    TINY_RUN: ClassVar[dict[str, Any]] = {}
 
     def __init__(self, params: Mapping[str, Any], seed: int = 0):
         self.check_params(params)
@@ -121,6 +129,13 @@ class FeatureLearner(ABC):
         self.fit_info: dict[str, Any] | None = None
         self.input_shape: tuple[int, int] | None = None
         self._validate_params()
+
+    @classmethod
+    def how_fit_ended(cls, info: Mapping[str, Any]) -> dict[str, Any]:
+        """What of a fit's info says whether the fit reached its definition of done (ICA's
+        tolerance, an auto-encoder's validation plateau): its ENDING_KEYS; empty for a closed-form
+        fit. A learner whose fit holds other fits adds theirs."""
+        return {key: info[key] for key in ENDING_KEYS if key in info}
 
     @classmethod
     def import_libraries(cls) -> None:

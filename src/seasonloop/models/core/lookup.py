@@ -2,9 +2,9 @@
 subclass of seasonloop.models.<name> whose `name` is <name>.
 
 The stages that fit, describe with or draw a learner find it here, so they depend (dvc.yaml) on its
-module and models/core only: adding a learner (its module, its name in models/registry.py, its
-params section) reruns none of the other learners' stages. The name is checked against the
-registry's list as params.yaml's checks read it (seasonloop.params.registries: not a stage's dep).
+module and models/core only: adding a learner (its module and its params section) reruns none of
+the other learners' stages. The name is checked against the registry (the package's modules) as
+params.yaml's checks read it (seasonloop.params.registries: not a stage's dep).
 """
 
 from __future__ import annotations

@@ -44,6 +44,7 @@ class TorchAutoEncoderLearner(FeatureLearner):
         "seasonloop.models.core.training",
     )
     trains_in_epochs = True
+    figures = ("autoencoder",)  # the study's Figure 19: code, output, patch-normalised output
 
     PARAMS = {
         "max_epochs": integer(1),

@@ -130,3 +130,19 @@ def test_power_under_holm_is_below_power_alone_and_grows_with_the_gap():
     large = power_cell(np.random.default_rng(12), SETTINGS, 400, 0.5, 0.30, SINGLE_LIKE, 60, 4)
     assert small["power_holm"]["rate"] <= small["power"]["rate"]
     assert large["power_holm"]["rate"] > small["power_holm"]["rate"] and large["power_holm"]["rate"] >= 0.8
+
+
+def test_the_drift_studys_true_runs_are_the_simulated_outcomes_own():
+    # check_drift's ω and inflation come from the latent's correlation: no runs without dependence,
+    # and under a drift the measured lag-k correlations of the drawn outcomes are the ones it sums
+    from benchmarks.studies.check_drift import true_runs
+
+    assert true_runs(INDEPENDENT, 0.5).omega == 0 and true_runs(INDEPENDENT, 0.5).inflation == 1
+    drift = Dependence(a=0.3, phi=float(np.exp(-1 / 100)), share=0.3)
+    outcomes = learners(np.random.default_rng(0), 400, 1800, [0.5], drift)[0].astype(float)
+    centred = outcomes - outcomes.mean()
+    measured = [np.mean(centred[:, :-k] * centred[:, k:]) / np.mean(centred * centred) for k in (1, 50)]
+    expected = binary_correlation(0.3 * drift.phi ** np.array([1, 50]), 0.5)
+    assert measured == pytest.approx(expected, abs=0.02)
+    runs = true_runs(drift, 0.5)
+    assert runs.inflation > 30 and 100 < np.sqrt(runs.omega) < 200  # a drift of about 100 queries

@@ -142,7 +142,7 @@ def _drift_table(path: Path) -> str:
         "|---|---|---|---|---|---|---|",
     ]
     for row in record["rows"]:
-        spread = ", ".join(f"{row['estimated_degrees'][q]:g}" for q in ("5", "50", "95"))
+        spread = ", ".join(f"{row['estimated_degrees'][q]:.0f}" for q in ("5", "50", "95"))
         lines.append(
             f"| {row['n']} | {row['p']} | {row['degrees']} | {_rate(row['true_runs'])} | {_rate(row['own_runs'])} "
             f"| {_rate(row['pooled_runs'])} | {spread} |"

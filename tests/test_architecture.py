@@ -9,12 +9,14 @@ from pathlib import Path
 
 import pytest
 
+from seasonloop import FOUNDATION, PACKAGES
+
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src" / "seasonloop"
 
-# Lowest first: a module may import its own package and those before it. The foundation modules
-# (seasonloop/io.py, plots.py, machine.py) import nothing of seasonloop.
-LAYERS = ("foundation", "params", "data", "models", "significance", "evaluation", "reporting", "ablations")
+# Lowest first: a module may import its own package and those before it (the library's own list,
+# seasonloop.PACKAGES, is highest first). The foundation modules import nothing of seasonloop.
+LAYERS = ("foundation", *reversed(PACKAGES))
 
 
 def layer_of(dotted: str) -> str:
@@ -46,9 +48,10 @@ def imports_of(path: Path) -> list[str]:
 MODULES = sorted(SRC.rglob("*.py"))
 
 
-def test_every_package_is_a_layer() -> None:
+def test_every_package_is_a_layer_and_every_top_level_module_a_foundation_module() -> None:
     packages = {path.name for path in SRC.iterdir() if (path / "__init__.py").is_file()}
-    assert packages == set(LAYERS) - {"foundation"}
+    assert packages == set(PACKAGES)
+    assert {path.stem for path in SRC.glob("*.py")} - {"__init__"} == set(FOUNDATION)
 
 
 @pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(SRC)))

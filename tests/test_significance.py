@@ -370,3 +370,15 @@ def test_no_interval_is_narrower_than_wilsons_and_differences_stay_inside_minus_
     second = np.repeat(np.random.default_rng(2).random(16) < 0.1, 10)
     compared = paired_difference(first, second, SETTINGS)
     assert compared["low"] >= -1.0 and compared["high"] <= 1.0
+
+
+def test_the_mean_over_independent_pairs_is_as_narrow_as_their_trials_allow():
+    # each query's share of six pairs correct is the mean of six 0/1 outcomes: six independent pairs
+    # inform like 6 n trials, so the cap on the effective trials is 6 n, not n (an interval as wide
+    # as one pair's Wilson would cover nearly always)
+    rng = np.random.default_rng(0)
+    pairs = [rng.random(2000) < 0.5 for _ in range(6)]
+    interval = mean_interval(pairs, [np.arange(2000)] * 6, SETTINGS)
+    low, high = wilson_interval(1000, 2000, SETTINGS.level)
+    assert interval["high"] - interval["low"] < 0.6 * (high - low)  # about 1 / sqrt(6) = 0.41 of it
+    assert interval["effective_queries"] <= 6 * 2000

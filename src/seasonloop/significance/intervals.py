@@ -34,11 +34,9 @@ and their sum, weighted by the routes' shares of the queries, is the pooled mean
 Satterthwaite's degrees of freedom: a statement about these routes' queries, not about routes
 in general.
 
-Below MIN_DEGREES (a route too short for its own variance) no interval is given: it says "not
-enough queries" instead of a number. A route whose queries all succeed (or all fail) shows no
-variance of its own: its effective number of queries is n over the long-run variance's multiple
-of the variance that the series of its kind show (1 + 2 Σ r_k of the fit), or ν + 1 (the cosine
-terms' worth of independent stretches) where none of them varies; never n by default.
+Below MIN_DEGREES no interval is given ("not enough queries"). A route whose queries all succeed
+(or all fail) has no variance of its own: its effective number of queries is n over the inflation
+its kind of series shows (1 + 2 Σ r_k of the fit), or ν + 1 stretches where none of them varies.
 """
 
 from __future__ import annotations
@@ -53,8 +51,7 @@ import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
 
-# one cosine term leaves a variance estimate with one degree of freedom: a t_1 (Cauchy) interval
-# 12.7 standard errors wide each side at 95%, and no check that the route's spectrum is flat
+# one cosine term: a t_1 (Cauchy) interval 12.7 standard errors wide at 95%, no check of a flat spectrum
 MIN_DEGREES = 2
 RUNS_TOO_LONG = "runs too long for this many queries"  # how such a reason begins: tables say which
 EXACT = 1e-9  # added before a floor: a product that is an integer in exact arithmetic stays one
@@ -241,15 +238,18 @@ def wilson_interval(successes: int, trials: int, level: float) -> tuple[float, f
 
 
 def route_interval(
-    values: np.ndarray, settings: StatisticsConfig, segments: Sequence[int] | None = None, runs: Runs | None = None
+    values: np.ndarray,
+    settings: StatisticsConfig,
+    segments: Sequence[int] | None = None,
+    runs: Runs | None = None,
+    trials: int = 1,
 ) -> dict[str, Any]:
-    """{low, high, effective_queries, degrees} of the mean of `values` (each in [0, 1], in route
-    order), or {low: None, high: None, reason} when the route is too short for its runs. The score
-    interval with n_eff = mean (1 - mean) / var(mean), at most n (never narrower than Wilson's):
-    for 0/1 outcomes the binomial's trials that would be as informative. A route whose values are
-    all equal has no variance of its own to estimate: n_eff is n over the runs' inflation (the
-    series of its kind say how long runs are), or ν + 1 stretches where none of them varies.
-    runs: as mean_variance."""
+    """{low, high, effective_queries, degrees} of the mean of `values` (each the mean of `trials`
+    0/1 outcomes, in route order), or {low: None, high: None, reason} when the route is too short
+    for its runs. The score interval with n_eff = mean (1 - mean) / var(mean): the binomial's trials
+    that would be as informative, at most n trials (never narrower than Wilson's for independent
+    outcomes). A route whose values are all equal has no variance of its own to estimate: n_eff is
+    n over the runs' inflation, or ν + 1 stretches where none of them varies. runs: as mean_variance."""
     values = np.asarray(values, np.float64)
     spread = mean_variance(values, settings, segments, runs)
     if spread.reason is not None:
@@ -257,7 +257,7 @@ def route_interval(
     share = float(values.mean())
     binomial = share * (1 - share)
     if binomial > 0 and spread.variance > 0:
-        effective = min(binomial / spread.variance, float(len(values)))
+        effective = min(binomial / spread.variance, float(len(values) * trials))
     else:
         effective = min(spread.independent, float(len(values)))
     low, high = score_interval(share, effective, t_quantile(settings.level, spread.degrees))

@@ -34,7 +34,8 @@ def mean_interval(
     pooled = persistence(np.asarray(correct, np.float64) for correct in correct_by_pair)
     if all(np.array_equal(first, places) for places in places_by_pair[1:]):
         mean = np.mean([np.asarray(c, np.float64) for c in correct_by_pair], axis=0)
-        return route_interval(mean, settings, runs=pooled)
+        # each value the mean of one 0/1 outcome a pair: independent pairs would be n x pairs trials
+        return route_interval(mean, settings, runs=pooled, trials=len(correct_by_pair))
     spreads = [mean_variance(np.asarray(correct, np.float64), settings, runs=pooled) for correct in correct_by_pair]
     reasons = [spread.reason for spread in spreads if spread.reason is not None]
     if reasons:

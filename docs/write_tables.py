@@ -438,6 +438,21 @@ def run_state(workspace: Path, command: str, preset: str | None = None) -> tuple
     return commit, False, f"python -m seasonloop.preset {preset} && dvc repro"
 
 
+def refuse_uncommitted(source: Path, measured: bool, dirty: bool) -> None:
+    """A published table comes from a committed state: a benchmark's record measured with
+    uncommitted changes, or a run's outputs in a workspace that has them, are refused (SystemExit)."""
+    if measured:
+        record = json.loads(source.read_text())
+        if record.get("dirty"):
+            raise SystemExit(
+                f"{source}: measured at {record.get('commit')} + uncommitted changes; rerun it from a commit"
+            )
+    elif dirty:
+        raise SystemExit(
+            f"{source}: its workspace has uncommitted changes; commit them (or name the preset applied: --preset)"
+        )
+
+
 def snapshot(names: list[str], command: str, workspace: Path = ROOT, preset: str | None = None) -> None:
     """Copy the named tables' output files of `workspace` (this repository, or a clone that ran
     other params or a preset: run_state) into docs/results/ and record where they came from."""
@@ -448,6 +463,7 @@ def snapshot(names: list[str], command: str, workspace: Path = ROOT, preset: str
         source, copy, _ = TABLES[name]
         if not (workspace / source).exists():
             raise FileNotFoundError(f"{workspace / source}: not found (run the pipeline first)")
+        refuse_uncommitted(workspace / source, source.startswith("benchmarks/"), dirty)
         if (workspace / source).is_dir():  # a folder of small files (metrics/eval): copied whole,
             shutil.rmtree(RESULTS / copy, ignore_errors=True)  # but DVC's .gitignore, which would hide them
             shutil.copytree(workspace / source, RESULTS / copy, ignore=shutil.ignore_patterns(".gitignore"))

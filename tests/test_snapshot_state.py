@@ -12,7 +12,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "docs"))
 
-from write_tables import run_state  # noqa: E402
+from write_tables import refuse_uncommitted, run_state  # noqa: E402
 
 from seasonloop.preset import apply_preset  # noqa: E402
 
@@ -54,3 +54,15 @@ def test_another_changed_file_is_refused(clone):
     (clone / "presets" / "wide.yaml").write_text("split:\n  folds: 5\n")
     with pytest.raises(ValueError, match="changed: presets/wide.yaml"):
         run_state(clone, "dvc repro", "wide")
+
+
+def test_a_table_from_uncommitted_changes_is_refused(clone):
+    record = clone / "bench.json"
+    record.write_text('{"commit": "abc1234", "dirty": true}')
+    with pytest.raises(SystemExit, match="abc1234 \\+ uncommitted changes"):
+        refuse_uncommitted(record, measured=True, dirty=False)
+    record.write_text('{"commit": "abc1234", "dirty": false}')
+    refuse_uncommitted(record, measured=True, dirty=True)  # a record says its own state
+    with pytest.raises(SystemExit, match="uncommitted changes"):
+        refuse_uncommitted(clone / "dvc.lock", measured=False, dirty=True)
+    refuse_uncommitted(clone / "dvc.lock", measured=False, dirty=False)

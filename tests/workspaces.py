@@ -36,6 +36,7 @@ SEEDED_MODULES = (
     "test_experiments",
     "test_fresh_clone",
     "test_new_learner",
+    "test_extending",
     "test_folds",
     "test_pipeline",
 )

@@ -1,0 +1,57 @@
+"""docs/extending.md's steps, done: each adds what the page says to a copy of the project, in the
+files it names and no others, and runs it through `dvc repro` (a learner: tests/test_new_learner.py)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import yaml
+
+from tools.repository import dvc, git, tool_env
+from workspaces import committed_run
+
+# A matcher the project has never seen: each frame's descriptor beside its successor's (the last
+# frame's twice), matched as single images.
+PAIRS_FUNCTION = """
+def _with_next(descriptors: np.ndarray, places: np.ndarray, sequence: SequenceConfig) -> np.ndarray:
+    following = np.concatenate([descriptors[1:], descriptors[-1:]])
+    return np.concatenate([descriptors, following], axis=1)
+
+
+"""
+PAIRS_LINE = '    "pairs": Matcher("+pairs", "each frame with the next", _single_image, _with_next),\n'
+REGISTRY_COMMENT = "# A new matcher is one function plus one line here"
+
+
+def add_matcher(root: Path) -> None:
+    """docs/extending.md, "A matcher": its function and its line in MATCHER_REGISTRY, and its name in
+    evaluate.matchers to run it."""
+    module = root / "src/seasonloop/evaluation/matchers.py"
+    text = module.read_text()
+    assert REGISTRY_COMMENT in text and "MATCHER_REGISTRY: dict[str, Matcher] = {\n" in text
+    text = text.replace(REGISTRY_COMMENT, PAIRS_FUNCTION.lstrip("\n") + REGISTRY_COMMENT)
+    text = text.replace(
+        "MATCHER_REGISTRY: dict[str, Matcher] = {\n", "MATCHER_REGISTRY: dict[str, Matcher] = {\n" + PAIRS_LINE
+    )
+    module.write_text(text)
+    params = yaml.safe_load((root / "params.yaml").read_text())
+    params["evaluate"]["matchers"] = [*params["evaluate"]["matchers"], "pairs"]
+    (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
+
+
+@pytest.mark.e2e
+def test_a_matcher_added_in_its_module_and_params_runs_through_dvc_repro(tmp_path, small_seed_cache):
+    root = committed_run(tmp_path / "workspace", small_seed_cache)
+    add_matcher(root)
+    changed = git(root, "status", "--porcelain").stdout.split("\n")
+    assert sorted(line[3:] for line in changed if line) == ["params.yaml", "src/seasonloop/evaluation/matchers.py"]
+
+    result = dvc(root, "repro", env=tool_env(PYTHONPATH=str(root / "src")))
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    # every learner evaluated with it, its rows in the summary and the report beside the others'
+    learners = yaml.safe_load((root / "params.yaml").read_text())["learners"]
+    summary = yaml.safe_load((root / "metrics/mean_fraction_correct.json").read_text())
+    assert {f"{learner}+pairs" for learner in learners} <= set(summary)
+    assert all((root / "metrics/eval" / learner / "summer-fall+pairs.json").is_file() for learner in learners)
+    assert "each frame with the next" in (root / "plots/report.html").read_text()

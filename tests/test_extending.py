@@ -55,3 +55,37 @@ def test_a_matcher_added_in_its_module_and_params_runs_through_dvc_repro(tmp_pat
     assert {f"{learner}+pairs" for learner in learners} <= set(summary)
     assert all((root / "metrics/eval" / learner / "summer-fall+pairs.json").is_file() for learner in learners)
     assert "each frame with the next" in (root / "plots/report.html").read_text()
+
+
+def test_a_setting_added_in_params_yaml_and_its_sections_dataclass_is_checked_by_every_stage(tmp_path):
+    """docs/extending.md, "A setting": its value in params.yaml and one field with its check in its
+    section's dataclass; the whole-file check every stage starts with then requires and checks it."""
+    import shutil
+    import subprocess
+    import sys
+
+    from tools.repository import REPO
+
+    shutil.copytree(REPO / "src", tmp_path / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
+    settings = tmp_path / "src/seasonloop/params/settings.py"
+    anchor = "    window_at_breaks: str = setting(one_of(*WINDOW_RULES))\n"
+    text = settings.read_text()
+    assert anchor in text
+    settings.write_text(text.replace(anchor, anchor + "    stride: int = setting(integer(1))\n"))
+    check = "import sys, yaml; from seasonloop.params.schema import check_whole; check_whole(yaml.safe_load(sys.stdin))"
+
+    def checked(stride: int | None) -> subprocess.CompletedProcess:
+        params = yaml.safe_load((REPO / "params.yaml").read_text())
+        if stride is not None:
+            params["sequence"]["stride"] = stride
+        return subprocess.run(
+            [sys.executable, "-c", check],
+            input=yaml.safe_dump(params),
+            env=tool_env(PYTHONPATH=str(tmp_path / "src")),
+            capture_output=True,
+            text=True,
+        )
+
+    assert checked(2).returncode == 0
+    assert "sequence.stride" in checked(0).stderr  # its check
+    assert "sequence.stride" in checked(None).stderr  # and params.yaml must hold it

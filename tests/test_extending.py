@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from tools.repository import dvc, git, tool_env
+from tools.repository import commit_all, dvc, git, tool_env, write_params
 from workspaces import committed_run
 
 # A matcher the project has never seen: each frame's descriptor beside its successor's (the last
@@ -89,3 +89,65 @@ def test_a_setting_added_in_params_yaml_and_its_sections_dataclass_is_checked_by
     assert checked(2).returncode == 0
     assert "sequence.stride" in checked(0).stderr  # its check
     assert "sequence.stride" in checked(None).stderr  # and params.yaml must hold it
+
+
+# A source the project has never seen: each traverse's frames in an images/ folder of its own
+# (dataset/<traverse>/images/*.png), a layout some datasets ship.
+NESTED_FUNCTION = """
+def _nested_frame_folders(seasons: Sequence[str], data: DataConfig) -> dict[str, Path]:
+    paths = {season: Path(data.frames_dir) / season / "images" for season in seasons}
+    for folder in paths.values():
+        list_frame_files(folder)  # raises, naming the folder, when missing or empty
+    return paths
+
+
+"""
+NESTED_LINE = '    "nested_frames": Source("frames", locate=_nested_frame_folders),\n'
+SOURCES_OPEN = "SOURCES: dict[str, Source] = {\n"
+
+
+def add_source(root: Path) -> None:
+    """docs/extending.md, "A data source": its locating function and its line in SOURCES."""
+    module = root / "src/seasonloop/data/sources.py"
+    text = module.read_text()
+    anchor = "@dataclass(frozen=True)\nclass Source:"
+    assert anchor in text and SOURCES_OPEN in text
+    text = text.replace(SOURCES_OPEN, SOURCES_OPEN + NESTED_LINE)
+    module.write_text(text.replace(anchor, NESTED_FUNCTION.lstrip("\n") + anchor))
+
+
+@pytest.mark.e2e
+def test_a_data_source_added_in_its_module_runs_through_dvc_repro(tmp_path):
+    import cv2
+
+    from seasonloop.data.frames import sample_video
+    from seasonloop.data.synthetic import render_route
+    from tools.small_runs import DATA_PATH
+    from workspaces import make_workspace
+
+    dataset, seasons = tmp_path / "dataset", ["summer", "winter"]
+    render_route(tmp_path / "videos", seasons, 240, 1, 128, 72, seed=3, progress=False)
+    for season in seasons:
+        (dataset / season / "images").mkdir(parents=True)
+        for i, frame in enumerate(sample_video(tmp_path / "videos" / f"{season}.mp4", 1, 72, 128, progress=False)):
+            cv2.imwrite(str(dataset / season / "images" / f"{i + 1}.png"), frame)
+    overrides = {
+        **DATA_PATH,
+        "data": {"source": "nested_frames", "frames_dir": str(dataset), "seasons": seasons},
+        "train": {"seasons": seasons},
+        "evaluate": {"pairs": ["winter-summer"]},
+        "ablation": {**DATA_PATH["ablation"], "pair": "winter-summer"},
+        "report": {"example_pair": "winter-summer"},
+        "cae_widths": {**DATA_PATH["cae_widths"], "pairs": ["winter-summer"]},
+    }
+    root = make_workspace(tmp_path / "repo", {})  # the project as it is; then the source, and params naming it
+    add_source(root)
+    write_params(root, overrides)
+    changed = git(root, "status", "--porcelain").stdout.split("\n")
+    assert sorted(line[3:] for line in changed if line) == ["params.yaml", "src/seasonloop/data/sources.py"]
+    commit_all(root)
+    result = dvc(root, "repro", env=tool_env(PYTHONPATH=str(root / "src")))
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    places = yaml.safe_load((root / "metrics/dataset.json").read_text())["seasons"]
+    assert set(places) == set(seasons)
+    assert (root / "metrics/eval/raw_patchnorm/winter-summer.json").is_file()

@@ -26,7 +26,6 @@ import argparse
 import json
 import math
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -35,6 +34,7 @@ from benchmarks.studies.check_calibration import (
     DRIFT_QUERIES,
     DRIFT_SHARE,
     Dependence,
+    _rate_cell,
     binary_correlation,
     covers,
     drawn,
@@ -126,13 +126,6 @@ def main() -> None:
     save_and_report("check_drift", record, machine())
 
 
-def _rate(cell: dict[str, Any]) -> str:
-    if cell["rate"] is None:
-        return "refused"
-    refused = cell["refused"] / (cell["refused"] + cell["replicates"])
-    return f"{cell['rate']:.3f}" + (f" ({100 * refused:.0f}% refused)" if refused else "")
-
-
 def _drift_table(path: Path) -> str:
     """Coverage of a fraction's 95% interval under the drift: with the true runs, and estimated."""
     record = json.loads(path.read_text())
@@ -144,13 +137,14 @@ def _drift_table(path: Path) -> str:
     for row in record["rows"]:
         spread = ", ".join(f"{row['estimated_degrees'][q]:.0f}" for q in ("5", "50", "95"))
         lines.append(
-            f"| {row['n']} | {row['p']} | {row['degrees']} | {_rate(row['true_runs'])} | {_rate(row['own_runs'])} "
-            f"| {_rate(row['pooled_runs'])} | {spread} |"
+            f"| {row['n']} | {row['p']} | {row['degrees']} | {_rate_cell(row['true_runs'])} "
+            f"| {_rate_cell(row['own_runs'])} | {_rate_cell(row['pooled_runs'])} | {spread} |"
         )
+    error = (0.95 * 0.05 / record["replicates"]) ** 0.5
     legend = (
         f"A latent of correlation length {record['correlation_length']} queries, "
         f"{100 * record['dependence']['a']:.0f}% of its variance; {record['replicates']} simulated routes a cell "
-        f"(Monte Carlo standard error 0.5 points at 95%); degrees_scale {record['statistics']['degrees_scale']}, "
+        f"(Monte Carlo standard error {100 * error:.1f} points at 95%); degrees_scale {record['statistics']['degrees_scale']}, "
         f"persistence_scale {record['statistics']['persistence_scale']}; refused: fewer than 2 degrees of "
         'freedom ("runs too long for this many queries"), the rate is the answered routes\'.'
     )

@@ -205,10 +205,7 @@ FIGURES: dict[str, tuple[str, FigureDrawer]] = {
         one_model(lambda ica, context, out: ica_basis_figure(ica, out / "fig12b_global_ica_basis.png")),
     ),
     "patch_ica": ("Figures 12 and 13", one_model(_patch_ica)),
-    "autoencoder": (
-        "Figures 19, 19b, 19c",
-        lambda models_dir, names, context, out: autoencoder_figures(models_dir, names, context, out),
-    ),
+    "autoencoder": ("Figures 19, 19b, 19c", autoencoder_figures),
 }
 
 

@@ -59,9 +59,17 @@ DOCUMENTS = [README, *sorted((ROOT / "docs").glob("*.md"))]
 PROVENANCE = RESULTS / "provenance.json"
 
 
+# the header cells of records written before the learner column was named "learner" (CHANGELOG.md)
+OLD_HEADERS = {"| method |": "| learner |", "| pair method landmark |": "| pair learner landmark |"}
+
+
 def _fraction_correct(path: Path) -> str:
-    """The pipeline's own markdown, without its title line."""
-    return path.read_text().split("\n", 2)[2].strip() + "\n"
+    """The pipeline's own markdown, without its title line (an old record's header in today's words)."""
+    header, _, rows = path.read_text().split("\n", 2)[2].strip().partition("\n")
+    for old, new in OLD_HEADERS.items():
+        if header.startswith(old):
+            header = new + header[len(old) :]
+    return f"{header}\n{rows}\n"
 
 
 def _headline(path: Path) -> str:
@@ -77,7 +85,7 @@ def _headline(path: Path) -> str:
         learner, suffix = label.split("+")[0], label[len(label.split("+")[0]) :]
         cells.setdefault(learner, {}).update({pair + suffix: value for pair, value in zip(pairs, values)})
     columns = list(dict.fromkeys(column for by_column in cells.values() for column in by_column))
-    lines = ["| method | " + " | ".join(columns) + " |", "|---|" + "---|" * len(columns)]
+    lines = ["| learner | " + " | ".join(columns) + " |", "|---|" + "---|" * len(columns)]
     lines += [f"| {learner} | " + " | ".join(row.get(c, "") for c in columns) + " |" for learner, row in cells.items()]
     return "\n".join(lines) + "\n"
 

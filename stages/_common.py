@@ -1,5 +1,5 @@
 """What every stage script shares: reading (and checking) params.yaml, and turning bad input into
-one clear line. Imports seasonloop.params only; the pipeline's data sets are in _datasets.py.
+one clear line. The pipeline's data sets are in _datasets.py.
 
 Stage scripts are thin: they read params, call the seasonloop library and write their outputs.
 """
@@ -14,8 +14,8 @@ from typing import Any
 
 import yaml
 
-from seasonloop.params.schema import check_params, check_whole
 from seasonloop.params.seasons import check_seasons
+from seasonloop.registries.choices import check_params, check_whole
 
 PARAMS_FILE = Path("params.yaml")
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from _truths import evaluation_context, pair_truths
+from _ground_truth import evaluation_context, pair_truths
 
 from _common import data_seasons, load_params, param, stage_main, train_seasons
 from _datasets import test_images, training_images, training_places

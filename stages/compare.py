@@ -26,13 +26,13 @@ def main() -> None:
     params = load_params("learners", "data.seasons", "evaluate", "statistics")
     evaluate = EvaluateConfig.from_params(params)
     pairs = [pair_name(a, b) for a, b in available_pairs(data_seasons(params), evaluate.pairs)]
-    methods = list(param(params, "learners"))
+    learners = list(param(params, "learners"))
     comparisons = run_comparisons(
-        Path("data/outcomes"), methods, evaluations(evaluate), pairs, StatisticsConfig.from_params(params)
+        Path("data/outcomes"), learners, evaluations(evaluate), pairs, StatisticsConfig.from_params(params)
     )
     write_json(Path("metrics/comparisons.json"), comparisons)
     with staged_file(Path("plots/comparisons.md")) as markdown:
-        markdown.write_text(comparisons_markdown(comparisons, methods))
+        markdown.write_text(comparisons_markdown(comparisons, learners))
 
 
 if __name__ == "__main__":

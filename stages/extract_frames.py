@@ -19,8 +19,8 @@ from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main
 from seasonloop.data.extract import check_sources, copy_from_dataset, extract_seasons, preview_grid
+from seasonloop.data.ground_truth_kinds import truth_kind
 from seasonloop.data.positions import RENDERED, PositionFiles
-from seasonloop.data.truth_kinds import truth_kind
 from seasonloop.io import read_json, staged_dir, write_json
 from seasonloop.params.settings import DataConfig, ExtractConfig
 from seasonloop.plots import plot_image_grid

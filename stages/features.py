@@ -1,7 +1,7 @@
-"""Stage features@<method>: describe every test image of every season with one learner.
+"""Stage features@<learner>: describe every test image of every season with one learner.
 
-Writes data/features/<method>/<season>.npy (N_test, D) float32 and
-metrics/features/<method>/<season>.json (feature time per image, the study's Table 7) for each
+Writes data/features/<learner>/<season>.npy (N_test, D) float32 and
+metrics/features/<learner>/<season>.json (feature time per image, the study's Table 7) for each
 season of data.seasons. One process per learner, not per learner and season: the model is loaded
 once, and a stage's start-up (torch, scikit-learn, DVC) costs seconds on a slow CPU. A learner of
 descriptors computed elsewhere (precomputed) looks up the test places' rows of its files instead
@@ -43,7 +43,7 @@ def place_rows(season: str, frames: dict, split: dict) -> PlaceRows:
 @stage_main
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("method")
+    parser.add_argument("learner")
     args = parser.parse_args()
     params = load_params("data.seasons", "features")
     settings = FeaturesConfig.from_params(params)
@@ -53,11 +53,11 @@ def main() -> None:
     n_images = dict.fromkeys(seasons, 0)
     dimension = dict.fromkeys(seasons, 0)
     with (
-        staged_dir(Path("data/features") / args.method) as features_dir,
-        staged_dir(Path("metrics/features") / args.method) as metrics_dir,
+        staged_dir(Path("data/features") / args.learner) as features_dir,
+        staged_dir(Path("metrics/features") / args.learner) as metrics_dir,
     ):
         for fold in range(folds):
-            learner = load_learner(fold_dir(Path("models") / args.method, fold, folds))
+            learner = load_learner(fold_dir(Path("models") / args.learner, fold, folds))
             split_dir = fold_dir(SPLIT, fold, folds)
             test, split = test_images(split_dir, seasons), read_split(split_dir)
             out = fold_dir(features_dir, fold, folds)

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from _truths import all_pair_truths, evaluation_context
+from _ground_truth import all_pair_truths, evaluation_context
 
 from _common import data_seasons, load_params, param, stage_main
 from _datasets import test_images

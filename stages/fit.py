@@ -1,9 +1,9 @@
-"""Stage fit@<method>: fit one feature learner on the training images of train.seasons, or, with
-train.fitted: elsewhere, take the learner already fitted in train.models_dir/<method> (another
-run's models/, another dataset: as the field's published methods are trained elsewhere).
+"""Stage fit@<learner>: fit one feature learner on the training images of train.seasons, or, with
+train.fitted: elsewhere, take the learner already fitted in train.models_dir/<learner> (another
+run's models/, another dataset: as the field's published learners are trained elsewhere).
 
-Writes models/<method>/ (the fitted learner), logs/<method>/ (dvclive training and validation
-curves of the learners that train in epochs; an empty folder for the others) and metrics/fit/<method>.json (fit time, training-set
+Writes models/<learner>/ (the fitted learner), logs/<learner>/ (dvclive training and validation
+curves of the learners that train in epochs; an empty folder for the others) and metrics/fit/<learner>.json (fit time, training-set
 size, what it was trained on, the learner's fit report such as ICA convergence or why an
 auto-encoder stopped, and the torch threads and library versions, so that a different result
 elsewhere can be traced). With split.folds K > 1 a learner is fitted on each fold's training
@@ -36,16 +36,16 @@ from seasonloop.models.core.parallel import fit_threads, run_each
 
 
 def fit_here(
-    method: str, params: dict[str, Any], seasons: list[str], fold: int = -1, folds: int = 1
+    name: str, params: dict[str, Any], seasons: list[str], fold: int = -1, folds: int = 1
 ) -> tuple[FeatureLearner, dict, dict]:
     """The learner fitted on the training images of fold `fold` of `folds` (-1: the study's split,
-    the one whose epochs logs/<method> holds); (learner, its fit info, the record's facts)."""
-    learner_class = get_learner(method)
+    the one whose epochs logs/<learner> holds); (learner, its fit info, the record's facts)."""
+    learner_class = get_learner(name)
     # the learner checks its own section before the training images are loaded
-    learner = learner_class(param(params, method), seed=int(param(params, "seed")))
+    learner = learner_class(param(params, name), seed=int(param(params, "seed")))
     images = training_images(params, seasons, fold, folds)
     places = training_places(params, seasons, fold, folds)
-    logs = Path("logs") / method
+    logs = Path("logs") / name
     logged = fold % folds == folds - 1
     with ExitStack() as opened:
         if learner_class.trains_in_epochs and logged:
@@ -59,7 +59,7 @@ def fit_here(
         def on_epoch(epoch: int, values: dict[str, float]) -> None:
             if not logged:
                 return
-            # one plot of both losses (logs/<method>/plots/metrics/loss/{train,validation}.tsv)
+            # one plot of both losses (logs/<learner>/plots/metrics/loss/{train,validation}.tsv)
             live.log_metric("loss/train", values["train_loss"])
             live.log_metric("loss/validation", values["validation_loss"])
             live.log_metric("learning_rate", values["learning_rate"])
@@ -80,25 +80,25 @@ def fit_here(
     return learner, info, facts
 
 
-def fitted_elsewhere(method: str, models_dir: Path, season: str) -> tuple[FeatureLearner, dict, dict]:
-    """The learner fitted in models_dir/<method>, checked to be that learner and to take this run's
+def fitted_elsewhere(name: str, models_dir: Path, season: str) -> tuple[FeatureLearner, dict, dict]:
+    """The learner fitted in models_dir/<learner>, checked to be that learner and to take this run's
     image size; nothing is fitted here."""
-    learner = load_learner(models_dir / method)
-    if learner.name != method:
-        raise ValueError(f"{models_dir / method}: holds a '{learner.name}' learner, not '{method}' (train.models_dir)")
+    learner = load_learner(models_dir / name)
+    if learner.name != name:
+        raise ValueError(f"{models_dir / name}: holds a '{learner.name}' learner, not '{name}' (train.models_dir)")
     size = tuple(np.load(split_images_file(SPLIT, season, "test"), mmap_mode="r").shape[1:])
     if learner.image_shape != size:
         raise ValueError(
-            f"{models_dir / method}: fitted on {learner.image_shape[0]}x{learner.image_shape[1]} images, this run's "
+            f"{models_dir / name}: fitted on {learner.image_shape[0]}x{learner.image_shape[1]} images, this run's "
             f"are {size[0]}x{size[1]} (preprocess.height, preprocess.width)"
         )
-    Path("logs", method).mkdir(parents=True, exist_ok=True)  # a declared output, empty: nothing trained here
+    Path("logs", name).mkdir(parents=True, exist_ok=True)  # a declared output, empty: nothing trained here
     assert learner.fit_info is not None, "a loaded learner carries its fit record"
     facts = {
         "fit_seconds": None,
         "n_train_images": None,
         "train_seasons": [],
-        "trained_on": f"elsewhere: {models_dir / method} (not this dataset; its own params)",
+        "trained_on": f"elsewhere: {models_dir / name} (not this dataset; its own params)",
     }
     return learner, learner.fit_info, facts
 
@@ -109,10 +109,10 @@ def save_fold(learner: FeatureLearner, out: Path, fold: int, folds: int) -> None
     learner.save(folder)
 
 
-def fit_fold(method: str, params: dict[str, Any], seasons: list[str], folds: int, out: Path, fold: int):
+def fit_fold(name: str, params: dict[str, Any], seasons: list[str], folds: int, out: Path, fold: int):
     """fit_here of fold `fold` saved in its folder of `out` (run_each may run it in another
     process: the learner stays there); (its fit info, the record's facts)."""
-    learner, info, facts = fit_here(method, params, seasons, fold, folds)
+    learner, info, facts = fit_here(name, params, seasons, fold, folds)
     save_fold(learner, out, fold % folds, folds)
     return info, facts
 
@@ -120,33 +120,33 @@ def fit_fold(method: str, params: dict[str, Any], seasons: list[str], folds: int
 @stage_main
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("method")
-    method = parser.parse_args().method
+    parser.add_argument("learner")
+    name = parser.parse_args().learner
     params = load_params("seed", "data.seasons", "train", "augment.copies", "split.test_fraction")
     seasons = train_seasons(params)
     folds = count_folds(SPLIT)
     others: list[dict[str, Any]] = []  # the record of each fold but the study's
-    with staged_dir(Path("models") / method) as out:
+    with staged_dir(Path("models") / name) as out:
         elsewhere = param(params, "train.fitted") == "elsewhere"
-        if elsewhere or not get_learner(method).learns:
+        if elsewhere or not get_learner(name).learns:
             # one model, the same in every fold's folder
             if elsewhere:
-                learner, info, facts = fitted_elsewhere(method, Path(param(params, "train.models_dir")), seasons[0])
+                learner, info, facts = fitted_elsewhere(name, Path(param(params, "train.models_dir")), seasons[0])
             else:
-                learner, info, facts = fit_here(method, params, seasons, -1, folds)
+                learner, info, facts = fit_here(name, params, seasons, -1, folds)
             for fold in range(folds):
                 save_fold(learner, out, fold, folds)
         else:
-            # the study's fold last: the one logs/<method> and the record's own keys describe
+            # the study's fold last: the one logs/<learner> and the record's own keys describe
             fitted = run_each(
-                partial(fit_fold, method, params, seasons, folds, out),
+                partial(fit_fold, name, params, seasons, folds, out),
                 [*range(folds - 1), -1],
                 int(param(params, "train.jobs")),
             )
             others = [{"fold": fold, **facts, "info": info} for fold, (info, facts) in enumerate(fitted[:-1])]
             info, facts = fitted[-1]
     write_json(
-        Path("metrics/fit") / f"{method}.json",
+        Path("metrics/fit") / f"{name}.json",
         {
             **facts,
             "info": info,

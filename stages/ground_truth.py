@@ -16,7 +16,7 @@ from _common import data_seasons, load_params, param, stage_main
 from _datasets import SPLIT
 from seasonloop.data.datasets import count_folds, fold_dir, read_split
 from seasonloop.data.ground_truth import truth_file
-from seasonloop.evaluation.pair_truths import each_truth, pair_record, pooled_pair_record, truth_record
+from seasonloop.evaluation.pair_ground_truth import each_truth, pair_record, pooled_pair_record, truth_record
 from seasonloop.io import staged_dir, write_json
 from seasonloop.params.settings import EvaluateConfig
 

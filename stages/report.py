@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from _truths import pair_truths
+from _ground_truth import pair_truths
 
 from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main
 from _datasets import test_images
@@ -44,7 +44,7 @@ FILES = ReportFiles(
 @stage_main
 def main() -> None:
     params = load_params("learners", "data.seasons", "evaluate", "ablation", "report")
-    methods = list(param(params, "learners"))
+    learners = list(param(params, "learners"))
     seasons = data_seasons(params)
     evaluate = EvaluateConfig.from_params(params)
     pairs = [pair_name(a, b) for a, b in available_pairs(seasons, evaluate.pairs)]
@@ -53,14 +53,14 @@ def main() -> None:
     )
     if note:
         print(f"report: {note}")
-    results = load_evaluations(Path("metrics/eval"), methods, pairs, evaluations(evaluate), evaluate.metric)
+    results = load_evaluations(Path("metrics/eval"), learners, pairs, evaluations(evaluate), evaluate.metric)
     html = study_report(
         FILES,
         results,
-        methods,
+        learners,
         seasons,
         evaluate,
-        AblationConfig.from_params(params).methods,
+        AblationConfig.from_params(params).learners,
         example_pair,
         test_images(list(example_pair)),
         pair_truths([example_pair])[example_pair],

@@ -20,10 +20,10 @@ import numpy as np
 from _common import data_seasons, load_params, param, stage_main
 from _datasets import SPLIT
 from seasonloop.data.datasets import fold_dir
+from seasonloop.data.ground_truth_kinds import truth_kind
 from seasonloop.data.layout import RouteLayout
 from seasonloop.data.season_split import split_seasons
 from seasonloop.data.split import detection_record, place_seconds, split_route, write_split_sets
-from seasonloop.data.truth_kinds import truth_kind
 from seasonloop.io import read_json, staged_dir, write_json
 from seasonloop.params.settings import SplitConfig
 

@@ -53,24 +53,24 @@ COMPARE = Path("metrics/mean_fraction_correct.json")
 @stage_main
 def main() -> None:
     params = load_params("learners", "data.seasons", "evaluate", "statistics")
-    methods = list(param(params, "learners"))
+    learners = list(param(params, "learners"))
     seasons = data_seasons(params)
     evaluate = EvaluateConfig.from_params(params)
     pairs = [pair_name(a, b) for a, b in available_pairs(seasons, evaluate.pairs)]
     results = load_evaluations(
-        Path("metrics/eval"), methods, pairs, evaluations(evaluate), evaluate.metric, pr_dir=Path("plots/pr")
+        Path("metrics/eval"), learners, pairs, evaluations(evaluate), evaluate.metric, pr_dir=Path("plots/pr")
     )
-    runtime = load_runtime(Path("metrics/fit"), Path("metrics/features"), methods, seasons)
+    runtime = load_runtime(Path("metrics/fit"), Path("metrics/features"), learners, seasons)
     intervals = mean_intervals(
-        Path("data/outcomes"), methods, evaluations(evaluate), pairs, StatisticsConfig.from_params(params)
+        Path("data/outcomes"), learners, evaluations(evaluate), pairs, StatisticsConfig.from_params(params)
     )
     write_json(Path("metrics/summary.json"), summary_record(results, intervals))
     write_json(COMPARE, compare_record(results))
     write_json(Path("metrics/runtime.json"), runtime)
-    write_json(Path("metrics/autoencoder_training.json"), autoencoder_training(Path("metrics/fit"), methods))
+    write_json(Path("metrics/autoencoder_training.json"), autoencoder_training(Path("metrics/fit"), learners))
     with staged_dir(Path("plots/summary")) as out:
-        write_summary_files(out, results, runtime, training_curves(Path("logs"), methods))
-        write_similarity_figure(out / "similarity.png", Path("plots/similarity"), methods, pairs)
+        write_summary_files(out, results, runtime, training_curves(Path("logs"), learners))
+        write_similarity_figure(out / "similarity.png", Path("plots/similarity"), learners, pairs)
 
 
 if __name__ == "__main__":

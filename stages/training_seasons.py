@@ -1,5 +1,5 @@
 """Stage training_seasons: the study's training-season effect (its Figure 18), from the records of
-training_seasons_fit@<learner> for every learner of ablation.methods, and for the list of training
+training_seasons_fit@<learner> for every learner of ablation.learners, and for the list of training
 seasons that is the pipeline's own training set, evaluate@<learner>'s fraction correct (where the
 fit stage reused it: not with split.folds > 1, whose evaluate pools every fold's queries).
 
@@ -37,8 +37,8 @@ def main() -> None:
         print(f"training_seasons: {plan.skipped}")
         write_ablation(plan, None, RECORD, FIGURE)
         return
-    fraction_correct = read_learner_records(plan, ablation.methods, RECORDS, EVALUATIONS)
-    intervals = read_learner_intervals(plan, ablation.methods, RECORDS, EVALUATIONS)
+    fraction_correct = read_learner_records(plan, ablation.learners, RECORDS, EVALUATIONS)
+    intervals = read_learner_intervals(plan, ablation.learners, RECORDS, EVALUATIONS)
     write_ablation(plan, fraction_correct, RECORD, FIGURE, intervals)
 
 

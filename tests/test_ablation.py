@@ -216,7 +216,7 @@ def test_learner_records_combine_into_the_ablation_record(tmp_path):
 
 def test_a_reused_label_is_not_refitted_and_is_read_from_the_pipelines_evaluation(tmp_path):
     # the pipeline's learner is fitted on train.seasons: the ablation's list of the same seasons
-    # is that learner, so its value is evaluate@<method>'s fraction correct on the plan's pair
+    # is that learner, so its value is evaluate@<learner>'s fraction correct on the plan's pair
     seasons = ["summer", "spring", "fall", "winter"]
     plan = plan_ablation(seasons, "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"])
     assert reusable_label(plan, ["winter", "summer"], True, True) == "summer+winter"

@@ -21,8 +21,8 @@ from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.raw_patchnorm import RawPatchNorm
-from seasonloop.params.schema import check_whole
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
+from seasonloop.registries.choices import check_whole
 from seasonloop.reporting.html import build_report
 from seasonloop.reporting.model_sections import cae_widths_section
 from tools.repository import learner_params

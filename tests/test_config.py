@@ -15,14 +15,14 @@ import yaml
 from seasonloop.evaluation.sequence import enhance_distance_contrast
 from seasonloop.models import ica
 from seasonloop.models.core.ica_densities import DENSITIES
-from seasonloop.models.core.lookup import get_learner
+from seasonloop.models.core.lookup import LEARNERS, get_learner
 from seasonloop.models.core.torch_ica import WHITEN_SOLVERS
 from seasonloop.models.fae import ACTIVATIONS
-from seasonloop.models.registry import LEARNERS
-from seasonloop.params import choices, registries
-from seasonloop.params.schema import TOP_LEVEL, check_params, check_whole
+from seasonloop.params import choices
+from seasonloop.params.schema import TOP_LEVEL
 from seasonloop.params.settings import SCHEMA
 from seasonloop.preset import composed_params
+from seasonloop.registries.choices import CHOICES, check_params, check_whole
 
 REPO = Path(__file__).resolve().parents[1]
 ALL_KEYS = [*SCHEMA, *TOP_LEVEL]
@@ -77,7 +77,7 @@ def test_a_typo_is_an_error_naming_the_key(params, section, key, value, message)
         ("data.source", "vidoes", r"data\.source: unknown value 'vidoes'"),
         ("extract.trim_to_shortest", "yes", r"extract\.trim_to_shortest: expected true or false"),
         ("augment.width_shift", 1.0, r"augment\.width_shift"),
-        ("ablation.methods", ["pca", "sift"], r"ablation\.methods: unknown value 'sift'"),
+        ("ablation.learners", ["pca", "sift"], r"ablation\.learners: unknown value 'sift'"),
         (
             "ablation.training_seasons",
             [["summer"], ["autumn"]],
@@ -128,7 +128,7 @@ def test_missing_and_unknown_top_level_keys(params):
         check_params(params, ["evaluate"])
     params["evaluat"] = {}
     with pytest.raises(ValueError, match="params.yaml: unknown key 'evaluat'"):
-        check_params(params, [])
+        check_whole(params)
     del params["evaluat"]
     with pytest.raises(ValueError, match=r"unknown key 'split\.tets_fraction'"):
         check_params(params, ["split.tets_fraction"])
@@ -138,25 +138,35 @@ def test_only_the_keys_asked_for_are_checked(params):
     # a stage checks what it reads: another section's bad value is that stage's business
     params["split"]["test_fraction"] = 0.9
     check_params(params, ["data.seasons", "evaluate"])
-    # learner sections are the learner classes' to check
+    # a learner's section is checked by its class when asked for
     params["pca"]["n_kep"] = 3
-    check_params(params, ["pca"])
+    check_params(params, ["data.seasons"])
+    with pytest.raises(ValueError, match=r"^pca\.n_kep: unknown key"):
+        check_params(params, ["pca"])
 
 
-def test_every_registry_a_check_reads_is_there():
-    # a choice is checked against the library's registry itself (seasonloop.params.registries):
-    # each one named resolves to a non-empty collection of names
-    assert len(registries.READ) >= 7
-    for where in registries.READ:
-        assert registries.names(where), where
-        assert all(isinstance(name, str) for name in registries.names(where)), where
+def test_every_choice_is_a_declared_key_and_its_registry_holds_names(params):
+    # a choice is checked against the library's registry itself (seasonloop.registries.CHOICES)
+    for key, names in CHOICES.items():
+        section, _, sub = key.partition(".")
+        assert (sub in SCHEMA[section]) if sub else (key in TOP_LEVEL), key
+        assert names and all(isinstance(name, str) for name in names), key
+
+
+@pytest.mark.parametrize("key", list(CHOICES))
+def test_a_name_no_registry_holds_is_refused_with_its_key(params, key):
+    section, _, sub = key.partition(".")
+    holder, name = (params[section], sub) if sub else (params, key)
+    holder[name] = ["nosuch"] if isinstance(holder[name], list) else "nosuch"
+    with pytest.raises(ValueError, match=rf"^{key}: unknown value 'nosuch'"):
+        check_whole(params)
 
 
 def test_checking_params_imports_no_heavy_module():
     # every stage checks the whole params.yaml first, reading the registries and every learner's
     # declared params: that must not import torch, scikit-learn, pandas or OpenCV (seconds a stage)
     code = (
-        "import sys, yaml; from seasonloop.params.schema import check_whole; "
+        "import sys, yaml; from seasonloop.registries.choices import check_whole; "
         "check_whole(yaml.safe_load(open('params.yaml'))); "
         "print(sorted({'torch', 'sklearn', 'pandas', 'joblib', 'cv2'} & set(sys.modules)))"
     )

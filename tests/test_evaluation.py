@@ -76,9 +76,11 @@ def test_evaluations_name_every_metric_and_matcher():
     ],
 )
 def test_a_bad_section_is_checked_by_the_schema_naming_the_key(change, message):
-    # the schema is the one check, run when the typed section is built
+    # the schema (and, for a choice among a registry's names, the registry) is the one check
+    from seasonloop.registries.choices import check_params
+
     with pytest.raises(ValueError) as error:
-        EvaluateConfig.from_params({"evaluate": {**EVALUATE_DICT, **change}})
+        check_params({"evaluate": {**EVALUATE_DICT, **change}}, ["evaluate"])
     assert message in str(error.value) and "\n" not in str(error.value)
 
 

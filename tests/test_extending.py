@@ -72,7 +72,7 @@ def test_a_setting_added_in_params_yaml_and_its_sections_dataclass_is_checked_by
     text = settings.read_text()
     assert anchor in text
     settings.write_text(text.replace(anchor, anchor + "    stride: int = setting(integer(1))\n"))
-    check = "import sys, yaml; from seasonloop.params.schema import check_whole; check_whole(yaml.safe_load(sys.stdin))"
+    check = "import sys, yaml; from seasonloop.registries.choices import check_whole; check_whole(yaml.safe_load(sys.stdin))"
 
     def checked(stride: int | None) -> subprocess.CompletedProcess:
         params = yaml.safe_load((REPO / "params.yaml").read_text())
@@ -151,3 +151,75 @@ def test_a_data_source_added_in_its_module_runs_through_dvc_repro(tmp_path):
     places = yaml.safe_load((root / "metrics/dataset.json").read_text())["seasons"]
     assert set(places) == set(seasons)
     assert (root / "metrics/eval/raw_patchnorm/winter-summer.json").is_file()
+
+
+# A kind the project has never seen: a query is right only at its own frame (the aligned kind with
+# no tolerance, whatever evaluate.tolerance_frames says).
+EXACT_CLASS = """
+class Exact(Aligned):
+    name = "exact"
+
+    def pair_builder(self, seasons, test, counts, evaluate, frames_dir, truth_dir) -> PairBuilder:
+        return lambda database, query: aligned_truth(test[database], test[query], 0)
+
+    def describe(self, evaluate: EvaluateConfig) -> str:
+        return "the query's own frame index"
+
+
+"""
+KINDS_OPEN = "TRUTH_KINDS: dict[str, TruthKind] = {kind.name: kind for kind in (Aligned(), "
+
+
+def test_a_ground_truth_kind_added_in_its_module_is_checked_and_builds_its_truth(tmp_path):
+    """docs/extending.md, "A ground-truth kind": its class and its entry in TRUTH_KINDS; params.yaml's
+    data.ground_truth may then name it, and the pair's truth is the class's."""
+    import shutil
+    import subprocess
+    import sys
+
+    from tools.repository import REPO
+
+    shutil.copytree(REPO / "src", tmp_path / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
+    module = tmp_path / "src/seasonloop/data/ground_truth_kinds.py"
+    text = module.read_text()
+    assert KINDS_OPEN in text
+    text = text.replace(
+        KINDS_OPEN, EXACT_CLASS.lstrip("\n") + KINDS_OPEN.replace("(Aligned(), ", "(Aligned(), Exact(), ")
+    )
+    module.write_text(text)
+    program = """
+import sys, yaml
+import numpy as np
+from seasonloop.data.ground_truth_kinds import truth_kind
+from seasonloop.params.settings import EvaluateConfig
+from seasonloop.registries.choices import check_whole
+
+params = yaml.safe_load(sys.stdin)
+check_whole(params)
+kind = truth_kind(params["data"]["ground_truth"])
+test = {"summer": np.array([3, 4, 5]), "winter": np.array([3, 4, 5])}
+evaluate = EvaluateConfig.from_params(params)
+truth = kind.pair_builder(["summer", "winter"], test, {}, evaluate, None, None)("summer", "winter")
+print(kind.describe(evaluate), int(truth.correct.sum()), evaluate.tolerance_frames)
+"""
+
+    def run(kind: str) -> subprocess.CompletedProcess:
+        params = yaml.safe_load((REPO / "params.yaml").read_text())
+        params["data"]["ground_truth"] = kind
+        params["evaluate"]["tolerance_frames"] = 1
+        return subprocess.run(
+            [sys.executable, "-c", program],
+            input=yaml.safe_dump(params),
+            env=tool_env(PYTHONPATH=str(tmp_path / "src")),
+            capture_output=True,
+            text=True,
+        )
+
+    exact, aligned = run("exact"), run("aligned")
+    assert exact.returncode == 0 and aligned.returncode == 0, exact.stderr + aligned.stderr
+    describe, correct, tolerance = exact.stdout.strip().rsplit(" ", 2)
+    # its own rule: 3 test places, each right at its own frame only, where aligned's tolerance of 1
+    # also counts each one's neighbours
+    assert (describe, correct, tolerance) == ("the query's own frame index", "3", "1")
+    assert aligned.stdout.split()[-2] == "7"
+    assert "data.ground_truth: unknown value 'exakt'" in run("exakt").stderr

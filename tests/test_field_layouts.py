@@ -129,7 +129,7 @@ def test_a_vpr_bench_dataset_runs_with_one_command_on_every_query(tmp_path):
     assert evaluation(root, "pca", "ref-query")["n_queries"] == n_query
     # (training on the query traverse is refused: tests/test_protocols.py)
 
-    # (c) fitted elsewhere, as published methods are: learners another run fitted (here on other
+    # (c) fitted elsewhere, as published learners are: learners another run fitted (here on other
     # images of the same size, noise) applied unchanged, nothing fitted on this dataset (up to the
     # evaluation: (a) ran this layout through the report, and the report's "trained on" column of a
     # learner fitted elsewhere is tests/test_report_assembly.py's)

@@ -6,8 +6,8 @@ import numpy as np
 
 from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.data.patchnorm import patch_normalise
+from seasonloop.evaluation.autoencoder_descriptors import autoencoder_descriptors
 from seasonloop.evaluation.context import EvaluationContext
-from seasonloop.evaluation.descriptors import autoencoder_descriptors
 from seasonloop.models.core.lookup import get_learner
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
 from seasonloop.reporting.figures import AE_DESCRIPTORS, draw_figures
@@ -118,15 +118,14 @@ def test_patchnorm_output_is_the_learners_output_patchnorm_descriptor():
     _, output = learner.describe_code_and_output(images[:6], batch_size=4)
     normalised = learner.patchnorm_output(output, images.shape[1:])
     np.testing.assert_array_equal(normalised, learner.describe_as(images[:6], "output_patchnorm", batch_size=4))
-    # what the figures stage computed itself before the learner had this method
+    # what the figures stage computed itself before the learner had this learner
     np.testing.assert_array_equal(
         normalised, patch_normalise(output.reshape(6, 16, 32), learner.params["patch_size"]).reshape(6, -1)
     )
 
 
 def test_every_figure_a_learner_names_is_one_that_can_be_drawn():
-    from seasonloop.models.core.lookup import get_learner
-    from seasonloop.models.registry import LEARNERS
+    from seasonloop.models.core.lookup import LEARNERS, get_learner
     from seasonloop.reporting.figures import FIGURES, figure_learners
 
     named = {name: get_learner(name).figures for name in LEARNERS}

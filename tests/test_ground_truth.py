@@ -10,6 +10,7 @@ import pandas as pd
 import pytest
 
 from seasonloop.data.ground_truth import PairTruth, aligned_truth, matrix_truth, position_truth
+from seasonloop.data.ground_truth_files import matrix_between, read_matrix
 from seasonloop.data.positions import (
     PositionFiles,
     at_times,
@@ -19,7 +20,6 @@ from seasonloop.data.positions import (
     season_positions,
 )
 from seasonloop.data.season_split import by_matrix, by_position, distance_to_track, split_seasons
-from seasonloop.data.truth_matrix import matrix_between, read_matrix
 from seasonloop.evaluation.metrics import evaluate_pair, evaluate_truth, pr_curve, truth_matches
 from seasonloop.models.core.learner import PlaceRows
 from seasonloop.models.precomputed import PrecomputedDescriptors
@@ -197,18 +197,16 @@ def test_precomputed_descriptors_are_looked_up_by_place(tmp_path):
 
 
 def test_the_schema_knows_every_kind_of_ground_truth():
-    from seasonloop.data.ground_truth import KINDS
-    from seasonloop.data.truth_kinds import TRUTH_KINDS, truth_kind
-    from seasonloop.params.settings import SCHEMA
+    from seasonloop.data.ground_truth_kinds import TRUTH_KINDS, truth_kind
+    from seasonloop.registries.choices import check_choice
 
     # data.ground_truth is checked against the registry itself; vpr_bench builds matrix truths from VPR-Bench's file
     for kind in TRUTH_KINDS:
-        SCHEMA["data"]["ground_truth"]("data.ground_truth", kind)
+        check_choice({"data": {"ground_truth": kind}}, "data.ground_truth")
     with pytest.raises(
         ValueError, match=r"data\.ground_truth: unknown value 'gps' \(known: aligned, positions, matrix, vpr_bench\)"
     ):
-        SCHEMA["data"]["ground_truth"]("data.ground_truth", "gps")
-    assert set(TRUTH_KINDS) == {*KINDS, "vpr_bench"}
+        check_choice({"data": {"ground_truth": "gps"}}, "data.ground_truth")
     assert [kind.name for kind in TRUTH_KINDS.values() if kind.aligned] == ["aligned"]
     with pytest.raises(ValueError, match="data.ground_truth: unknown kind 'gps'"):
         truth_kind("gps")
@@ -218,17 +216,17 @@ def test_a_new_kind_of_ground_truth_is_one_class_and_one_registry_line(monkeypat
     # the class and its TRUTH_KINDS entry are all params.yaml's check and the pipeline read
     import yaml
 
-    from seasonloop.data import truth_kinds
-    from seasonloop.params.schema import check_whole
+    from seasonloop.data import ground_truth_kinds
+    from seasonloop.registries.choices import check_whole
 
-    class SameFrames(truth_kinds.Aligned):
+    class SameFrames(ground_truth_kinds.Aligned):
         name = "same_frames"
 
-    monkeypatch.setitem(truth_kinds.TRUTH_KINDS, "same_frames", SameFrames())
+    monkeypatch.setitem(ground_truth_kinds.TRUTH_KINDS, "same_frames", SameFrames())
     params = yaml.safe_load((Path(__file__).resolve().parents[1] / "params.yaml").read_text())
     params["data"]["ground_truth"] = "same_frames"
     check_whole(params)
-    assert truth_kinds.truth_kind("same_frames").aligned
+    assert ground_truth_kinds.truth_kind("same_frames").aligned
 
 
 def test_recall_at_n_leaves_out_queries_without_a_correct_place():
@@ -339,7 +337,7 @@ def test_frames_beyond_the_reference_route_belong_to_no_place():
 
 
 def test_one_matrix_per_pair_of_seasons_serves_both_directions(tmp_path):
-    from seasonloop.evaluation.pair_truths import each_truth
+    from seasonloop.evaluation.pair_ground_truth import each_truth
 
     hard = np.eye(4, 5, dtype=bool)  # (summer places, fall places)
     soft = hard | np.eye(4, 5, k=1, dtype=bool)
@@ -461,7 +459,7 @@ def test_video_positions_in_degrees_are_interpolated_in_metres_across_180(tmp_pa
 
 
 def test_vpr_bench_ground_truth_reads_as_the_reference_by_query_matrix(tmp_path):
-    from seasonloop.data.truth_matrix import pair_matrix, read_vpr_bench
+    from seasonloop.data.ground_truth_files import pair_matrix, read_vpr_bench
 
     # VPR-Bench's Nordland: query i correct at references 10i-1 .. 10i+1 (query 0 at 0 and 1)
     rows = np.empty((3, 2), dtype=object)

@@ -12,9 +12,8 @@ from sklearn.decomposition import PCA
 from sklearn.exceptions import ConvergenceWarning
 
 from seasonloop.models.core.learner import RUN_KEYS, FeatureLearner, to_float
-from seasonloop.models.core.lookup import get_learner, load_learner
+from seasonloop.models.core.lookup import LEARNERS, get_learner, load_learner
 from seasonloop.models.core.upsampling import UpsampledConv2d
-from seasonloop.models.registry import LEARNERS
 from tools.repository import learner_params
 
 N_PER_FAMILY = 100
@@ -84,7 +83,7 @@ def nearest_neighbour_same_family(descriptors: np.ndarray, labels: np.ndarray) -
 
 def test_every_module_of_the_models_package_is_the_learner_of_its_name():
     # the registry is the package's modules (no list to keep beside them): each holds its learner
-    assert "pca" in LEARNERS and "registry" not in LEARNERS and "core" not in LEARNERS
+    assert "pca" in LEARNERS and "core" not in LEARNERS
     for name in LEARNERS:
         learner_class = get_learner(name)
         assert learner_class.name == name and learner_class.__module__ == f"seasonloop.models.{name}"
@@ -124,7 +123,7 @@ def imports_inside_functions(module: object) -> set[str]:
 
 @pytest.mark.parametrize("name", list(LEARNERS))
 def test_a_learner_lists_every_library_its_methods_import(name):
-    # the fit stage imports LIBRARIES before its timer: an import a method defers and the list
+    # the fit stage imports LIBRARIES before its timer: an import a learner defers and the list
     # leaves out would count Python's import in fit_seconds
     learner = get_learner(name)
     modules = {sys.modules[cls.__module__] for cls in learner.__mro__ if cls.__module__.startswith("seasonloop.")}
@@ -430,14 +429,14 @@ def test_bad_params_raise_naming_the_key(name, params, match):
         get_learner(name)(learner_params(name, params))
 
 
-def test_unknown_method_and_missing_directory(tmp_path):
-    with pytest.raises(ValueError, match=r"unknown method 'sift'.*pca"):
+def test_unknown_learner_and_missing_directory(tmp_path):
+    with pytest.raises(ValueError, match=r"unknown learner 'sift'.*pca"):
         get_learner("sift")
     with pytest.raises(FileNotFoundError, match="learner.json"):
         load_learner(tmp_path)
     # a saved learner of a kind this installation does not know: one line, no traceback
     (tmp_path / "learner.json").write_text(json.dumps({"name": "sift"}))
-    with pytest.raises(ValueError, match=r"unknown method 'sift'.*pca"):
+    with pytest.raises(ValueError, match=r"unknown learner 'sift'.*pca"):
         load_learner(tmp_path)
 
 

@@ -87,7 +87,7 @@ def test_a_learner_added_in_its_module_and_its_params_runs_through_dvc_repro(tmp
     params = yaml.safe_load((root / "params.yaml").read_text())
     params["random_projection"] = {"n_dim": 24}
     (root / "params.yaml").write_text(yaml.safe_dump(params, sort_keys=False))
-    check = "import yaml; from seasonloop.params.schema import check_whole; check_whole(yaml.safe_load(open('params.yaml')))"
+    check = "import yaml; from seasonloop.registries.choices import check_whole; check_whole(yaml.safe_load(open('params.yaml')))"
     result = subprocess.run(
         [sys.executable, "-c", check],
         cwd=root,

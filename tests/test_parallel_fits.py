@@ -19,15 +19,15 @@ from tools.repository import learner_params
 SECTIONS = {"pca": {"n_discard": 0, "n_keep": 12}, "ica": {"n_components": 8, "max_iter": 200}}
 
 
-def fitted_bytes(method: str, section: dict, folder: Path, fold: int) -> str:
+def fitted_bytes(name: str, section: dict, folder: Path, fold: int) -> str:
     """A small learner fitted on fold `fold`'s images at 1 thread, saved; the sha256 of its files."""
     rng = np.random.default_rng(fold)
     images = rng.integers(0, 256, (120, 16, 32), dtype=np.uint8)  # 512 pixels: seconds, not minutes
-    learner = get_learner(method)(learner_params(method, section), seed=0)
+    learner = get_learner(name)(learner_params(name, section), seed=0)
     learner.import_libraries()
     with fit_threads(1):
         learner.fit(images, progress=False, places=np.arange(len(images)))
-    out = folder / f"{method}_{fold}"
+    out = folder / f"{name}_{fold}"
     learner.save(out)
     digest = hashlib.sha256()
     for path in sorted(p for p in out.rglob("*") if p.is_file() and p.suffix != ".json"):
@@ -35,11 +35,11 @@ def fitted_bytes(method: str, section: dict, folder: Path, fold: int) -> str:
     return digest.hexdigest()
 
 
-@pytest.mark.parametrize("method", ["pca", "ica"])
-def test_fits_at_once_are_the_fits_one_after_another(tmp_path, method):
-    section = SECTIONS[method]
-    one = run_each(partial(fitted_bytes, method, section, tmp_path / "one"), [0, 1, 2], jobs=1)
-    two = run_each(partial(fitted_bytes, method, section, tmp_path / "two"), [0, 1, 2], jobs=2)
+@pytest.mark.parametrize("name", ["pca", "ica"])
+def test_fits_at_once_are_the_fits_one_after_another(tmp_path, name):
+    section = SECTIONS[name]
+    one = run_each(partial(fitted_bytes, name, section, tmp_path / "one"), [0, 1, 2], jobs=1)
+    two = run_each(partial(fitted_bytes, name, section, tmp_path / "two"), [0, 1, 2], jobs=2)
     assert one == two and len(set(one)) == 3  # three folds, three different models, the same bytes
 
 

@@ -124,13 +124,12 @@ def test_learners_metrics_and_plots_exist(workspace):
         assert (workspace / f"plots/figures/{figure}.png").stat().st_size > 0
     # fae and cae train in epochs: dvclive logs the training and validation loss of each, and the
     # fit metrics say how training ended
-    for method, epochs in (("fae", 2), ("cae", 1)):
+    for name, epochs in (("fae", 2), ("cae", 1)):
         for curve in ("train", "validation"):
             assert (
-                len((workspace / f"logs/{method}/plots/metrics/loss/{curve}.tsv").read_text().splitlines())
-                == epochs + 1
+                len((workspace / f"logs/{name}/plots/metrics/loss/{curve}.tsv").read_text().splitlines()) == epochs + 1
             )
-        info = json.loads((workspace / f"metrics/fit/{method}.json").read_text())["info"]
+        info = json.loads((workspace / f"metrics/fit/{name}.json").read_text())["info"]
         assert info["stop_reason"] == "max_epochs" and info["converged"] is False and info["epochs_run"] == epochs
     training = json.loads((workspace / "metrics/autoencoder_training.json").read_text())
     assert set(training) == {"fae", "cae"} and training["cae"]["epochs_run"] == 1
@@ -190,7 +189,7 @@ def test_a_learner_param_reruns_only_that_learner(workspace):
 @pytest.mark.e2e
 def test_editing_one_learner_module_reruns_only_that_learner(workspace):
     # the registry imports a learner's module on demand, and its stages depend on that module only
-    # (and models/core): its fit, its features and, for a learner of ablation.methods, its part of
+    # (and models/core): its fit, its features and, for a learner of ablation.learners, its part of
     # the training-season ablation; and the figures stage, which asks every learner of the run
     # which figures its model draws; nothing else
     changed = {}
@@ -204,7 +203,7 @@ def test_editing_one_learner_module_reruns_only_that_learner(workspace):
             module.write_text(saved)
     assert changed["pca_whiten"] == {"fit@pca_whiten", "features@pca_whiten", "figures"}
     assert changed["fae"] == {"fit@fae", "features@fae", "figures"}
-    # pca is in ablation.methods
+    # pca is in ablation.learners
     assert changed["pca"] == {"fit@pca", "features@pca", "training_seasons_fit@pca", "figures"}
     assert set(json.loads(dvc(workspace, "status", "--json").stdout)) == set()
 
@@ -225,7 +224,7 @@ def test_bad_params_fail_with_one_clear_line(workspace):
         result.stderr.strip() == "error: train.seasons: unknown traverse 'autumn' (data.seasons: summer, fall, winter)"
     )
     result = run_with(lambda p: None, "stages/fit.py", "sift")
-    assert result.returncode == 1 and "unknown method 'sift'" in result.stderr and "Traceback" not in result.stderr
+    assert result.returncode == 1 and "unknown learner 'sift'" in result.stderr and "Traceback" not in result.stderr
     # typos and out-of-range values outside the learner sections, caught before any work
     result = run_with(lambda p: p["split"].update(tets_fraction=0.2), "stages/split.py")
     assert result.returncode == 1 and result.stderr.strip().startswith("error: split.tets_fraction: unknown key")

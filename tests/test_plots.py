@@ -38,7 +38,7 @@ def test_plot_fraction_correct(tmp_path):
     assert_png(tmp_path / "plain.png")
     with pytest.raises(ValueError, match="fractions"):
         plot_fraction_correct(table, tmp_path / "bad.png", reference=reference * 100)
-    with pytest.raises(ValueError, match="same methods"):
+    with pytest.raises(ValueError, match="same learners"):
         plot_fraction_correct(table, tmp_path / "bad.png", reference=reference.iloc[:1])
     # error bars: drawn where an interval is given, refused in percent
     low, high = table - 0.05, (table + 0.05).clip(upper=1.0)

@@ -20,11 +20,11 @@ from seasonloop.data.frames import read_image_list, sample_video
 from seasonloop.data.season_split import split_seasons
 from seasonloop.data.split import make_split, split_masks
 from seasonloop.data.synthetic import render_route
-from seasonloop.evaluation.pair_truths import each_truth
-from seasonloop.params.schema import check_whole
+from seasonloop.evaluation.pair_ground_truth import each_truth
 from seasonloop.params.seasons import SEASONS
 from seasonloop.params.settings import EvaluateConfig, ExtractConfig, SplitConfig
 from seasonloop.preset import composed_params
+from seasonloop.registries.choices import check_whole
 from tools.repository import dvc, merge
 from tools.small_runs import TINY
 from workspaces import make_workspace

@@ -87,3 +87,16 @@ def test_snapshots_of_the_default_run_match_its_outputs_when_present(name):
 def test_an_unknown_table_name_is_an_error():
     with pytest.raises(ValueError, match="unknown table 'nope'"):
         write_tables.rewrite("<!-- table: nope -->\nx\n<!-- /table -->", {})
+
+
+def test_an_old_record_is_read_in_todays_words(tmp_path):
+    # records written before the learner column was named "learner" say "method": the tables show
+    # them with today's header, their rows as they are
+    old = tmp_path / "fraction_correct.md"
+    old.write_text("title\n\n| method | summer-fall |\n|---|---|\n| pca | 90.1 [80, 95] |\n")
+    assert write_tables._fraction_correct(old) == "| learner | summer-fall |\n|---|---|\n| pca | 90.1 [80, 95] |\n"
+    landmarks = tmp_path / "pr_landmarks.md"
+    landmarks.write_text("title\n\n| pair method landmark | ours |\n|---|---|\n")
+    assert write_tables._fraction_correct(landmarks).startswith("| pair learner landmark | ours |")
+    old.write_text("title\n\n| learner | summer-fall |\n|---|---|\n")
+    assert write_tables._fraction_correct(old).startswith("| learner | summer-fall |")

@@ -20,7 +20,7 @@ from seasonloop.reporting.replicates import (
 
 SETTINGS = StatisticsConfig(level=0.95, degrees_scale=0.15, persistence_scale=0.38, alpha=0.05)
 VARIANTS = [("cosine", "single", "")]
-METHODS = ["good", "bad", "same"]
+LEARNERS = ["good", "bad", "same"]
 CLAIMS = {
     "good_over_bad": {"says": "good against bad", "table": "learners", "first": "good", "second": "bad"},
     "every_learner": {"says": "every two learners", "table": "learners"},
@@ -29,11 +29,11 @@ CLAIMS = {
 
 def write_route(folder, good: np.ndarray, bad: np.ndarray) -> None:
     """One route's outcomes on pair summer-fall: `same` is a copy of `good`."""
-    for method, correct in (("good", good), ("bad", bad), ("same", good)):
-        (folder / method).mkdir(parents=True)
+    for name, correct in (("good", good), ("bad", bad), ("same", good)):
+        (folder / name).mkdir(parents=True)
         n = len(correct)
         QueryOutcomes(np.arange(n), correct, np.zeros(n), np.ones(n, bool), correct, np.arange(n), np.zeros(n)).to_csv(
-            folder / method / "summer-fall.csv"
+            folder / name / "summer-fall.csv"
         )
 
 
@@ -75,8 +75,8 @@ def test_first_to_last_counts_routes_where_the_largest_training_set_is_above_the
 def test_pooling_routes_finds_what_each_route_is_too_short_to_show(tmp_path):
     # a 12-query edge on each 60-query route: on a single route it is one stretch
     folders = routes(tmp_path, n_routes=10, n_queries=60, edge=12)
-    single = [run_comparisons(folder, METHODS, VARIANTS, ["summer-fall"], SETTINGS) for folder in folders.values()]
-    pooled = pooled_comparisons(folders, METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+    single = [run_comparisons(folder, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS) for folder in folders.values()]
+    pooled = pooled_comparisons(folders, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
     verdicts = [claim_cells(record, CLAIMS["good_over_bad"])["summer-fall"] for record in single]
     # one stretch per route: McNemar would call it (12 wins, p 5e-4); along the route a 12-query
     # stretch is a run too long for 60 queries, and the test says so instead of a verdict
@@ -92,18 +92,18 @@ def test_pooling_routes_finds_what_each_route_is_too_short_to_show(tmp_path):
 
 def test_pooled_verdicts_do_not_depend_on_the_order_routes_are_read_in(tmp_path):
     folders = routes(tmp_path, n_routes=4, n_queries=60, edge=6)
-    pooled = pooled_comparisons(folders, METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+    pooled = pooled_comparisons(folders, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
     reversed_order = dict(reversed(list(folders.items())))
-    assert pooled_comparisons(reversed_order, METHODS, VARIANTS, ["summer-fall"], SETTINGS) == pooled
+    assert pooled_comparisons(reversed_order, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS) == pooled
     # the keys only name the routes: nothing is drawn at random
     rekeyed = {key + 10: folder for key, folder in folders.items()}
-    assert pooled_comparisons(rekeyed, METHODS, VARIANTS, ["summer-fall"], SETTINGS) == pooled
+    assert pooled_comparisons(rekeyed, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS) == pooled
 
 
 def test_claim_tally_counts_routes_each_way(tmp_path):
     folders = routes(tmp_path, n_routes=3, n_queries=60, edge=12)
     records = {
-        folder.name: run_comparisons(folder, METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+        folder.name: run_comparisons(folder, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
         for folder in folders.values()
     }
     tally = claim_tally(records, CLAIMS)
@@ -112,7 +112,7 @@ def test_claim_tally_counts_routes_each_way(tmp_path):
     assert counts["better"] + 0 <= 3 and counts["worse"] == 0
     whole = tally["every_learner"]["summer-fall"]
     assert whole["least_better"] <= whole["most_better"] <= 3 and whole["most_worse"] <= 3
-    pooled = pooled_comparisons(folders, METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+    pooled = pooled_comparisons(folders, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
     across = claims_across_routes(records, pooled, CLAIMS)
     assert (
         across["good_over_bad"]["summer-fall"]["pooled"] == claim_cells(pooled, CLAIMS["good_over_bad"])["summer-fall"]
@@ -124,12 +124,12 @@ def test_pooling_refuses_routes_with_other_pairs(tmp_path):
     folders = routes(tmp_path, n_routes=2, n_queries=30, edge=5)
     (folders[1] / "bad" / "summer-fall.csv").unlink()
     with pytest.raises(ValueError, match="route1/bad/summer-fall.csv"):
-        pooled_comparisons(folders, METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+        pooled_comparisons(folders, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
 
 
 def test_claims_on_learners_the_run_lacks_are_left_out(tmp_path):
     folders = routes(tmp_path, n_routes=1, n_queries=30, edge=5)
-    record = run_comparisons(folders[0], METHODS, VARIANTS, ["summer-fall"], SETTINGS)
+    record = run_comparisons(folders[0], LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
     other = {"says": "ica against pca", "table": "learners", "first": "ica", "second": "pca"}
     no_table = {"says": "sequences", "table": "matchers+seq"}
     kept, left_out = claims_in(record, {**CLAIMS, "ica_over_pca": other, "sequences_help": no_table})

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 # the fake metrics/eval folder of test_results
-from test_results import METHODS, PAIRS, VARIANTS, write_evaluations
+from test_results import LEARNERS, PAIRS, VARIANTS, write_evaluations
 
 from seasonloop.data.datasets import trained_on
 from seasonloop.data.ground_truth import aligned_truth
@@ -91,14 +91,14 @@ def report_files(root) -> ReportFiles:
     write_json(
         files.runtime,
         {
-            method: {
+            learner: {
                 "fit_seconds": 1.0,
                 "n_train_images": 6,
                 "feature_ms_per_image": 0.5,
                 "descriptor_dimension": 4,
-                "trained_on": TRAINED_ON[method],
+                "trained_on": TRAINED_ON[learner],
             }
-            for method in METHODS
+            for learner in LEARNERS
         },
     )
     write_json(files.training_seasons, {"skipped": "skipped: a test"})
@@ -127,18 +127,18 @@ def report_files(root) -> ReportFiles:
         },
     )
     rng = np.random.default_rng(1)
-    for method in METHODS:
+    for learner in LEARNERS:
         # the example pair's single-image outcomes, as the evaluate stage writes them
         records = block_records(rng.random((5, 5)), TRUTH, EVALUATE.confidence, 0)
-        (files.outcomes / method).mkdir(parents=True)
+        (files.outcomes / learner).mkdir(parents=True)
         QueryOutcomes.from_records(records, TRUTH, EVALUATE.confidence).to_csv(
-            files.outcomes / method / "summer-fall.csv"
+            files.outcomes / learner / "summer-fall.csv"
         )
     files.summary.mkdir()
     for name in ["fraction_correct", "similarity", *(f"pr_{pair}" for pair in PAIRS)]:
         shutil.copy(png, files.summary / f"{name}.png")
-    for method in METHODS:
-        write_json(files.fits / f"{method}.json", {"environment": {"numpy": "2.4.6", "torch_threads": 2}})
+    for learner in LEARNERS:
+        write_json(files.fits / f"{learner}.json", {"environment": {"numpy": "2.4.6", "torch_threads": 2}})
     files.figures.mkdir()
     shutil.copy(png, files.figures / "fig02_pca_projection.png")
     return files
@@ -148,18 +148,18 @@ def fake_comparisons() -> dict:
     """A comparisons record of the fake run's labels, computed by the library from random outcomes."""
     settings = StatisticsConfig(level=0.95, degrees_scale=0.15, persistence_scale=0.38, alpha=0.05)
     rng = np.random.default_rng(5)
-    correct = {method + suffix: rng.random(5) < 0.5 for method in METHODS for _, _, suffix in VARIANTS}
-    tables = comparison_tables(METHODS, VARIANTS)
+    correct = {learner + suffix: rng.random(5) < 0.5 for learner in LEARNERS for _, _, suffix in VARIANTS}
+    tables = comparison_tables(LEARNERS, VARIANTS)
     pairs = {pair: pair_comparisons(lambda label: (np.arange(5), correct[label]), tables, settings) for pair in PAIRS}
     return {"statistics": asdict(settings), "order": {"pairs": PAIRS, "tables": list(tables)}, "pairs": pairs}
 
 
 def test_study_report_from_files(tmp_path):
     write_evaluations(tmp_path / "eval", tmp_path / "pr")
-    results = load_evaluations(tmp_path / "eval", METHODS, PAIRS, VARIANTS[:2], "cosine")
+    results = load_evaluations(tmp_path / "eval", LEARNERS, PAIRS, VARIANTS[:2], "cosine")
     files = report_files(tmp_path)
     images = {season: np.random.default_rng(2).random((5, 4, 8)) for season in SEASONS}
-    page = study_report(files, results, METHODS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, TRUTH)
+    page = study_report(files, results, LEARNERS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, TRUTH)
     assert page.startswith("<!DOCTYPE html>") and "seasonloop: loop-closure detection across seasons" in page
     assert "Ground truth (aligned): a match is correct when it is the query&#x27;s own frame index" in page
     titles = [
@@ -193,12 +193,12 @@ def test_study_report_from_files(tmp_path):
 
 def test_study_report_needs_the_figures_folder(tmp_path):
     write_evaluations(tmp_path / "eval", tmp_path / "pr")
-    results = load_evaluations(tmp_path / "eval", METHODS, PAIRS, VARIANTS[:2], "cosine")
+    results = load_evaluations(tmp_path / "eval", LEARNERS, PAIRS, VARIANTS[:2], "cosine")
     files = report_files(tmp_path)
     shutil.rmtree(files.figures)
     images = {season: np.zeros((5, 4, 8)) for season in SEASONS}
     with pytest.raises(FileNotFoundError, match="run the figures stage first"):
-        study_report(files, results, METHODS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, TRUTH)
+        study_report(files, results, LEARNERS, SEASONS, EVALUATE, ["pca"], ("summer", "fall"), images, TRUTH)
 
 
 def test_a_table_without_the_studys_numbers_keeps_the_learners_names():

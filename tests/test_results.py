@@ -17,7 +17,7 @@ from seasonloop.reporting.results import (
     ordered,
 )
 
-METHODS = ["pca", "ica"]
+LEARNERS = ["pca", "ica"]
 PAIRS = ["summer-fall", "winter-fall"]
 # (metric, matcher, suffix) as seasonloop.evaluation.matchers.evaluations gives them
 VARIANTS = [("cosine", "single", ""), ("cosine", "sequence", "+seq"), ("cityblock", "single", "@cityblock")]
@@ -31,12 +31,12 @@ def fake_intervals(fraction: float) -> dict:
 
 
 def write_evaluations(eval_dir, pr_dir) -> None:
-    """metrics/eval- and plots/pr-like folders: fraction correct encodes (method, pair, variant)."""
+    """metrics/eval- and plots/pr-like folders: fraction correct encodes (learner, pair, variant)."""
     for v, (_, _, suffix) in enumerate(VARIANTS):
-        for m, method in enumerate(METHODS):
+        for m, learner in enumerate(LEARNERS):
             for p, pair in enumerate(PAIRS):
                 write_json(
-                    eval_dir / method / f"{pair}{suffix}.json",
+                    eval_dir / learner / f"{pair}{suffix}.json",
                     {
                         "fraction_correct": (100 * m + 10 * p + v) / 1000,
                         "recall_at_100_precision": 0.5,
@@ -44,9 +44,9 @@ def write_evaluations(eval_dir, pr_dir) -> None:
                         "intervals": fake_intervals((100 * m + 10 * p + v) / 1000),
                     },
                 )
-                (pr_dir / method).mkdir(parents=True, exist_ok=True)
+                (pr_dir / learner).mkdir(parents=True, exist_ok=True)
                 pd.DataFrame({"recall": [0.0, 0.5 + v / 10], "precision": [1.0, m / 2]}).to_csv(
-                    pr_dir / method / f"{pair}{suffix}.csv", index=False
+                    pr_dir / learner / f"{pair}{suffix}.csv", index=False
                 )
 
 
@@ -59,7 +59,7 @@ def result_dirs(tmp_path):
 
 def test_load_evaluations_in_table_order(result_dirs):
     eval_dir, pr_dir = result_dirs
-    results = load_evaluations(eval_dir, METHODS, PAIRS, VARIANTS, "cosine", pr_dir=pr_dir)
+    results = load_evaluations(eval_dir, LEARNERS, PAIRS, VARIANTS, "cosine", pr_dir=pr_dir)
     # evaluations' order first, then the learners'
     assert results.labels == ["pca", "ica", "pca+seq", "ica+seq", "pca@cityblock", "ica@cityblock"]
     assert results.pairs == PAIRS and all(list(by_pair) == PAIRS for by_pair in results.metrics.values())
@@ -85,27 +85,27 @@ def test_load_evaluations_refuses_metrics_without_intervals(result_dirs):
     stale = eval_dir / "ica" / "winter-fall+seq.json"
     stale.write_text('{"fraction_correct": 0.5}')
     with pytest.raises(ValueError, match=r"ica/winter-fall\+seq.json: no intervals \(rerun the evaluate stage\)"):
-        load_evaluations(eval_dir, METHODS, PAIRS, VARIANTS, "cosine")
+        load_evaluations(eval_dir, LEARNERS, PAIRS, VARIANTS, "cosine")
 
 
 def test_load_evaluations_without_curves_reads_no_pr_file(result_dirs):
     eval_dir, _ = result_dirs
-    results = load_evaluations(eval_dir, METHODS, PAIRS, VARIANTS, "cosine")
+    results = load_evaluations(eval_dir, LEARNERS, PAIRS, VARIANTS, "cosine")
     assert results.curves == {} and len(results.labels) == 6
 
 
 def test_load_evaluations_names_a_missing_file(result_dirs):
     eval_dir, _ = result_dirs
     with pytest.raises(OSError, match="spring-fall"):
-        load_evaluations(eval_dir, METHODS, ["spring-fall"], VARIANTS, "cosine")
+        load_evaluations(eval_dir, LEARNERS, ["spring-fall"], VARIANTS, "cosine")
 
 
 def test_load_runtime(tmp_path):
-    for method, seconds in (("pca", 1.5), ("ica", 20)):
+    for learner, seconds in (("pca", 1.5), ("ica", 20)):
         fit = {"fit_seconds": seconds, "n_train_images": 100, "trained_on": "the training places of summer"}
-        write_json(tmp_path / "fit" / f"{method}.json", fit)
+        write_json(tmp_path / "fit" / f"{learner}.json", fit)
         for season, ms in (("summer", 1.0), ("fall", 2.0)):
-            write_json(tmp_path / "features" / method / f"{season}.json", {"ms_per_image": ms, "dimension": 16})
+            write_json(tmp_path / "features" / learner / f"{season}.json", {"ms_per_image": ms, "dimension": 16})
     runtime = load_runtime(tmp_path / "fit", tmp_path / "features", ["ica", "pca"], ["summer", "fall"])
     assert list(runtime) == ["ica", "pca"]
     assert runtime["pca"] == {

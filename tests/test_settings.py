@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from seasonloop.params.settings import SCHEMA, SECTIONS, AblationConfig, EvaluateConfig, SplitConfig, _frozen
+from seasonloop.params.section import _frozen
+from seasonloop.params.settings import SCHEMA, SECTIONS, AblationConfig, EvaluateConfig, SplitConfig
 from seasonloop.preset import composed_params
 
 REPO = Path(__file__).resolve().parents[1]

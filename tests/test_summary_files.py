@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 # the fake metrics/eval and plots/pr folders of test_results
-from test_results import METHODS, PAIRS, VARIANTS, write_evaluations
+from test_results import LEARNERS, PAIRS, VARIANTS, write_evaluations
 
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.settings import StatisticsConfig
@@ -34,7 +34,7 @@ RUNTIME = {
 def results(tmp_path):
     inputs = tmp_path / "inputs"
     write_evaluations(inputs / "eval", inputs / "pr")
-    return load_evaluations(inputs / "eval", METHODS, PAIRS, VARIANTS, "cosine", pr_dir=inputs / "pr")
+    return load_evaluations(inputs / "eval", LEARNERS, PAIRS, VARIANTS, "cosine", pr_dir=inputs / "pr")
 
 
 def training_curves() -> pd.DataFrame:
@@ -71,24 +71,24 @@ def test_summary_record(results):
 def test_mean_intervals_are_of_the_outcomes_of_every_label(tmp_path):
     rng = np.random.default_rng(0)
     written: dict[str, list[np.ndarray]] = {}
-    for method in METHODS:
+    for learner in LEARNERS:
         for _, _, suffix in VARIANTS:
             for pair in PAIRS:
                 correct = rng.random(60) < 0.5
-                written.setdefault(method + suffix, []).append(correct)
-                (tmp_path / method).mkdir(exist_ok=True)
+                written.setdefault(learner + suffix, []).append(correct)
+                (tmp_path / learner).mkdir(exist_ok=True)
                 n = len(correct)
                 QueryOutcomes(
                     np.arange(n), correct, rng.random(n), np.ones(n, bool), correct, np.arange(n), np.zeros(n)
-                ).to_csv(tmp_path / method / f"{pair}{suffix}.csv")
-    intervals = mean_intervals(tmp_path, METHODS, VARIANTS, PAIRS, SETTINGS)
+                ).to_csv(tmp_path / learner / f"{pair}{suffix}.csv")
+    intervals = mean_intervals(tmp_path, LEARNERS, VARIANTS, PAIRS, SETTINGS)
     assert set(intervals) == set(written)
     for label, by_pair in written.items():
         assert intervals[label] == mean_interval(by_pair, [np.arange(60)] * len(by_pair), SETTINGS)
         assert intervals[label]["low"] <= np.mean([c.mean() for c in by_pair]) <= intervals[label]["high"]
-    (tmp_path / METHODS[0] / f"{PAIRS[0]}.csv").unlink()
+    (tmp_path / LEARNERS[0] / f"{PAIRS[0]}.csv").unlink()
     with pytest.raises(ValueError, match=f"{PAIRS[0]}.csv"):
-        mean_intervals(tmp_path, METHODS, VARIANTS, PAIRS, SETTINGS)
+        mean_intervals(tmp_path, LEARNERS, VARIANTS, PAIRS, SETTINGS)
 
 
 def test_the_compared_metrics_are_the_main_distance_averaged_over_pairs(results):
@@ -125,13 +125,13 @@ def test_tables_text(tmp_path, results):
         "Fraction of correct matches (%), ours with its 95% interval along the route in square brackets "
         "(the study's in round brackets where it gives one; [not enough queries]: too few for an interval, "
         "or for the length of the runs of the learner's outcomes, as metrics/eval's reason says)\n\n"
-        "| method | summer-fall | winter-fall |\n|---|---|---|\n"
+        "| learner | summer-fall | winter-fall |\n|---|---|---|\n"
     )
     # ours with its interval, then the study's number in brackets where it gives one
     assert "| pca | 0.0 [0, 5] (88) | 1.0 [0, 6] |\n" in markdown
     assert "| ica@cityblock | 10.2 [5, 15] | 11.2 [6, 16] |\n" in markdown
     csv = (tmp_path / "fraction_correct.csv").read_text().splitlines()
-    assert csv[0] == "method,pair,fraction_correct,label" and csv[1] == "pca,summer-fall,0.000,summer-fall pca"
+    assert csv[0] == "learner,pair,fraction_correct,label" and csv[1] == "pca,summer-fall,0.000,summer-fall pca"
     landmarks = (tmp_path / "pr_landmarks.md").read_text()
     assert "| summer-fall pca recall at 100% precision | 50.0 | 67.0 |" in landmarks
     runtime = (tmp_path / "runtime.md").read_text()

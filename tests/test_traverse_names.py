@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from seasonloop.params.schema import check_whole
 from seasonloop.params.seasons import available_pairs, check_name, pair_name, parse_pair
+from seasonloop.registries.choices import check_whole
 
 REPO = Path(__file__).resolve().parents[1]
 GARDENS_POINT = ["day_left", "day_right", "night_right"]

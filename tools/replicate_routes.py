@@ -287,7 +287,7 @@ def collect(measured_on: dict[str, Any], preset: str | None = None) -> Path:
         "claims_says": {name: claim["says"] for name, claim in claims.items()},
         # JSON objects come back with sorted keys: the tables' order of rows
         "order": {
-            "labels": [method + suffix for _, _, suffix in evaluations(evaluate) for method in params["learners"]],
+            "labels": [learner + suffix for _, _, suffix in evaluations(evaluate) for learner in params["learners"]],
             "claims": list(claims),
         },
         "claims_left_out": left_out,  # on a learner or table this run does not have
@@ -351,7 +351,7 @@ def _replicate_spread(path: Path) -> str:
     deviation [lowest, highest], in %."""
     record = json.loads(path.read_text())
     pairs = record["pairs"]
-    lines = [_routes_line(record), "", "| method | " + " | ".join(pairs) + " |", "|---|" + "---|" * len(pairs)]
+    lines = [_routes_line(record), "", "| learner | " + " | ".join(pairs) + " |", "|---|" + "---|" * len(pairs)]
     for label in record["order"]["labels"]:
         by_pair = record["fraction_correct"][label]
         if "@" in label:
@@ -371,7 +371,7 @@ def _replicate_training_seasons(path: Path) -> str:
     lines = [
         _routes_line(record),
         "",
-        "| method | " + " | ".join(sets) + " | largest set against smallest |",
+        "| learner | " + " | ".join(sets) + " | largest set against smallest |",
         "|---|" + "---|" * (len(sets) + 1),
     ]
     for label, by_set in spread.items():

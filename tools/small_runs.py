@@ -4,8 +4,7 @@ benchmarks that measure what those tests pay (benchmarks/speed/bench_dvc_yaml.py
 
 from __future__ import annotations
 
-from seasonloop.models.core.lookup import get_learner
-from seasonloop.models.registry import LEARNERS
+from seasonloop.models.core.lookup import LEARNERS, get_learner
 
 # Small enough for CI on 2 cores, large enough that every stage has real work: three seasons
 # (so pairs are filtered to the seasons present), every learner, both matchers.
@@ -21,7 +20,7 @@ TINY = {
     "cae_widths": {"widths": [0.03125, 0.0625]},
     # one learner that learns: the ablation stage is the same for every learner (ica's fits, ~10 s
     # here, add nothing the unit tests of seasonloop.ablations do not check)
-    "ablation": {"methods": ["pca"], "training_seasons": [["summer"], ["summer", "winter"]], "pair": "summer-fall"},
+    "ablation": {"learners": ["pca"], "training_seasons": [["summer"], ["summer", "winter"]], "pair": "summer-fall"},
 }
 
 # the smallest run that still has every stage: two learners, two matchers, one distance, the
@@ -34,7 +33,7 @@ SMALL = {
     "learners": ["raw_patchnorm", "pca"],
     # single images and SeqSLAM under one distance: TINY's run evaluates every matcher and distance
     "evaluate": {"matchers": ["single", "sequence"], "extra_metrics": []},
-    "ablation": {"methods": ["raw_patchnorm"], "pair": "summer-fall", "training_seasons": [["summer"]]},
+    "ablation": {"learners": ["raw_patchnorm"], "pair": "summer-fall", "training_seasons": [["summer"]]},
     "cae_widths": {"widths": []},
 }
 

@@ -35,7 +35,7 @@ from tools.records import machine
 from tools.repository import REPO
 
 
-def fit_all(workspace: Path, method: str, jobs: int, threads: int, out: Path) -> dict:
+def fit_all(workspace: Path, name: str, jobs: int, threads: int, out: Path) -> dict:
     """The learner's K folds on the workspace's data fitted into `out`; each fold's fit info, and
     the seconds of them all."""
     os.chdir(workspace)  # the stages read data/ and params.yaml from the current folder
@@ -51,7 +51,7 @@ def fit_all(workspace: Path, method: str, jobs: int, threads: int, out: Path) ->
     params["train"] = {**params["train"], "jobs": jobs, "threads": threads}
     folds = count_folds(SPLIT)
     start = time.perf_counter()
-    fitted = run_each(partial(fit_fold, method, params, train_seasons(params), folds, out), [*range(folds)], jobs)
+    fitted = run_each(partial(fit_fold, name, params, train_seasons(params), folds, out), [*range(folds)], jobs)
     return {"seconds": time.perf_counter() - start, "folds": folds, "infos": [info for info, _ in fitted]}
 
 
@@ -75,17 +75,17 @@ def converged(infos: list[dict]) -> str:
     return ", ".join(sorted({str(stop) for stop in stops}))
 
 
-def one_way(workspace: Path, method: str, jobs: int, threads: int) -> dict:
+def one_way(workspace: Path, name: str, jobs: int, threads: int) -> dict:
     """fit_all in a fresh process (thread pools are set once a process), its models hashed."""
     with tempfile.TemporaryDirectory() as folder:
         out = Path(folder) / "models"
-        command = [sys.executable, "-m", "benchmarks.speed.bench_fold_jobs", str(workspace), "--one", method]
+        command = [sys.executable, "-m", "benchmarks.speed.bench_fold_jobs", str(workspace), "--one", name]
         command += [str(jobs), str(threads), str(out)]
         env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(REPO), str(REPO / "src")])}
         # from this checkout (python -m puts the current folder first: not the workspace's own copy)
         done = subprocess.run(command, cwd=REPO, env=env, capture_output=True, text=True)
         if done.returncode:
-            raise SystemExit(f"{method} jobs {jobs} threads {threads} failed:\n{done.stderr[-3000:]}")
+            raise SystemExit(f"{name} jobs {jobs} threads {threads} failed:\n{done.stderr[-3000:]}")
         result = json.loads(done.stdout.strip().splitlines()[-1])
         return {
             "jobs": jobs,
@@ -104,33 +104,33 @@ def main() -> None:
     parser.add_argument("--one", nargs=4, metavar=("LEARNER", "JOBS", "THREADS", "OUT"), help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.one:
-        method, jobs, threads, out = args.one
-        print(json.dumps(fit_all(args.workspace.resolve(), method, int(jobs), int(threads), Path(out)), default=str))
+        name, jobs, threads, out = args.one
+        print(json.dumps(fit_all(args.workspace.resolve(), name, int(jobs), int(threads), Path(out)), default=str))
         return
     measured_on = machine()
     cores = os.cpu_count() or 1
     rows = {}
-    for method in args.learners:
+    for name in args.learners:
         ways = [
-            one_way(args.workspace.resolve(), method, jobs, threads) for jobs, threads in ((1, 0), (1, 1), (cores, 1))
+            one_way(args.workspace.resolve(), name, jobs, threads) for jobs, threads in ((1, 0), (1, 1), (cores, 1))
         ]
         default, single, together = ways
-        rows[method] = {
+        rows[name] = {
             "ways": ways,
             "same_bytes": single["model_sha256"] == together["model_sha256"],
             "default_over_jobs": default["seconds"] / together["seconds"],
             "one_thread_over_jobs": single["seconds"] / together["seconds"],
         }
         print(
-            f"{method}: {together['folds']} folds  default {default['seconds']:.0f} s ({default['fits']})  "
+            f"{name}: {together['folds']} folds  default {default['seconds']:.0f} s ({default['fits']})  "
             f"one thread {single['seconds']:.0f} s  {cores} at once {together['seconds']:.0f} s ({together['fits']})  "
-            f"same bytes: {rows[method]['same_bytes']}",
+            f"same bytes: {rows[name]['same_bytes']}",
             flush=True,
         )
     headline = "; ".join(
-        f"{method} {row['default_over_jobs']:.2f}x the default's speed, {row['one_thread_over_jobs']:.2f}x "
+        f"{name} {row['default_over_jobs']:.2f}x the default's speed, {row['one_thread_over_jobs']:.2f}x "
         f"one-thread fits', {'same' if row['same_bytes'] else 'OTHER'} bytes"
-        for method, row in rows.items()
+        for name, row in rows.items()
     )
     record = {
         "cores": cores,
@@ -152,10 +152,10 @@ def fold_jobs_table(path: Path) -> str:
         "1 thread each (s) | speed-up over every core | over 1 thread | same bytes as 1 thread | fits: every core / 1 thread |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
-    for method, row in record["learners"].items():
+    for name, row in record["learners"].items():
         default, single, together = row["ways"]
         lines.append(
-            f"| {method} | {together['folds']} | {default['seconds']:.0f} | {single['seconds']:.0f} | "
+            f"| {name} | {together['folds']} | {default['seconds']:.0f} | {single['seconds']:.0f} | "
             f"{together['seconds']:.0f} | {row['default_over_jobs']:.2f} | {row['one_thread_over_jobs']:.2f} | "
             f"{'yes' if row['same_bytes'] else 'no'} | {default['fits']} / {together['fits']} |"
         )

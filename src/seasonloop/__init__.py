@@ -10,13 +10,14 @@ __version__ = "0.1.0"
 
 # package -> what it owns, highest first
 PACKAGES = {
+    "registries": "params.yaml checked whole against the library's registries: which keys choose among which names",
     "ablations": "studies that refit learners: the training-season effect, the CAE's width",
     "reporting": "summary tables beside the study's numbers, dvc plots files, the study's figures, the HTML report",
     "evaluation": "distances and best matches, SeqSLAM sequences, sequence descriptors, fraction correct, PR curves",
     "significance": "intervals along the route, paired tests and Holm's correction over a table",
     "models": "the learners, one module each (registry.py: their names), and their shared core/",
     "data": "the synthetic renderer, real videos and frames, preprocessing, ground truth, the split, augmentation",
-    "params": "params.yaml's sections, each key declared once with its check, the whole-file check, seasons and pairs",
+    "params": "params.yaml's sections, each key declared once with its check, seasons and pairs",
 }
 # top-level module -> what it holds
 FOUNDATION = {

@@ -26,9 +26,13 @@ from typing import Any
 
 import numpy as np
 
+from seasonloop.evaluation.autoencoder_descriptors import (
+    autoencoder_descriptors,
+    descriptor_evaluations,
+    fraction_correct_record,
+)
 from seasonloop.evaluation.blocks import best_columns
 from seasonloop.evaluation.context import EvaluationContext
-from seasonloop.evaluation.descriptors import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
 from seasonloop.io import staged_file, write_json
 from seasonloop.plots import percent_bands, plot_message, plot_series
 from seasonloop.reporting.summary import record_cell

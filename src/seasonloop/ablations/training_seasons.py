@@ -116,10 +116,10 @@ def reusable_label(
 
 @dataclass(frozen=True)
 class AblationRun:
-    """What run_ablation found, per series (a method under one distance: "<method>" under
-    evaluate.metric, "<method>@<metric>" under each of evaluate.extra_metrics) and training-season
+    """What run_ablation found, per series (a learner under one distance: "<learner>" under
+    evaluate.metric, "<learner>@<metric>" under each of evaluate.extra_metrics) and training-season
     label (the seasons joined by "+"): the fraction correct on the plan's pair, single-image
-    matching, and its interval along the route {low, high}; and per method and label how its fit
+    matching, and its interval along the route {low, high}; and per learner and label how its fit
     ended (the learner's how_fit_ended)."""
 
     fraction_correct: dict[str, dict[str, float]]
@@ -134,39 +134,39 @@ def run_ablation(
     context: EvaluationContext,
     skip: Mapping[str, str | None] | None = None,
 ) -> AblationRun:
-    """For each method (new_learners[method]() gives an unfitted learner) and each list of the plan,
+    """For each learner name (new_learners[name]() gives an unfitted learner) and each list of the plan,
     a learner fitted on training_set(list) = (images, the place id of each image), evaluated on the
     plan's pair. The place ids go to fit, so that an auto-encoder holds out whole places (every
     season and augmented copy of them) for validation. The context's test images are those of the
     pair's seasons, at the test places of its truth, described in the features stage's batches.
-    skip[method] names a label that is not fitted (a reused one)."""
+    skip[name] names a label that is not fitted (a reused one)."""
     assert plan.pair is not None and plan.labels is not None and plan.season_sets is not None, "a skipped plan"
     database, query = plan.pair
     truth, evaluate = context.truths[plan.pair], context.evaluate
     run = AblationRun({}, {}, {})
     correct: dict[str, dict[str, np.ndarray]] = {}
     metrics_used = [evaluate.metric, *evaluate.extra_metrics]
-    for method, new_learner in new_learners.items():
+    for name, new_learner in new_learners.items():
         for metric in metrics_used:
-            run.fraction_correct[method + result_suffix(metric, "single", evaluate)] = {}
+            run.fraction_correct[name + result_suffix(metric, "single", evaluate)] = {}
         for label, chosen in zip(plan.labels, plan.season_sets):
-            if (skip or {}).get(method) == label:
+            if (skip or {}).get(name) == label:
                 continue
             learner = new_learner()
             images, image_places = training_set(chosen)
             info = learner.fit(images, progress=True, places=image_places)
-            run.fits.setdefault(method, {})[label] = learner.how_fit_ended(info)
+            run.fits.setdefault(name, {})[label] = learner.how_fit_ended(info)
             database_descriptors, query_descriptors = (
                 learner.describe(context.test[season], batch_size=context.batch_size) for season in (database, query)
             )
             for metric in metrics_used:
-                series = method + result_suffix(metric, "single", evaluate)
+                series = name + result_suffix(metric, "single", evaluate)
                 evaluation = evaluate_descriptors(
                     database_descriptors, query_descriptors, truth, "single", evaluate, context.sequence, metric=metric
                 )
                 run.fraction_correct[series][label] = evaluation.metrics["fraction_correct"]
                 correct.setdefault(series, {})[label] = evaluation.outcomes.correct
-    run.intervals.update({name: route_intervals(labels, context.statistics) for name, labels in correct.items()})
+    run.intervals.update({series: route_intervals(labels, context.statistics) for series, labels in correct.items()})
     return run
 
 
@@ -216,10 +216,10 @@ def write_ablation(
 
 
 def write_learner_record(
-    plan: AblationPlan, method: str, run: AblationRun | None, record: Path, reused: str | None = None
+    plan: AblationPlan, learner: str, run: AblationRun | None, record: Path, reused: str | None = None
 ) -> None:
     """One learner's part of the ablation: run_ablation's fraction correct, intervals and fits of
-    `method` on the plan's pair (None for a skipped plan, whose record says why); `reused` is the
+    `learner` on the plan's pair (None for a skipped plan, whose record says why); `reused` is the
     label left to fill_reused."""
     if plan.skipped:
         write_json(record, {"skipped": plan.skipped})
@@ -231,24 +231,24 @@ def write_learner_record(
             "pair": pair_name(*plan.pair),
             "fraction_correct": {series: dict(values) for series, values in run.fraction_correct.items()},
             "reused_from_pipeline": [reused] if reused else [],
-            "fits": {label: dict(ended) for label, ended in run.fits.get(method, {}).items()},
+            "fits": {label: dict(ended) for label, ended in run.fits.get(learner, {}).items()},
             "intervals": {series: dict(bounds) for series, bounds in run.intervals.items()},
         },
     )
 
 
 def read_learner_records(
-    plan: AblationPlan, methods: Sequence[str], folder: Path, eval_dir: Path
+    plan: AblationPlan, learners: Sequence[str], folder: Path, eval_dir: Path
 ) -> dict[str, dict[str, float]]:
-    """fraction_correct[series][label] from folder/<method>.json of every method, each checked to
+    """fraction_correct[series][label] from folder/<learner>.json of every learner, each checked to
     hold the plan's pair and season lists (a record of another plan is a stale input); a reused
     label's value from eval_dir (fill_reused)."""
     assert plan.pair is not None
     fraction_correct: dict[str, dict[str, float]] = {}
-    for method in methods:
-        path = folder / f"{method}.json"
+    for learner in learners:
+        path = folder / f"{learner}.json"
         if not path.is_file():
-            raise FileNotFoundError(f"{path}: not found (run the stage training_seasons_fit@{method} first)")
+            raise FileNotFoundError(f"{path}: not found (run the stage training_seasons_fit@{learner} first)")
         record = read_json(path)
         reused = set(record.get("reused_from_pipeline", []))
         series = record.get("fraction_correct", {})
@@ -264,14 +264,14 @@ def read_learner_records(
 
 
 def read_learner_intervals(
-    plan: AblationPlan, methods: Sequence[str], folder: Path, eval_dir: Path
+    plan: AblationPlan, learners: Sequence[str], folder: Path, eval_dir: Path
 ) -> dict[str, dict[str, dict[str, float]]]:
     """intervals[series][label] = {low, high} from the records read_learner_records has checked; a
-    reused label's from the interval evaluate@<method> wrote beside its fraction correct."""
+    reused label's from the interval evaluate@<learner> wrote beside its fraction correct."""
     assert plan.pair is not None
     intervals: dict[str, dict[str, dict[str, float]]] = {}
-    for method in methods:
-        record = read_json(folder / f"{method}.json")
+    for learner in learners:
+        record = read_json(folder / f"{learner}.json")
         for name in record["fraction_correct"]:
             intervals[name] = dict(record.get("intervals", {}).get(name, {}))
             for label in record.get("reused_from_pipeline", []):
@@ -279,21 +279,21 @@ def read_learner_intervals(
                     "fraction_correct"
                 ]["route"]
             if set(intervals[name]) != set(plan.labels):
-                raise ValueError(f"{folder / method}.json: no interval for every season list (rerun its stage)")
+                raise ValueError(f"{folder / learner}.json: no interval for every season list (rerun its stage)")
     return intervals
 
 
 def fill_reused(series: str, pair: str, eval_dir: Path) -> float:
-    """The single-image fraction correct that evaluate@<method> wrote for `pair` under the series'
-    distance ("<method>": evaluate.metric, "<method>@<metric>": that one): the ablation's value for
+    """The single-image fraction correct that evaluate@<learner> wrote for `pair` under the series'
+    distance ("<learner>": evaluate.metric, "<learner>@<metric>": that one): the ablation's value for
     the pipeline's own training set (module doc)."""
     return float(reused_metrics(series, pair, eval_dir)["fraction_correct"])
 
 
 def reused_metrics(series: str, pair: str, eval_dir: Path) -> dict[str, Any]:
-    """The metrics evaluate@<method> wrote for `pair` under the series' distance (single images)."""
-    method, _, metric = series.partition("@")
-    path = eval_dir / method / f"{pair}{'@' + metric if metric else ''}.json"
+    """The metrics evaluate@<learner> wrote for `pair` under the series' distance (single images)."""
+    learner, _, metric = series.partition("@")
+    path = eval_dir / learner / f"{pair}{'@' + metric if metric else ''}.json"
     if not path.is_file():
-        raise FileNotFoundError(f"{path}: not found (run the stage evaluate@{method} first)")
+        raise FileNotFoundError(f"{path}: not found (run the stage evaluate@{learner} first)")
     return read_json(path)

@@ -24,7 +24,6 @@ import numpy as np
 
 from seasonloop.params.seasons import pair_name
 
-KINDS = ("aligned", "positions", "matrix")
 # query rows whose (rows, M) distances to the database are held at once while a truth is built
 TRUTH_ROWS_PER_BLOCK = 1024
 

@@ -49,7 +49,7 @@ def _clahe(images: np.ndarray, clahe_clip: float, clahe_grid: int) -> np.ndarray
     return np.stack([clahe.apply(image) for image in images]) if len(images) else images.copy()
 
 
-# preprocess.contrast is checked against these names (seasonloop.params.registries)
+# preprocess.contrast is checked against these names (seasonloop.registries)
 CONTRASTS: dict[str, ContrastMethod] = {"clahe": _clahe, "equalize": _equalize, "none": _no_contrast}
 
 

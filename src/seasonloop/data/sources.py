@@ -105,7 +105,7 @@ class Source:
     render: Callable[[Path, Sequence[str], DataConfig, SyntheticConfig], dict[str, Path]] | None = None
 
 
-# data.source is checked against these names (seasonloop.params.registries)
+# data.source is checked against these names (seasonloop.registries)
 SOURCES: dict[str, Source] = {
     "synthetic": Source("video", render=_render_synthetic),  # seasonloop.data.synthetic
     "videos": Source("video", locate=_video_files),

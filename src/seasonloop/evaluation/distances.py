@@ -3,7 +3,7 @@
 DISTANCES is the registry of distance metrics (evaluate.metric, evaluate.extra_metrics) and
 CONFIDENCES that of match confidences (evaluate.confidence); distance_matrix and best_matches
 validate their inputs and dispatch to them. params.yaml's choices are checked against their names
-(seasonloop.params.registries): a new metric is one function plus one line here.
+(seasonloop.registries): a new metric is one function plus one line here.
 """
 
 from __future__ import annotations

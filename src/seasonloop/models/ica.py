@@ -27,8 +27,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from seasonloop.models.core.arithmetic import DEVICES
 from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
-from seasonloop.models.core.torch_learner import DEVICES
 from seasonloop.params.checks import integer, number, one_of
 
 if TYPE_CHECKING:

@@ -34,7 +34,7 @@ class PrecomputedDescriptors(FeatureLearner):
     def _describe_batch(self, images: np.ndarray) -> np.ndarray:
         raise ValueError(
             "precomputed: descriptors computed elsewhere describe a season's places, not new images "
-            "(it cannot be refitted, e.g. in ablation.methods)"
+            "(it cannot be refitted, e.g. in ablation.learners)"
         )
 
     def describe_places(

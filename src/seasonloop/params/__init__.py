@@ -1,4 +1,5 @@
-"""params.yaml: its schema (schema, built from the value checks in checks), its typed sections
-(settings), and the seasons and season pairs (seasons). Imports nothing else of seasonloop, so
-every stage can check the whole file before any work at the cost of a YAML read.
+"""params.yaml: its typed sections (settings, each key with its check from checks; what a section
+is: section), their checks (schema; across sections: across) and the seasons and season pairs
+(seasons). Imports nothing else of seasonloop: what names a registry entry is checked above the
+registries (seasonloop.registries).
 """

@@ -1,4 +1,4 @@
-"""Checks across sections of params.yaml that no one section can make (run by schema.check_whole)."""
+"""Checks across sections of params.yaml that no one section can make (run by seasonloop.registries.check_whole)."""
 
 from __future__ import annotations
 

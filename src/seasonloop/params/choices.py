@@ -1,7 +1,7 @@
 """The names and ranges of params.yaml's choices that no library registry holds, for the section
 declarations (seasonloop.params.settings) and the library code that reads them. A choice that
 selects one of a registry's entries (a distance, a matcher, a learner) is checked against that
-registry itself (seasonloop.params.registries)."""
+registry itself (seasonloop.registries)."""
 
 from __future__ import annotations
 

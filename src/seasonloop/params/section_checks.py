@@ -1,5 +1,5 @@
 """Checks across the keys of one params.yaml section, run when the whole section is checked
-(seasonloop.params.schema.check_params)."""
+(seasonloop.params.section.Section.check)."""
 
 from __future__ import annotations
 

@@ -1,22 +1,18 @@
 """params.yaml's sections, each key declared once: its type and, beside it, its check.
 
-A section is a frozen dataclass whose fields are the section's keys; `setting(check)` gives a field
-the check its value must pass (seasonloop.params.checks; a choice among a library registry's names:
-seasonloop.params.registries), and SCHEMA, which params.yaml is checked with, is read from these
-fields. A new key is one field here and its value in params.yaml. The
-dataclass is what the library receives instead of a raw dict, so a typo in a key is caught once,
-at the edge, and the library's signatures say what they read; lists become tuples so that a
-config is immutable.
-
-    split = SplitConfig.from_params(params)      # checks params["split"], then builds
-    make_split(n_places, split, ...)
+A section is a frozen dataclass whose fields are the section's keys (seasonloop.params.section);
+`setting(check)` gives a field the check its value must pass (seasonloop.params.checks), and the
+schema params.yaml is checked with is read from these fields. A key whose value names an entry of
+one of the library's registries (a distance, a matcher, a learner) is declared here as text and
+checked against that registry by the whole-file check (seasonloop.registries), which sits above
+the registries. A new key is one field here and its value in params.yaml. The dataclass is what
+the library receives instead of a raw dict, so a typo in a key is caught once, at the edge, and
+the library's signatures say what they read; lists become tuples so that a config is immutable.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass, field, fields
-from typing import Any, ClassVar, TypeVar
+from dataclasses import dataclass
 
 from seasonloop.params.checks import (
     Check,
@@ -41,54 +37,14 @@ from seasonloop.params.choices import (
     WHERE_FITTED,
     WINDOW_RULES,
 )
-from seasonloop.params.registries import LEARNERS, registered
 from seasonloop.params.seasons import SEASONS
-
-DISTANCES = "seasonloop.evaluation.distances:DISTANCES"
-
-
-def setting(check: Check) -> Any:
-    """A section field whose value must pass `check` (read into SCHEMA)."""
-    return field(metadata={"check": check})
-
-
-SectionT = TypeVar("SectionT", bound="Section")
-
-
-def _frozen(value: Any) -> Any:
-    """Lists (and lists of lists) as tuples; mappings as plain dicts of frozen values."""
-    if isinstance(value, Mapping):
-        return {key: _frozen(entry) for key, entry in value.items()}
-    if isinstance(value, (list, tuple)):
-        return tuple(_frozen(entry) for entry in value)
-    return value
-
-
-@dataclass(frozen=True)
-class Section:
-    """Base of the typed sections; `NAME` is the params.yaml section a subclass reads."""
-
-    NAME: ClassVar[str]
-
-    @classmethod
-    def from_params(cls: type[SectionT], params: Mapping[str, Any]) -> SectionT:
-        """Check section `NAME` of `params` against the schema (a bad key raises a ValueError that
-        names it), then build the dataclass from it."""
-        from seasonloop.params.schema import check_params  # which reads SCHEMA from this module
-
-        check_params(params, [cls.NAME])
-        section = params[cls.NAME]
-        return cls(**{field.name: _frozen(section[field.name]) for field in fields(cls)})
-
-    @classmethod
-    def keys(cls) -> tuple[str, ...]:
-        return tuple(field.name for field in fields(cls))
+from seasonloop.params.section import Section, setting
 
 
 @dataclass(frozen=True)
 class DataConfig(Section):
     NAME = "data"
-    source: str = setting(registered("seasonloop.data.sources:SOURCES"))
+    source: str = setting(text)
     seasons: tuple[str, ...] = setting(seasons)
     videos_dir: str = setting(text)
     video_files: dict[str, str] = setting(season_map(text))
@@ -96,7 +52,7 @@ class DataConfig(Section):
     frame_step: int = setting(integer(1))
     offsets: dict[str, int] = setting(season_map(integer(0)))
     # what makes a match correct (seasonloop.data.ground_truth)
-    ground_truth: str = setting(registered("seasonloop.data.truth_kinds:TRUTH_KINDS"))
+    ground_truth: str = setting(text)
     positions_dir: str = setting(text)
     position_source: str = setting(one_of(*POSITION_SOURCES))
     position_columns: tuple[str, ...] = setting(list_of(text))
@@ -149,7 +105,7 @@ class PreprocessConfig(Section):
     NAME = "preprocess"
     height: int = setting(integer(4))
     width: int = setting(integer(4))
-    contrast: str = setting(registered("seasonloop.data.preprocess:CONTRASTS"))
+    contrast: str = setting(text)
     clahe_clip: float = setting(number(0, None, low_open=True))
     clahe_grid: int = setting(integer(1))
 
@@ -202,13 +158,13 @@ class FeaturesConfig(Section):
 class EvaluateConfig(Section):
     NAME = "evaluate"
     pairs: tuple[str, ...] = setting(list_of(pair))
-    metric: str = setting(registered(DISTANCES))
-    extra_metrics: tuple[str, ...] = setting(list_of(registered(DISTANCES), non_empty=False))
-    confidence: str = setting(registered("seasonloop.evaluation.distances:CONFIDENCES"))
+    metric: str = setting(text)
+    extra_metrics: tuple[str, ...] = setting(list_of(text, non_empty=False))
+    confidence: str = setting(text)
     ratio_exclusion: int = setting(integer(0))
     tolerance_frames: int = setting(integer(0))
     tolerance_m: float = setting(number(0))
-    matchers: tuple[str, ...] = setting(list_of(registered("seasonloop.evaluation.matchers:MATCHER_REGISTRY")))
+    matchers: tuple[str, ...] = setting(list_of(text))
 
 
 @dataclass(frozen=True)
@@ -239,7 +195,7 @@ class SequenceConfig(Section):
 @dataclass(frozen=True)
 class AblationConfig(Section):
     NAME = "ablation"
-    methods: tuple[str, ...] = setting(list_of(registered(LEARNERS)))
+    learners: tuple[str, ...] = setting(list_of(text))
     pair: str = setting(pair)
     training_seasons: tuple[tuple[str, ...], ...] = setting(list_of(seasons))
 
@@ -277,6 +233,4 @@ SECTIONS: tuple[type[Section], ...] = (
 
 
 # every section's keys and checks, read from the dataclasses above
-SCHEMA: dict[str, dict[str, Check]] = {
-    section.NAME: {entry.name: entry.metadata["check"] for entry in fields(section)} for section in SECTIONS
-}
+SCHEMA: dict[str, dict[str, Check]] = {section.NAME: section.checks() for section in SECTIONS}

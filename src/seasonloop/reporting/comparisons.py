@@ -55,14 +55,14 @@ def legend(settings: Mapping[str, Any]) -> str:
     )
 
 
-Reader = Callable[[str, str, str], tuple[np.ndarray, np.ndarray]]  # (method, pair, suffix) -> (places, correct)
+Reader = Callable[[str, str, str], tuple[np.ndarray, np.ndarray]]  # (learner, pair, suffix) -> (places, correct)
 
 
 def csv_reader(outcomes_dir: Path) -> Reader:
-    """The per-query outcomes an evaluate stage wrote: outcomes_dir/<method>/<pair><suffix>.csv."""
+    """The per-query outcomes an evaluate stage wrote: outcomes_dir/<learner>/<pair><suffix>.csv."""
 
-    def read(method: str, pair: str, suffix: str) -> tuple[np.ndarray, np.ndarray]:
-        outcomes = QueryOutcomes.read_csv(outcomes_dir / method / f"{pair}{suffix}.csv")
+    def read(learner: str, pair: str, suffix: str) -> tuple[np.ndarray, np.ndarray]:
+        outcomes = QueryOutcomes.read_csv(outcomes_dir / learner / f"{pair}{suffix}.csv")
         return outcomes.query_place, outcomes.correct
 
     return read
@@ -70,19 +70,19 @@ def csv_reader(outcomes_dir: Path) -> Reader:
 
 def run_comparisons(
     outcomes_dir: Path,
-    methods: Sequence[str],
+    learners: Sequence[str],
     variants: Sequence[Variant],
     pairs: Sequence[str],
     settings: StatisticsConfig,
 ) -> dict[str, Any]:
-    """Every table of every season pair from outcomes_dir/<method>/<pair><suffix>.csv, with the
+    """Every table of every season pair from outcomes_dir/<learner>/<pair><suffix>.csv, with the
     settings they were computed under and the order of pairs and tables."""
-    return comparisons_of(csv_reader(outcomes_dir), methods, variants, pairs, settings)
+    return comparisons_of(csv_reader(outcomes_dir), learners, variants, pairs, settings)
 
 
 def comparisons_of(
     read: Reader,
-    methods: Sequence[str],
+    learners: Sequence[str],
     variants: Sequence[Variant],
     pairs: Sequence[str],
     settings: StatisticsConfig,
@@ -91,13 +91,13 @@ def comparisons_of(
     """run_comparisons' record from any reader of per-query outcomes (one run's, or several runs'
     one after another: seasonloop.reporting.replicates, whose segments_of(pair) gives each run's
     number of queries, independent routes; by default a pair's queries are one route's)."""
-    tables = comparison_tables(methods, variants)
-    source = {method + suffix: (method, suffix) for method in methods for _, _, suffix in variants}
+    tables = comparison_tables(learners, variants)
+    source = {learner + suffix: (learner, suffix) for learner in learners for _, _, suffix in variants}
 
     def reader(pair: str) -> Callable[[str], tuple[np.ndarray, np.ndarray]]:
         def outcome_of(label: str) -> tuple[np.ndarray, np.ndarray]:
-            method, suffix = source[label]
-            return read(method, pair, suffix)
+            learner, suffix = source[label]
+            return read(learner, pair, suffix)
 
         return outcome_of
 
@@ -161,7 +161,7 @@ def verdict_counts(pairs: Mapping[str, Mapping[str, Sequence[Mapping[str, Any]]]
     )
 
 
-def comparison_frames(record: Mapping[str, Any], methods: Sequence[str]) -> list[tuple[str, pd.DataFrame]]:
+def comparison_frames(record: Mapping[str, Any], learners: Sequence[str]) -> list[tuple[str, pd.DataFrame]]:
     """(caption, table) of every table the report and docs show from a comparisons record: the
     learner matrix of each pair under the main evaluation (table "learners"), what each other
     table ("matchers", "distances", ...) finds per learner across pairs, and how many comparisons
@@ -170,7 +170,7 @@ def comparison_frames(record: Mapping[str, Any], methods: Sequence[str]) -> list
     frames = [
         (
             f"{pair}: learner against learner, evaluate.metric, single images",
-            learner_matrix(tables["learners"], methods),
+            learner_matrix(tables["learners"], learners),
         )
         for pair, tables in pairs.items()
     ]
@@ -184,7 +184,7 @@ def comparison_frames(record: Mapping[str, Any], methods: Sequence[str]) -> list
     return frames
 
 
-def comparisons_markdown(record: Mapping[str, Any], methods: Sequence[str]) -> str:
+def comparisons_markdown(record: Mapping[str, Any], learners: Sequence[str]) -> str:
     """Every table of comparison_frames as markdown, with the settings and the legend."""
     settings = record["statistics"]
     degrees = f"{settings['degrees_scale']:g} n^(2/3)"
@@ -195,12 +195,12 @@ def comparisons_markdown(record: Mapping[str, Any], methods: Sequence[str]) -> s
         f"{degrees}), alpha {settings['alpha']}. " + legend(settings),
         "",
     ]
-    for caption, frame in comparison_frames(record, methods):
+    for caption, frame in comparison_frames(record, learners):
         lines += [f"**{caption}**", "", markdown_table(frame, "")]
     return "\n".join(lines)
 
 
-def comparisons_section(record: Mapping[str, Any], methods: Sequence[str]) -> Section:
+def comparisons_section(record: Mapping[str, Any], learners: Sequence[str]) -> Section:
     """The report's section of paired comparisons: comparison_frames' tables with the legend."""
     settings = record["statistics"]
     intro = (
@@ -210,7 +210,7 @@ def comparisons_section(record: Mapping[str, Any], methods: Sequence[str]) -> Se
     )
     return Section(
         "Paired comparisons",
-        [Text(intro), *(Table(caption, frame) for caption, frame in comparison_frames(record, methods))],
+        [Text(intro), *(Table(caption, frame) for caption, frame in comparison_frames(record, learners))],
     )
 
 

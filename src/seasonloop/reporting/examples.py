@@ -97,26 +97,26 @@ def example_grid_png(
 
 def example_grids(
     outcomes_dir: Path,
-    methods: Sequence[str],
+    learners: Sequence[str],
     database: str,
     query: str,
     images: Mapping[str, np.ndarray],
     truth: PairTruth,
     n: int,
 ) -> dict[str, bytes]:
-    """method -> PNG bytes of its example grid on the pair (database, query): its single-image best
-    matches under evaluate.metric as the evaluate stage found them (outcomes_dir/<method>/<pair>.csv),
+    """learner -> PNG bytes of its example grid on the pair (database, query): its single-image best
+    matches under evaluate.metric as the evaluate stage found them (outcomes_dir/<learner>/<pair>.csv),
     the n most confident correct ones and n most confident failures, by the pair's ground truth."""
     grids = {}
-    for method in methods:
-        outcomes = QueryOutcomes.read_csv(outcomes_dir / method / f"{pair_name(database, query)}.csv")
-        grids[method] = example_grid_png(
+    for learner in learners:
+        outcomes = QueryOutcomes.read_csv(outcomes_dir / learner / f"{pair_name(database, query)}.csv")
+        grids[learner] = example_grid_png(
             images[database],
             images[query],
             outcome_examples(outcomes, truth, n),
             truth.database_places,
             truth.query_places,
-            title=f"{method}: {query} queries vs {database} database",
+            title=f"{learner}: {query} queries vs {database} database",
         )
     return grids
 
@@ -130,6 +130,6 @@ def examples_section(pair: str, grids: Mapping[str, Png]) -> Section:
                 "Single-image matching. Per learner: the most confident correct matches, then the most "
                 "confident wrong ones (query, its best database match, the true database image)."
             ),
-            *(Image(f"{method}, {pair}", png) for method, png in grids.items()),
+            *(Image(f"{learner}, {pair}", png) for learner, png in grids.items()),
         ],
     )

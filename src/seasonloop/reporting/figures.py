@@ -17,8 +17,12 @@ from typing import Any
 import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth
+from seasonloop.evaluation.autoencoder_descriptors import (
+    autoencoder_descriptors,
+    descriptor_evaluations,
+    fraction_correct_record,
+)
 from seasonloop.evaluation.context import EvaluationContext
-from seasonloop.evaluation.descriptors import autoencoder_descriptors, descriptor_evaluations, fraction_correct_record
 from seasonloop.models.core.lookup import get_learner, load_learner
 from seasonloop.models.core.torch_learner import AE_DESCRIPTORS
 from seasonloop.params.seasons import pair_name
@@ -33,7 +37,7 @@ N_BASIS_SHOWN, BASIS_PER_ROW = 32, 8  # global ICA basis images
 @dataclass(frozen=True)
 class FigureRecords:
     """What the figures leave besides PNGs: fraction correct with its interval per auto-encoder,
-    descriptor and pair ([method][descriptor], as fraction_correct_record gives it);
+    descriptor and pair ([learner][descriptor], as fraction_correct_record gives it);
     one line per figure left out. (How each auto-encoder's training ended is the summary stage's
     metrics/autoencoder_training.json, from the fit records: seasonloop.reporting.results.)"""
 
@@ -95,15 +99,15 @@ def ica_figures(bovw, images: np.ndarray, season: str, out: Path) -> None:
 
 
 def descriptors_figure(record: Mapping[str, Mapping[str, Any]], pairs: Sequence[tuple[str, str]], path: Path) -> None:
-    """Figure 19: fraction correct of each auto-encoder's descriptors (record[method][descriptor], as
+    """Figure 19: fraction correct of each auto-encoder's descriptors (record[learner][descriptor], as
     fraction_correct_record gives it), one line per auto-encoder and pair."""
     plot_series(
         {
-            f"{method} {pair_name(a, b)}": (
+            f"{name} {pair_name(a, b)}": (
                 list(AE_DESCRIPTORS),
                 [100 * by_descriptor[d]["fraction_correct"][pair_name(a, b)] for d in AE_DESCRIPTORS],
             )
-            for method, by_descriptor in record.items()
+            for name, by_descriptor in record.items()
             for a, b in pairs
         },
         path,
@@ -114,29 +118,29 @@ def descriptors_figure(record: Mapping[str, Mapping[str, Any]], pairs: Sequence[
 
 
 def autoencoder_figures(
-    models_dir: Path, methods: Sequence[str], context: EvaluationContext, out: Path
+    models_dir: Path, learners: Sequence[str], context: EvaluationContext, out: Path
 ) -> dict[str, dict[str, dict[str, Any]]]:
-    """Figures 19, 19b and 19c of the fitted auto-encoders models_dir/<method> of `methods` (at least
-    one); record[method][descriptor] = fraction_correct_record of its single-image evaluations."""
+    """Figures 19, 19b and 19c of the fitted auto-encoders models_dir/<learner> of `learners` (at least
+    one); record[learner][descriptor] = fraction_correct_record of its single-image evaluations."""
     test = context.test
     seasons = list(test)
     record: dict[str, dict[str, dict[str, Any]]] = {}
     losses: dict[str, dict[str, list[float]]] = {}
     shown_places = np.linspace(0, len(test[seasons[0]]) - 1, N_RECONSTRUCTIONS + 2).astype(int)[1:-1]
     reconstructions = {season: [list(test[season][shown_places])] for season in seasons}
-    for method in methods:
+    for name in learners:
         # loaded one at a time: loading sets the learner's torch threads for its describe
-        learner = load_learner(models_dir / method)
+        learner = load_learner(models_dir / name)
         info = learner.fit_info
-        assert info is not None, f"{models_dir / method}: a saved learner without its fit record"
-        losses[method] = {"train": info["loss_per_epoch"], "validation": info["validation_loss_per_epoch"]}
+        assert info is not None, f"{models_dir / name}: a saved learner without its fit record"
+        losses[name] = {"train": info["loss_per_epoch"], "validation": info["validation_loss_per_epoch"]}
         described = autoencoder_descriptors(learner, context)
         for season in seasons:
             reconstructions[season].append(
                 list(described["output"][season][shown_places].reshape(-1, *test[season].shape[1:]))
             )
         evaluations = descriptor_evaluations(described, context)
-        record[method] = {
+        record[name] = {
             descriptor: fraction_correct_record(by_pair, context.statistics)
             for descriptor, by_pair in evaluations.items()
         }
@@ -146,7 +150,7 @@ def autoencoder_figures(
         [images for season in seasons for images in zip(*reconstructions[season])],
         out / "fig19b_autoencoder_reconstructions.png",
         row_labels=[f"{season}, test image {index}" for season in seasons for index in shown_places],
-        col_labels=["input", *(f"{method} output" for method in methods)],
+        col_labels=["input", *(f"{name} output" for name in learners)],
         title="Test images and the auto-encoders' reconstructions",
     )
     plot_loss_curves(

@@ -30,7 +30,7 @@ def plot_fraction_correct(
     intervals: tuple[pd.DataFrame, pd.DataFrame] | None = None,
 ) -> None:
     """Bars of the fraction of correct matches, in %: a panel per pair, a row per learner, a bar per
-    variant ("+seq" hatched). table: rows = methods, columns = pairs, fractions in [0, 1];
+    variant ("+seq" hatched). table: rows = learners, columns = pairs, fractions in [0, 1];
     reference: the study's, same labels (NaN where it gives none), drawn as hollow diamonds;
     intervals: (low, high) tables like `table`, drawn as error bars."""
     if table.empty:
@@ -38,7 +38,7 @@ def plot_fraction_correct(
     _check_fractions(table, "table")
     if reference is not None:
         if set(reference.index) != set(table.index) or set(reference.columns) != set(table.columns):
-            raise ValueError("reference must have the same methods (rows) and pairs (columns) as table")
+            raise ValueError("reference must have the same learners (rows) and pairs (columns) as table")
         _check_fractions(reference, "reference")
         reference = reference.loc[table.index, table.columns]
     if intervals is not None:
@@ -46,9 +46,9 @@ def plot_fraction_correct(
             _check_fractions(bound, "intervals")
         intervals = (intervals[0].loc[table.index, table.columns], intervals[1].loc[table.index, table.columns])
 
-    methods, pairs = list(table.index), list(table.columns)
-    bases = list(dict.fromkeys(str(method).split("+")[0] for method in methods))
-    variants = list(dict.fromkeys(str(method)[len(str(method).split("+")[0]) :] for method in methods))
+    learners, pairs = list(table.index), list(table.columns)
+    bases = list(dict.fromkeys(str(learner).split("+")[0] for learner in learners))
+    variants = list(dict.fromkeys(str(learner)[len(str(learner).split("+")[0]) :] for learner in learners))
     # one panel per pair, three to a row, learners down the side: ~1,500 px wide at 120 dpi
     n_columns = min(3, len(pairs))
     n_rows = int(np.ceil(len(pairs) / n_columns))
@@ -112,19 +112,19 @@ def _fraction_panel(
     for index, variant in enumerate(variants):
         offset = (index - (len(variants) - 1) / 2) * bar_height
         for row, base in enumerate(bases):
-            method = base + variant
-            if method not in percent.index:
+            learner = base + variant
+            if learner not in percent.index:
                 continue
-            color, hatch = styles[method]["color"], styles[method]["hatch"]
+            color, hatch = styles[learner]["color"], styles[learner]["hatch"]
             kind = {"hatch": hatch, "edgecolor": "white"} if hatch else {}
-            axes.barh(row + offset, float(percent[method]), bar_height, color=color, **kind)
-            if bounds is not None and np.isfinite(bounds[0][method]):
-                value = float(percent[method])
-                spread = [[value - float(bounds[0][method])], [float(bounds[1][method]) - value]]
+            axes.barh(row + offset, float(percent[learner]), bar_height, color=color, **kind)
+            if bounds is not None and np.isfinite(bounds[0][learner]):
+                value = float(percent[learner])
+                spread = [[value - float(bounds[0][learner])], [float(bounds[1][learner]) - value]]
                 axes.errorbar(value, row + offset, xerr=spread, color="black", linewidth=0.8, capsize=1.5)
-            if study is not None and np.isfinite(study[method]):
+            if study is not None and np.isfinite(study[learner]):
                 axes.scatter(
-                    float(study[method]), row + offset, marker="D", facecolors="none", edgecolors="black", zorder=3
+                    float(study[learner]), row + offset, marker="D", facecolors="none", edgecolors="black", zorder=3
                 )
     axes.set_xlim(0.0, 100.0)
     axes.grid(True, axis="x", alpha=0.3)

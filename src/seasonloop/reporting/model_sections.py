@@ -95,7 +95,7 @@ def figures_section(
 ) -> Section:
     """The study's other figures (caption -> PNG) and the auto-encoder descriptor comparison table.
 
-    autoencoder_descriptors[method][descriptor] = {fraction_correct: {pair: value}, interval: {pair:
+    autoencoder_descriptors[learner][descriptor] = {fraction_correct: {pair: value}, interval: {pair:
     {low, high}}} (metrics/autoencoder_descriptors.json); a cell shows the fraction correct with its
     interval, its columns in the run's order of pairs (the JSON's are sorted). Either may be empty
     when the learners they need are not in the run.
@@ -105,13 +105,13 @@ def figures_section(
         blocks.append(Text("No figure: no learner in learners draws one (a learner's class names its figures)."))
     if autoencoder_descriptors:
         cells = {
-            (method, descriptor): {pair: record_cell(record, pair) for pair in record["fraction_correct"]}
-            for method, by_descriptor in autoencoder_descriptors.items()
+            (learner, descriptor): {pair: record_cell(record, pair) for pair in record["fraction_correct"]}
+            for learner, by_descriptor in autoencoder_descriptors.items()
             for descriptor, record in by_descriptor.items()
         }
         table = pd.DataFrame.from_dict(cells, orient="index")
         table = table[[pair for pair in pairs if pair in table.columns]]  # the run's order, not the JSON's
-        table.index.names = ["method", "descriptor"]
+        table.index.names = ["learner", "descriptor"]
         blocks.append(
             Table(
                 "Auto-encoder descriptors (study Fig. 19): fraction correct (%) with its 95% interval along the route, "
@@ -123,7 +123,7 @@ def figures_section(
 
 
 def autoencoder_training_section(training: Mapping[str, Mapping[str, Any]]) -> Section:
-    """How each auto-encoder's training ended, training[method][key] (metrics/autoencoder_training.json)."""
+    """How each auto-encoder's training ended, training[learner][key] (metrics/autoencoder_training.json)."""
     if not training:
         return Section("Auto-encoder training", [Text("No auto-encoder is in learners.")])
     table = pd.DataFrame.from_dict(training, orient="index")

@@ -67,7 +67,7 @@ def first_to_last(records: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[st
 
 def pooled_comparisons(
     outcomes_dirs: Mapping[int, Path],
-    methods: Sequence[str],
+    learners: Sequence[str],
     variants: Sequence[Variant],
     pairs: Sequence[str],
     settings: StatisticsConfig,
@@ -79,11 +79,11 @@ def pooled_comparisons(
 
     # read once: segments_of reads the first evaluation of a pair, which pooled reads again
     @functools.cache
-    def routes_of(method: str, pair: str, suffix: str) -> list[tuple[np.ndarray, np.ndarray]]:
-        return [reader(method, pair, suffix) for reader in readers.values()]
+    def routes_of(learner: str, pair: str, suffix: str) -> list[tuple[np.ndarray, np.ndarray]]:
+        return [reader(learner, pair, suffix) for reader in readers.values()]
 
-    def pooled(method: str, pair: str, suffix: str) -> tuple[np.ndarray, np.ndarray]:
-        read = routes_of(method, pair, suffix)
+    def pooled(learner: str, pair: str, suffix: str) -> tuple[np.ndarray, np.ndarray]:
+        read = routes_of(learner, pair, suffix)
         # places numbered per route: route i's place p is i * (1 + the largest place) + p
         span = 1 + max(int(places.max()) for places, _ in read)
         places = np.concatenate([route * span + places for route, (places, _) in enumerate(read)])
@@ -91,9 +91,9 @@ def pooled_comparisons(
 
     def segments_of(pair: str) -> list[int]:
         # a pair's evaluations share their queries (pair_comparisons checks): the first one's count
-        return [len(places) for places, _ in routes_of(methods[0], pair, variants[0][2])]
+        return [len(places) for places, _ in routes_of(learners[0], pair, variants[0][2])]
 
-    return comparisons_of(pooled, methods, variants, pairs, settings, segments_of)
+    return comparisons_of(pooled, learners, variants, pairs, settings, segments_of)
 
 
 def claims_in(

@@ -59,15 +59,15 @@ class ReportFiles:
     training_seasons: Path  # the training-season ablation's record
     autoencoder_descriptors: Path  # fraction correct per auto-encoder descriptor
     autoencoder_training: Path  # how each auto-encoder's training ended
-    outcomes: Path  # <method>/<pair><suffix>.csv: each query's outcome and best match (the evaluate stage's)
+    outcomes: Path  # <learner>/<pair><suffix>.csv: each query's outcome and best match (the evaluate stage's)
     season_preview: Path  # a PNG
     summary: Path  # fraction_correct[@<metric>].png, pr_<pair>.png, similarity.png
     training_seasons_figure: Path  # a PNG
     cae_widths: Path  # the CAE width sweep's record (seasonloop.ablations.cae_widths)
     cae_widths_figure: Path  # a PNG
     figures: Path  # a folder of the study's other figures, *.png
-    fits: Path  # <method>.json fit records, each with the environment it was fitted in
-    ground_truth: Path  # seasonloop.evaluation.pair_truths.truth_record
+    fits: Path  # <learner>.json fit records, each with the environment it was fitted in
+    ground_truth: Path  # seasonloop.evaluation.pair_ground_truth.truth_record
     comparisons: Path  # the paired comparisons (seasonloop.significance.tables.run_comparisons)
 
 
@@ -81,25 +81,25 @@ def _figures(folder: Path) -> dict[str, Path]:
 def study_report(
     files: ReportFiles,
     results: EvaluationResults,
-    methods: Sequence[str],
+    learners: Sequence[str],
     seasons: Sequence[str],
     evaluate: EvaluateConfig,
-    ablation_methods: Sequence[str],
+    ablation_learners: Sequence[str],
     example_pair: tuple[str, str],
     test_images: Mapping[str, np.ndarray],
     truth: PairTruth,
 ) -> str:
-    """The report's HTML. results: every evaluation of `methods` (seasonloop.reporting.results.load_evaluations);
+    """The report's HTML. results: every evaluation of `learners` (seasonloop.reporting.results.load_evaluations);
     example_pair: the (database, query) seasons of the example matches, both in test_images."""
     database, query = example_pair
     pairs = results.pairs
     extra_metrics = list(evaluate.extra_metrics)
-    grids = example_grids(files.outcomes, methods, database, query, test_images, truth, N_EXAMPLES)
+    grids = example_grids(files.outcomes, learners, database, query, test_images, truth, N_EXAMPLES)
     sections = [
         dataset_section(load_dataset(files.dataset, seasons), files.season_preview, read_json(files.ground_truth)),
         fraction_correct_section(
             results.metrics,
-            methods,
+            learners,
             list(evaluate.matchers),
             pairs,
             files.summary / "fraction_correct.png",
@@ -110,19 +110,19 @@ def study_report(
             {pair: files.summary / f"pr_{pair}.png" for pair in pairs},
             pr_landmarks_table(pr_landmarks(results.metrics)),
         ),
-        comparisons_section(read_json(files.comparisons), methods),
+        comparisons_section(read_json(files.comparisons), learners),
         similarity_section(files.summary / "similarity.png"),
         examples_section(pair_name(database, query), grids),
-        runtime_section(load_runtime_record(files.runtime, methods)),
+        runtime_section(load_runtime_record(files.runtime, learners)),
         training_seasons_section(
-            load_training_seasons(files.training_seasons, ablation_methods), files.training_seasons_figure
+            load_training_seasons(files.training_seasons, ablation_learners), files.training_seasons_figure
         ),
         autoencoder_training_section(read_json(files.autoencoder_training)),
         cae_widths_section(read_json(files.cae_widths), files.cae_widths_figure),
         figures_section(
-            _figures(files.figures), load_autoencoder_descriptors(files.autoencoder_descriptors, methods), pairs
+            _figures(files.figures), load_autoencoder_descriptors(files.autoencoder_descriptors, learners), pairs
         ),
-        software_section({method: read_json(files.fits / f"{method}.json")["environment"] for method in methods}),
+        software_section({learner: read_json(files.fits / f"{learner}.json")["environment"] for learner in learners}),
         parameters_section(files.params.read_text()),
     ]
     return build_report(TITLE, sections)

@@ -1,8 +1,8 @@
 """Loading the results the other stages wrote: per-pair evaluation metrics and PR curves, fit and
 feature timings, and the JSON records the report shows, each in the order its tables list it.
 
-The layout read here is the evaluate, fit and features stages' (metrics/eval/<method>/<pair><suffix>.json,
-plots/pr/<method>/<pair><suffix>.csv, <fit>/<method>.json, <features>/<method>/<season>.json);
+The layout read here is the evaluate, fit and features stages' (metrics/eval/<learner>/<pair><suffix>.json,
+plots/pr/<learner>/<pair><suffix>.csv, <fit>/<learner>.json, <features>/<learner>/<season>.json);
 callers pass the folders. Rows are labelled <learner><suffix> (seasonloop.evaluation.matchers.result_suffix).
 """
 
@@ -43,7 +43,7 @@ class EvaluationResults:
 
 def load_evaluations(
     eval_dir: Path,
-    methods: Sequence[str],
+    learners: Sequence[str],
     pairs: Sequence[str],
     variants: Sequence[tuple[str, str, str]],
     main_metric: str,
@@ -55,31 +55,31 @@ def load_evaluations(
     metric_of: dict[str, str] = {}
     curves: dict[str, dict[str, Curve]] = {pair: {} for pair in pairs} if pr_dir is not None else {}
     for metric, _, suffix in variants:
-        for method in methods:
-            label = method + suffix
+        for learner in learners:
+            label = learner + suffix
             metric_of[label] = metric
             metrics[label] = {}
             for pair in pairs:
                 name = pair + suffix
-                metrics[label][pair] = read_json(eval_dir / method / f"{name}.json")
+                metrics[label][pair] = read_json(eval_dir / learner / f"{name}.json")
                 if "intervals" not in metrics[label][pair]:
-                    raise ValueError(f"{eval_dir / method / name}.json: no intervals (rerun the evaluate stage)")
+                    raise ValueError(f"{eval_dir / learner / name}.json: no intervals (rerun the evaluate stage)")
                 if pr_dir is not None and metric == main_metric:
-                    pr = pd.read_csv(pr_dir / method / f"{name}.csv")
+                    pr = pd.read_csv(pr_dir / learner / f"{name}.csv")
                     curves[pair][label] = (pr["recall"].to_numpy(), pr["precision"].to_numpy())
     return EvaluationResults(list(pairs), metrics, metric_of, main_metric, curves)
 
 
 def load_runtime(
-    fit_dir: Path, features_dir: Path, methods: Sequence[str], seasons: Sequence[str]
+    fit_dir: Path, features_dir: Path, learners: Sequence[str], seasons: Sequence[str]
 ) -> dict[str, dict[str, Any]]:
-    """method -> fit seconds and training images (study Table 6), feature milliseconds per image
+    """learner -> fit seconds and training images (study Table 6), feature milliseconds per image
     averaged over `seasons` (Table 7), the descriptor dimension and what it was trained on."""
     runtime = {}
-    for method in methods:
-        fit = read_json(fit_dir / f"{method}.json")
-        per_season = [read_json(features_dir / method / f"{season}.json") for season in seasons]
-        runtime[method] = {
+    for learner in learners:
+        fit = read_json(fit_dir / f"{learner}.json")
+        per_season = [read_json(features_dir / learner / f"{season}.json") for season in seasons]
+        runtime[learner] = {
             "fit_seconds": fit["fit_seconds"],
             "n_train_images": fit["n_train_images"],
             "feature_ms_per_image": float(np.mean([s["ms_per_image"] for s in per_season])),
@@ -106,14 +106,14 @@ TRAINING_RECORD = (
 )
 
 
-def autoencoder_training(fit_dir: Path, methods: Sequence[str]) -> dict[str, dict[str, Any]]:
-    """method -> how its training ended, for the learners of `methods` that train in epochs, from
-    the fit stage's records fit_dir/<method>.json (the model's facts and the run's: time, threads)."""
+def autoencoder_training(fit_dir: Path, learners: Sequence[str]) -> dict[str, dict[str, Any]]:
+    """learner -> how its training ended, for the learners of `learners` that train in epochs, from
+    the fit stage's records fit_dir/<learner>.json (the model's facts and the run's: time, threads)."""
     training = {}
-    for method in methods:
-        info = read_json(fit_dir / f"{method}.json")["info"]
+    for learner in learners:
+        info = read_json(fit_dir / f"{learner}.json")["info"]
         if "epochs_run" in info:
-            training[method] = {key: info[key] for key in TRAINING_RECORD}
+            training[learner] = {key: info[key] for key in TRAINING_RECORD}
     return training
 
 
@@ -132,27 +132,27 @@ def load_dataset(path: Path, seasons: Sequence[str]) -> dict[str, Any]:
     return dataset
 
 
-def load_runtime_record(path: Path, methods: Sequence[str]) -> dict[str, Any]:
-    """The runtime record (load_runtime, as the summary stage wrote it) in `methods`' order."""
-    return ordered(read_json(path), methods, str(path))
+def load_runtime_record(path: Path, learners: Sequence[str]) -> dict[str, Any]:
+    """The runtime record (load_runtime, as the summary stage wrote it) in `learners`' order."""
+    return ordered(read_json(path), learners, str(path))
 
 
-def load_training_seasons(path: Path, methods: Sequence[str]) -> dict[str, Any]:
-    """The training-season record with its learners in `methods`' order and each learner's season
+def load_training_seasons(path: Path, learners: Sequence[str]) -> dict[str, Any]:
+    """The training-season record with its learners in `learners`' order and each learner's season
     lists in the order the ablation ran them; a skipped ablation's record as it is."""
     training = read_json(path)
     if "skipped" not in training:
         series = training["fraction_correct"]
-        ordered(series, methods, str(path))  # every learner's main-distance series is there
+        ordered(series, learners, str(path))  # every learner's main-distance series is there
         # each learner's series: its main distance's, then "<learner>@<metric>" of the extra ones
-        names = [name for method in methods for name in sorted(series) if name.partition("@")[0] == method]
+        names = [name for learner in learners for name in sorted(series) if name.partition("@")[0] == learner]
         training["fraction_correct"] = {
             name: ordered(series[name], training["season_sets"], str(path)) for name in names
         }
     return training
 
 
-def load_autoencoder_descriptors(path: Path, methods: Sequence[str]) -> dict[str, Any]:
-    """The auto-encoder descriptor record, its learners in `methods`' order (those it holds)."""
+def load_autoencoder_descriptors(path: Path, learners: Sequence[str]) -> dict[str, Any]:
+    """The auto-encoder descriptor record, its learners in `learners`' order (those it holds)."""
     autoencoders = read_json(path)
-    return ordered(autoencoders, [method for method in methods if method in autoencoders], str(path))
+    return ordered(autoencoders, [learner for learner in learners if learner in autoencoders], str(path))

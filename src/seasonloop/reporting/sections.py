@@ -141,13 +141,13 @@ def _recall_table(results: Mapping[str, Mapping[str, Mapping[str, float]]], pair
         },
         orient="index",
     ).rename(columns=RECALL_COLUMNS)
-    recall.index.names = ["pair", "method"]
+    recall.index.names = ["pair", "learner"]
     return recall
 
 
 def fraction_correct_section(
     results: Mapping[str, Mapping[str, Mapping[str, float]]],
-    methods: Sequence[str],
+    learners: Sequence[str],
     matchers: Sequence[str],
     pairs: Sequence[str],
     figure: Png,
@@ -157,7 +157,7 @@ def fraction_correct_section(
     """Fraction correct with its interval beside the study's numbers per metric and matcher, recall
     metrics (what sequence matching adds, paired and tested: seasonloop.reporting.comparisons).
 
-    results[label][pair] is the pair's metrics dict (metrics/eval JSON), label = method + "@<metric>"
+    results[label][pair] is the pair's metrics dict (metrics/eval JSON), label = learner + "@<metric>"
     for an extra metric (none for the main one) + MATCHERS[matcher]; extra_figures[metric] is the
     fraction-correct figure of an extra metric.
     """
@@ -168,7 +168,7 @@ def fraction_correct_section(
     suffixes = {"": "", **{metric: f"@{metric}" for metric in extra_metrics}}
     for metric, metric_suffix in suffixes.items():
         for matcher in matchers:
-            labels = [method + metric_suffix + MATCHERS[matcher] for method in methods]
+            labels = [learner + metric_suffix + MATCHERS[matcher] for learner in learners]
             subset = {label: results[label] for label in labels}
             distance = f", {metric} distance" if metric else ""
             blocks.append(
@@ -233,7 +233,7 @@ def similarity_section(figure: Png) -> Section:
 
 
 def runtime_section(runtime: Mapping[str, Mapping[str, float]]) -> Section:
-    """Fit time (study Table 6) and feature time per image (Table 7), runtime[method][key]."""
+    """Fit time (study Table 6) and feature time per image (Table 7), runtime[learner][key]."""
     table = _labelled(pd.DataFrame.from_dict(runtime, orient="index"), RUNTIME_COLUMNS)
     return Section(
         "Runtimes",
@@ -245,7 +245,7 @@ def software_section(environments: Mapping[str, Mapping[str, Any]]) -> Section:
     """The library versions and torch threads each learner was fitted with (metrics/fit/<learner>.json's
     environment): one column when every learner shares them, one per learner otherwise."""
     table = pd.DataFrame(
-        {method: {key: str(value) for key, value in env.items()} for method, env in environments.items()}
+        {learner: {key: str(value) for key, value in env.items()} for learner, env in environments.items()}
     )
     if len(table.columns) > 1 and (table.nunique(axis=1) == 1).all():
         table = table.iloc[:, [0]].set_axis(["every learner"], axis=1)

@@ -13,7 +13,7 @@ STUDY_FRACTION_CORRECT: dict[str, dict[str, float]] = {
     "cae": {"summer-fall": 83, "spring-fall": 43, "summer-spring": 59},
 }
 
-# The study's precision-recall landmarks (study.md), as fractions: pair -> method -> metric key of
+# The study's precision-recall landmarks (study.md), as fractions: pair -> learner -> metric key of
 # seasonloop.evaluation.metrics.evaluate_pair -> value. Summer-fall, single-image matching: "precision 100%
 # up to 67% recall for PCA and ICA; at 100% recall ICA 91.05%, PCA 84%". It states none for the
 # auto-encoders. In the study's convention precision at 100% recall equals the fraction correct,

@@ -117,7 +117,7 @@ def side_by_side_markdown(
         for pair in ours.columns:
             if not np.isnan(study.loc[label, pair]):
                 cells.loc[label, pair] += f" ({study.loc[label, pair]:.0f})"
-    return markdown_table(cells, "method")
+    return markdown_table(cells, "learner")
 
 
 LANDMARK_NAMES = {
@@ -133,30 +133,30 @@ def pr_landmarks(results: Mapping[str, Mapping[str, Mapping[str, float]]]) -> di
     learners' plain labels ('pca', 'ica')."""
     return {
         pair: {
-            method: {
+            learner: {
                 key: {
-                    "ours": results[method][pair][key] if pair in results.get(method, {}) else None,
+                    "ours": results[learner][pair][key] if pair in results.get(learner, {}) else None,
                     "study": study_value,
                 }
                 for key, study_value in landmarks.items()
             }
-            for method, landmarks in by_method.items()
+            for learner, landmarks in by_learner.items()
         }
-        for pair, by_method in STUDY_PR_LANDMARKS.items()
+        for pair, by_learner in STUDY_PR_LANDMARKS.items()
     }
 
 
 def pr_landmarks_table(landmarks: Mapping[str, Mapping[str, Mapping[str, Mapping[str, float | None]]]]) -> pd.DataFrame:
     """pr_landmarks' record as a table in %: rows (pair, learner, landmark), columns ours, study (S)."""
     rows = {
-        (pair, method, LANDMARK_NAMES[key]): {
+        (pair, learner, LANDMARK_NAMES[key]): {
             "ours": np.nan if values["ours"] is None else 100 * values["ours"],
             "study (S)": 100 * float(values["study"]),  # type: ignore[arg-type]  # the study states each landmark
         }
-        for pair, by_method in landmarks.items()
-        for method, by_key in by_method.items()
+        for pair, by_learner in landmarks.items()
+        for learner, by_key in by_learner.items()
         for key, values in by_key.items()
     }
     table = pd.DataFrame.from_dict(rows, orient="index")
-    table.index.names = ["pair", "method", "landmark"]
+    table.index.names = ["pair", "learner", "landmark"]
     return table

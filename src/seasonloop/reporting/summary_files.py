@@ -35,19 +35,19 @@ from seasonloop.significance.means import mean_interval
 
 def mean_intervals(
     outcomes_dir: Path,
-    methods: Sequence[str],
+    learners: Sequence[str],
     variants: Sequence[tuple[str, str, str]],
     pairs: Sequence[str],
     settings: StatisticsConfig,
 ) -> dict[str, dict[str, float]]:
     """label -> {low, high, ...}: the interval of the fraction correct averaged over `pairs`
     (seasonloop.significance.means), from the evaluate stages' per-query outcomes
-    outcomes_dir/<method>/<pair><suffix>.csv of every learner and (metric, matcher, suffix) of `variants`."""
+    outcomes_dir/<learner>/<pair><suffix>.csv of every learner and (metric, matcher, suffix) of `variants`."""
     intervals = {}
     for _, _, suffix in variants:
-        for method in methods:
-            outcomes = [QueryOutcomes.read_csv(outcomes_dir / method / f"{pair}{suffix}.csv") for pair in pairs]
-            intervals[method + suffix] = mean_interval(
+        for learner in learners:
+            outcomes = [QueryOutcomes.read_csv(outcomes_dir / learner / f"{pair}{suffix}.csv") for pair in pairs]
+            intervals[learner + suffix] = mean_interval(
                 [o.correct for o in outcomes], [o.query_place for o in outcomes], settings
             )
     return intervals
@@ -95,21 +95,21 @@ def write_tables(out: Path, results: EvaluationResults, runtime: Mapping[str, Ma
         "or for the length of the runs of the learner's outcomes, as metrics/eval's reason says)\n\n"
         + side_by_side_markdown(ours, study, interval_tables(results.metrics, results.pairs))
     )
-    long = ours.reset_index(names="method").melt(id_vars="method", var_name="pair", value_name="fraction_correct")
-    long["label"] = long["pair"] + " " + long["method"]
+    long = ours.reset_index(names="learner").melt(id_vars="learner", var_name="pair", value_name="fraction_correct")
+    long["label"] = long["pair"] + " " + long["learner"]
     long.to_csv(out / "fraction_correct.csv", index=False, float_format="%.3f")
     landmarks = pr_landmarks(results.metrics)
     landmark_cells = pr_landmarks_table(landmarks).map(lambda value: "n/a" if np.isnan(value) else f"{value:.1f}")
     (out / "pr_landmarks.md").write_text(
         "The study's precision-recall landmarks beside ours (%), single-image matching\n\n"
-        + markdown_table(landmark_cells.set_index(landmark_cells.index.map(" ".join)), "pair method landmark")
+        + markdown_table(landmark_cells.set_index(landmark_cells.index.map(" ".join)), "pair learner landmark")
     )
     runtime_cells = pd.DataFrame(runtime).T.map(
         lambda value: f"{value:.4g}" if isinstance(value, float) else str(value)
     )
     (out / "runtime.md").write_text(
         "Fit time (study Table 6) and feature time per test image (Table 7)\n\n"
-        + markdown_table(runtime_cells, "method")
+        + markdown_table(runtime_cells, "learner")
     )
 
 
@@ -146,11 +146,11 @@ def write_dvc_plots(out: Path, results: EvaluationResults, training_curves: pd.D
     losses.to_csv(out / "training_loss.csv", index=False, float_format="%.6g")
 
 
-def write_similarity_figure(path: Path, thumbnails: Path, methods: Sequence[str], pairs: Sequence[str]) -> None:
+def write_similarity_figure(path: Path, thumbnails: Path, learners: Sequence[str], pairs: Sequence[str]) -> None:
     """One figure of every learner's single-image similarity matrix of every pair under the main
-    metric, from the evaluate stages' thumbnails thumbnails/<method>/<pair>.npy."""
+    metric, from the evaluate stages' thumbnails thumbnails/<learner>/<pair>.npy."""
     plot_similarity_grid(
-        {method: {pair: load_array(thumbnails / method / f"{pair}.npy") for pair in pairs} for method in methods},
+        {learner: {pair: load_array(thumbnails / learner / f"{pair}.npy") for pair in pairs} for learner in learners},
         path,
         "Query x database similarity, single-image matching (true matches on the diagonal)",
     )

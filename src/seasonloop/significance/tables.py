@@ -29,7 +29,7 @@ from seasonloop.significance.paired import differences, paired_difference, with_
 Variant = tuple[str, str, str]  # (metric, matcher, suffix): seasonloop.evaluation.matchers.evaluations
 
 
-def comparison_tables(methods: Sequence[str], variants: Sequence[Variant]) -> dict[str, list[tuple[str, str]]]:
+def comparison_tables(learners: Sequence[str], variants: Sequence[Variant]) -> dict[str, list[tuple[str, str]]]:
     """table name -> the (first, second) labels it compares; variants in evaluations' order (the
     main metric's first, single images before sequences). A variant is compared with its reference
     (the same metric's first matcher; the same matcher under the main metric) in table
@@ -40,7 +40,7 @@ def comparison_tables(methods: Sequence[str], variants: Sequence[Variant]) -> di
     main_metric, first_matcher = variants[0][0], variants[0][1]
     tables: dict[str, list[tuple[str, str]]] = {}
     for _, _, variant_suffix in variants:
-        tables[f"learners{variant_suffix}"] = list(combinations([method + variant_suffix for method in methods], 2))
+        tables[f"learners{variant_suffix}"] = list(combinations([learner + variant_suffix for learner in learners], 2))
     for (metric, matcher), variant_suffix in suffix.items():
         metric_part = "" if metric == main_metric else f"@{metric}"
         earlier = [other for (other_metric, other), _ in suffix.items() if other_metric == metric]
@@ -49,11 +49,13 @@ def comparison_tables(methods: Sequence[str], variants: Sequence[Variant]) -> di
             name = f"matchers{variant_suffix}" + (
                 "" if other == first_matcher else f" vs {reference[len(metric_part) :]}"
             )
-            tables[name] = [(method + variant_suffix, method + reference) for method in methods]
+            tables[name] = [(learner + variant_suffix, learner + reference) for learner in learners]
     for (metric, matcher), variant_suffix in suffix.items():
         if metric != main_metric and (main_metric, matcher) in suffix:
             reference = suffix[(main_metric, matcher)]
-            tables[f"distances{variant_suffix}"] = [(method + variant_suffix, method + reference) for method in methods]
+            tables[f"distances{variant_suffix}"] = [
+                (learner + variant_suffix, learner + reference) for learner in learners
+            ]
     return tables
 
 

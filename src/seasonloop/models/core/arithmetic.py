@@ -1,19 +1,25 @@
 """How the auto-encoders (and the torch ICA solvers) compute on this machine: the device, the
 precision of the forward pass (bfloat16 where the hardware has it, autocast) and denormal floats
-flushed to zero on the CPU."""
+flushed to zero on the CPU. torch is imported where it computes: the learners' params checks read
+DEVICES and PRECISIONS, and torch takes a second to import."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from contextlib import contextmanager
+from typing import TYPE_CHECKING
 
-import torch
+if TYPE_CHECKING:
+    import torch
 
-from seasonloop.models.core.torch_learner import PRECISIONS
+DEVICES = ("auto", "cpu", "cuda")
+PRECISIONS = ("auto", "float32", "bfloat16")  # of the auto-encoders' forward pass
 
 
 def resolve_device(requested: str, key: str) -> torch.device:
     """'auto' -> cuda if available else cpu; 'cuda' without CUDA -> ValueError naming `key`."""
+    import torch
+
     if requested == "auto":
         return torch.device("cuda" if torch.cuda.is_available() else "cpu")
     if requested == "cuda" and not torch.cuda.is_available():
@@ -24,6 +30,8 @@ def resolve_device(requested: str, key: str) -> torch.device:
 def cpu_has_native_bfloat16() -> bool:
     """True where the CPU computes bfloat16 in hardware (AVX512-BF16 or AMX); elsewhere torch
     emulates it, which is slower than float32."""
+    import torch
+
     cpu = torch.cpu
     return any(
         getattr(cpu, check, lambda: False)() for check in ("_is_avx512_bf16_supported", "_is_amx_tile_supported")
@@ -38,6 +46,8 @@ def resolve_precision(requested: str, device: torch.device, key: str) -> torch.d
     without the units, which is slow but not wrong) and raises naming `key` on a CUDA device
     without bfloat16.
     """
+    import torch
+
     if requested not in PRECISIONS:
         raise ValueError(f"{key} must be one of {', '.join(PRECISIONS)}, got {requested!r}")
     cuda = device.type == "cuda"
@@ -52,6 +62,8 @@ def resolve_precision(requested: str, device: torch.device, key: str) -> torch.d
 @contextmanager
 def autocast(device: torch.device, dtype: torch.dtype) -> Iterator[None]:
     """Mixed-precision forward pass in `dtype` (no-op for float32)."""
+    import torch
+
     with torch.autocast(device.type, dtype=dtype, enabled=dtype != torch.float32):
         yield
 
@@ -69,5 +81,7 @@ def flush_denormals(device: torch.device) -> None:
     process's first parallel torch operation (as in a fit stage) it holds in every thread; called
     later, in the calling thread only (slower, not other arithmetic where no denormal arises).
     """
+    import torch
+
     if device.type == "cpu":
         torch.set_flush_denormal(True)

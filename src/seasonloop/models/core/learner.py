@@ -98,7 +98,7 @@ class FeatureLearner(ABC):
     and `_load_state`; `_validate_params` checks params across keys.
 
     A learner's module is imported by every stage, to check params.yaml before any work
-    (seasonloop.params.schema.check_whole): it declares, and imports torch or scikit-learn only
+    (seasonloop.registries.check_whole): it declares, and imports torch or scikit-learn only
     inside the methods that compute (tests/test_models.py holds every learner module to it).
     """
 

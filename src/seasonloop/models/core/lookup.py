@@ -1,10 +1,11 @@
-"""A learner's class from its name, by its module alone: learner <name> is the FeatureLearner
-subclass of seasonloop.models.<name> whose `name` is <name>.
+"""The learners params.yaml may name, and a learner's class from its name, by its module alone:
+learner <name> is the one FeatureLearner subclass of the module seasonloop.models.<name> whose
+`name` is <name>. Adding one is that module and its section in params.yaml (and its name in
+`learners:` to run it), nothing here.
 
 The stages that fit, describe with or draw a learner find it here, so they depend (dvc.yaml) on its
 module and models/core only: adding a learner (its module and its params section) reruns none of
-the other learners' stages. The name is checked against the registry (the package's modules) as
-params.yaml's checks read it (seasonloop.params.registries: not a stage's dep).
+the other learners' stages. The name is checked against LEARNERS first.
 """
 
 from __future__ import annotations
@@ -13,12 +14,19 @@ import importlib
 from pathlib import Path
 
 from seasonloop.models.core.learner import FeatureLearner, read_learner_record
-from seasonloop.params.registries import known_learner
+
+# learner names, sorted: the modules of seasonloop.models (each its params section); the tables
+# list a run's learners in the order of params.yaml's `learners:`
+LEARNERS: tuple[str, ...] = tuple(
+    sorted(path.stem for path in Path(__file__).parents[1].glob("*.py") if path.stem != "__init__")
+)
 
 
 def get_learner(name: str) -> type[FeatureLearner]:
     """The class of learner `name`, importing its module (and only it)."""
-    dotted = f"seasonloop.models.{known_learner(name)}"
+    if name not in LEARNERS:
+        raise ValueError(f"unknown learner '{name}' (known: {', '.join(LEARNERS)})")
+    dotted = f"seasonloop.models.{name}"
     try:
         module = importlib.import_module(dotted)
     except ModuleNotFoundError as missing:

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from seasonloop.data.patchnorm import patch_normalise
+from seasonloop.models.core.arithmetic import DEVICES, PRECISIONS
 from seasonloop.models.core.learner import EpochCallback, FeatureLearner, select_training_subset, to_float
 from seasonloop.params.checks import integer, number, one_of
 
@@ -25,8 +26,6 @@ if TYPE_CHECKING:
     from seasonloop.models.core.training import AutoEncoder, TrainingConfig
 
 MODEL_FILE = "model.pt"
-DEVICES = ("auto", "cpu", "cuda")
-PRECISIONS = ("auto", "float32", "bfloat16")  # of the forward pass (seasonloop.models.core.arithmetic)
 AE_DESCRIPTORS = ("code", "output", "output_patchnorm")
 
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from seasonloop.data.datasets import season_part, season_split
 from seasonloop.data.ground_truth import PairTruth
-from seasonloop.data.truth_kinds import truth_kind
+from seasonloop.data.ground_truth_kinds import truth_kind
 from seasonloop.params.seasons import pair_name
 from seasonloop.params.settings import EvaluateConfig
 
@@ -28,7 +28,7 @@ def each_truth(
 ) -> Iterator[tuple[tuple[str, str], PairTruth]]:
     """((database, query), its ground truth on the test places) for every ordered pair of seasons,
     one pair built at a time (a 27,592 x 27,592 pair's truth is 0.76 GB of booleans), as the kind
-    data.ground_truth names builds it (seasonloop.data.truth_kinds): positions read from
+    data.ground_truth names builds it (seasonloop.data.ground_truth_kinds): positions read from
     frames_dir/<season>_positions.npy, matrices from matrix_dir."""
     truth = truth_kind(kind)
     test = {season: season_part(split, season, "test") for season in seasons}

@@ -4,7 +4,7 @@ A kind says what extraction keeps (seasons paired frame by frame, or each its ow
 read or not), how the split maps every season onto the first season's places, how one pair's
 truth on the test places is built (seasonloop.data.ground_truth), and how the dataset table words
 it. A new kind is one class here and one line of TRUTH_KINDS (data.ground_truth is checked against
-its names, seasonloop.params.registries). Checks of data.* that depend on the kind (degrees only with positions,
+its names, seasonloop.registries). Checks of data.* that depend on the kind (degrees only with positions,
 VPR-Bench's two traverses) run with the params (seasonloop.params.section_checks).
 """
 
@@ -17,8 +17,8 @@ from typing import ClassVar
 import numpy as np
 
 from seasonloop.data.ground_truth import PairTruth, aligned_truth, matrix_truth, position_truth
+from seasonloop.data.ground_truth_files import matrix_between, pair_matrix
 from seasonloop.data.season_split import by_matrix, by_position
-from seasonloop.data.truth_matrix import matrix_between, pair_matrix
 from seasonloop.io import load_array
 from seasonloop.params.settings import EvaluateConfig
 
@@ -98,7 +98,7 @@ class Positions(TruthKind):
 
 
 class Matrix(TruthKind):
-    """A boolean matrix per pair given with the data (seasonloop.data.truth_matrix)."""
+    """A boolean matrix per pair given with the data (seasonloop.data.ground_truth_files)."""
 
     name = "matrix"
 

@@ -1,0 +1,1 @@
+"""params.yaml checked whole against the library's registries (choices)."""

@@ -47,7 +47,7 @@ from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.metrics import evaluate_pair
 from seasonloop.io import read_json
 from seasonloop.models.cae import ConvolutionalAutoEncoder
-from seasonloop.models.core import torch_learner, training
+from seasonloop.models.core import arithmetic, training
 from seasonloop.models.core.lookup import get_learner
 from seasonloop.models.core.upsampling import UpsampledConv2d
 from tools.records import machine, write_result
@@ -114,8 +114,9 @@ def separate_upsampling() -> Iterator[None]:
 
 @contextlib.contextmanager
 def kept_denormals() -> Iterator[None]:
-    """Training without flushing denormal floats to zero."""
-    with mock.patch.object(torch_learner, "flush_denormals", lambda device: None):
+    """Training without flushing denormal floats to zero (the fit imports flush_denormals from
+    arithmetic when it starts, so the module's attribute is what it gets)."""
+    with mock.patch.object(arithmetic, "flush_denormals", lambda device: None):
         yield
 
 

@@ -100,3 +100,10 @@ def test_an_old_record_is_read_in_todays_words(tmp_path):
     assert write_tables._fraction_correct(landmarks).startswith("| pair learner landmark | ours |")
     old.write_text("title\n\n| learner | summer-fall |\n|---|---|\n")
     assert write_tables._fraction_correct(old).startswith("| learner | summer-fall |")
+
+
+def test_no_published_number_comes_from_uncommitted_changes():
+    # every table of README and docs names the commit that produced it, and that commit alone
+    # reproduces it (docs/write_tables.py refuses a dirty record; this keeps the pages so)
+    for document in write_tables.DOCUMENTS:
+        assert "uncommitted" not in document.read_text().lower(), f"{document.name} says uncommitted"

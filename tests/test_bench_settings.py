@@ -3,6 +3,7 @@ stand in for: a fit under `denormals=kept` never switches denormal flushing on."
 
 from __future__ import annotations
 
+import contextlib
 from unittest import mock
 
 import numpy as np
@@ -18,12 +19,8 @@ def fit_flushes(context) -> bool:
     learner_class = get_learner("fae")
     learner = learner_class(learner_params("fae", learner_class.TINY_RUN), seed=0)
     images = np.random.default_rng(0).integers(0, 256, (48, 16, 32), dtype=np.uint8)
-    with mock.patch.object(torch, "set_flush_denormal") as flush:
-        if context is None:
-            learner.fit(images, progress=False, places=np.arange(len(images)))
-        else:
-            with context():
-                learner.fit(images, progress=False, places=np.arange(len(images)))
+    with mock.patch.object(torch, "set_flush_denormal") as flush, (context or contextlib.nullcontext)():
+        learner.fit(images, progress=False, places=np.arange(len(images)))
     return any(call.args == (True,) for call in flush.call_args_list)
 
 

@@ -3,13 +3,38 @@ files it names and no others, and runs it through `dvc repro` (a learner: tests/
 
 from __future__ import annotations
 
+import shutil
+import subprocess
+import sys
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import pytest
 import yaml
 
-from tools.repository import commit_all, dvc, git, tool_env, write_params
+from tools.repository import REPO, commit_all, dvc, git, tool_env, write_params
 from workspaces import committed_run
+
+
+def copied_src(folder: Path) -> Path:
+    """A copy of the library's source in folder/src, to change as a recipe says."""
+    shutil.copytree(REPO / "src", folder / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
+    return folder / "src"
+
+
+def run_on_params(src: Path, program: str, change: Callable[[dict[str, Any]], None]) -> subprocess.CompletedProcess:
+    """`program` run with the library at `src`, params.yaml with `change` applied on its stdin."""
+    params = yaml.safe_load((REPO / "params.yaml").read_text())
+    change(params)
+    return subprocess.run(
+        [sys.executable, "-c", program],
+        input=yaml.safe_dump(params),
+        env=tool_env(PYTHONPATH=str(src)),
+        capture_output=True,
+        text=True,
+    )
+
 
 # A matcher the project has never seen: each frame's descriptor beside its successor's (the last
 # frame's twice), matched as single images.
@@ -60,14 +85,8 @@ def test_a_matcher_added_in_its_module_and_params_runs_through_dvc_repro(tmp_pat
 def test_a_setting_added_in_params_yaml_and_its_sections_dataclass_is_checked_by_every_stage(tmp_path):
     """docs/extending.md, "A setting": its value in params.yaml and one field with its check in its
     section's dataclass; the whole-file check every stage starts with then requires and checks it."""
-    import shutil
-    import subprocess
-    import sys
-
-    from tools.repository import REPO
-
-    shutil.copytree(REPO / "src", tmp_path / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
-    settings = tmp_path / "src/seasonloop/params/settings.py"
+    src = copied_src(tmp_path)
+    settings = src / "seasonloop/params/settings.py"
     anchor = "    window_at_breaks: str = setting(one_of(*WINDOW_RULES))\n"
     text = settings.read_text()
     assert anchor in text
@@ -75,16 +94,11 @@ def test_a_setting_added_in_params_yaml_and_its_sections_dataclass_is_checked_by
     check = "import sys, yaml; from seasonloop.registries.choices import check_whole; check_whole(yaml.safe_load(sys.stdin))"
 
     def checked(stride: int | None) -> subprocess.CompletedProcess:
-        params = yaml.safe_load((REPO / "params.yaml").read_text())
-        if stride is not None:
-            params["sequence"]["stride"] = stride
-        return subprocess.run(
-            [sys.executable, "-c", check],
-            input=yaml.safe_dump(params),
-            env=tool_env(PYTHONPATH=str(tmp_path / "src")),
-            capture_output=True,
-            text=True,
-        )
+        def change(params: dict[str, Any]) -> None:
+            if stride is not None:
+                params["sequence"]["stride"] = stride
+
+        return run_on_params(src, check, change)
 
     assert checked(2).returncode == 0
     assert "sequence.stride" in checked(0).stderr  # its check
@@ -173,14 +187,8 @@ KINDS_OPEN = "TRUTH_KINDS: dict[str, TruthKind] = {kind.name: kind for kind in (
 def test_a_ground_truth_kind_added_in_its_module_is_checked_and_builds_its_truth(tmp_path):
     """docs/extending.md, "A ground-truth kind": its class and its entry in TRUTH_KINDS; params.yaml's
     data.ground_truth may then name it, and the pair's truth is the class's."""
-    import shutil
-    import subprocess
-    import sys
-
-    from tools.repository import REPO
-
-    shutil.copytree(REPO / "src", tmp_path / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
-    module = tmp_path / "src/seasonloop/data/ground_truth_kinds.py"
+    src = copied_src(tmp_path)
+    module = src / "seasonloop/data/ground_truth_kinds.py"
     text = module.read_text()
     assert KINDS_OPEN in text
     text = text.replace(
@@ -204,16 +212,11 @@ print(kind.describe(evaluate), int(truth.correct.sum()), evaluate.tolerance_fram
 """
 
     def run(kind: str) -> subprocess.CompletedProcess:
-        params = yaml.safe_load((REPO / "params.yaml").read_text())
-        params["data"]["ground_truth"] = kind
-        params["evaluate"]["tolerance_frames"] = 1
-        return subprocess.run(
-            [sys.executable, "-c", program],
-            input=yaml.safe_dump(params),
-            env=tool_env(PYTHONPATH=str(tmp_path / "src")),
-            capture_output=True,
-            text=True,
-        )
+        def change(params: dict[str, Any]) -> None:
+            params["data"]["ground_truth"] = kind
+            params["evaluate"]["tolerance_frames"] = 1
+
+        return run_on_params(src, program, change)
 
     exact, aligned = run("exact"), run("aligned")
     assert exact.returncode == 0 and aligned.returncode == 0, exact.stderr + aligned.stderr

@@ -6,3 +6,5 @@ record to benchmarks/results/ and printing its headline (docs/benchmarks.md):
 - studies/: method studies that decide a design (the statistics' real error rates, SeqSLAM's
   window at breaks).
 """
+
+import tools  # noqa: F401  (this checkout's library first, as its records say: see tools/__init__.py)

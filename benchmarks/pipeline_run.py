@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import contextlib
 import json
-import os
 import sys
 import threading
 import time
@@ -60,9 +59,6 @@ def timed_repro(root: Path, env: dict[str, str]) -> tuple[float, dict[str, dict[
             with log.open("a") as file:
                 file.write(json.dumps({"stage": stage, "seconds": now - since, "peak_rss_mb": peak / 2**20}) + "\n")
 
-    # the stages import the copy's own library: the editable install points at the checkout's
-    # src/, which may change (another commit, an edit) while a long run goes on
-    env = {**env, "PYTHONPATH": os.pathsep.join(filter(None, [str(root / "src"), env.get("PYTHONPATH")]))}
     start = time.perf_counter()
     process = psutil.Popen([dvc, "repro"], cwd=root, env=env, stdout=-1, stderr=-2, text=True, bufsize=1)
 

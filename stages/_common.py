@@ -14,8 +14,14 @@ from typing import Any
 
 import yaml
 
-from seasonloop.params.seasons import check_seasons
-from seasonloop.registries.choices import check_params, check_whole
+# A stage runs the library of its own checkout, the code dvc.yaml declares and DVC hashes: not
+# whichever checkout pip installed in editable mode (another clone, or the repository that DVC's
+# experiment queue copied this tree from, whose src/ may have changed since). Every stage imports
+# this module before the library (_ground_truth.py imports it first too).
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
+
+from seasonloop.params.seasons import check_seasons  # noqa: E402
+from seasonloop.registries.choices import check_params, check_whole  # noqa: E402
 
 PARAMS_FILE = Path("params.yaml")
 

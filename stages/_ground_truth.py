@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+import _common  # noqa: F401  (this checkout's library first: see _common.py)
 from seasonloop.data.ground_truth import PairTruth, truth_file
 from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.params.settings import EvaluateConfig, FeaturesConfig, SequenceConfig, StatisticsConfig

@@ -14,10 +14,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from _ground_truth import evaluation_context, pair_truths
-
 from _common import data_seasons, load_params, param, stage_main, train_seasons
 from _datasets import test_images, training_images, training_places
+from _ground_truth import evaluation_context, pair_truths
 from seasonloop.ablations.cae_widths import run_width_sweep, width_channels, write_skipped_sweep, write_width_sweep
 from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.core.lookup import load_learner

@@ -15,10 +15,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from _ground_truth import all_pair_truths, evaluation_context
-
 from _common import data_seasons, load_params, param, stage_main
 from _datasets import test_images
+from _ground_truth import all_pair_truths, evaluation_context
 from seasonloop.io import staged_dir, write_json
 from seasonloop.params.seasons import available_pairs
 from seasonloop.params.settings import EvaluateConfig

@@ -10,10 +10,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from _ground_truth import pair_truths
-
 from _common import PARAMS_FILE, data_seasons, load_params, param, stage_main
 from _datasets import test_images
+from _ground_truth import pair_truths
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.io import staged_file
 from seasonloop.params.seasons import available_pairs, pair_name, pair_present

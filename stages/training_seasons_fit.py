@@ -17,10 +17,9 @@ import argparse
 import functools
 from pathlib import Path
 
-from _ground_truth import evaluation_context, pair_truths
-
 from _common import data_seasons, load_params, param, stage_main, train_seasons
 from _datasets import SPLIT, test_images, training_images, training_places
+from _ground_truth import evaluation_context, pair_truths
 from seasonloop.ablations.training_seasons import plan_ablation, reusable_label, run_ablation, write_learner_record
 from seasonloop.data.datasets import count_folds
 from seasonloop.models.core.lookup import get_learner

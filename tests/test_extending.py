@@ -72,7 +72,7 @@ def test_a_matcher_added_in_its_module_and_params_runs_through_dvc_repro(tmp_pat
     changed = git(root, "status", "--porcelain").stdout.split("\n")
     assert sorted(line[3:] for line in changed if line) == ["params.yaml", "src/seasonloop/evaluation/matchers.py"]
 
-    result = dvc(root, "repro", env=tool_env(PYTHONPATH=str(root / "src")))
+    result = dvc(root, "repro")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     # every learner evaluated with it, its rows in the summary and the report beside the others'
     learners = yaml.safe_load((root / "params.yaml").read_text())["learners"]
@@ -160,7 +160,7 @@ def test_a_data_source_added_in_its_module_runs_through_dvc_repro(tmp_path):
     changed = git(root, "status", "--porcelain").stdout.split("\n")
     assert sorted(line[3:] for line in changed if line) == ["params.yaml", "src/seasonloop/data/sources.py"]
     commit_all(root)
-    result = dvc(root, "repro", env=tool_env(PYTHONPATH=str(root / "src")))
+    result = dvc(root, "repro")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     places = yaml.safe_load((root / "metrics/dataset.json").read_text())["seasons"]
     assert set(places) == set(seasons)

@@ -68,7 +68,7 @@ def test_a_learner_added_in_its_module_and_its_params_runs_through_dvc_repro(tmp
     assert sorted(line[3:] for line in changed if line) == ["params.yaml", "src/seasonloop/models/random_projection.py"]
 
     # the copy's own library (the installed one is this checkout's)
-    result = dvc(root, "repro", env=tool_env(PYTHONPATH=str(root / "src")))
+    result = dvc(root, "repro")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     fitted = yaml.safe_load((root / "models/random_projection/learner.json").read_text())
     assert fitted["params"] == {"n_dims": 24}

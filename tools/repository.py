@@ -93,7 +93,7 @@ def start_queue(root: Path, *args: str) -> subprocess.CompletedProcess:
 
 
 def dvc(root: Path, *args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess:
-    """A dvc command in root, with tool_env() (or `env`, e.g. tool_env(PYTHONPATH=...))."""
+    """A dvc command in root, with tool_env() (or `env`)."""
     return subprocess.run(
         [str(Path(sys.executable).parent / "dvc"), *args],
         cwd=root,

@@ -34,6 +34,14 @@ def training_places(params: dict[str, Any], seasons: list[str], fold: int = -1, 
     return datasets.training_places(datasets.fold_dir(SPLIT, fold, folds), in_data_order(params, seasons), copies)
 
 
+def training_traverses(params: dict[str, Any], seasons: list[str], fold: int = -1, folds: int = 1) -> np.ndarray:
+    """The traverse (index in `seasons`, in data.seasons order) of every image that training_images
+    returns."""
+    copies = int(param(params, "augment.copies")) if bool(param(params, "train.augmented")) else 0
+    ordered = in_data_order(params, seasons)
+    return datasets.training_traverses(datasets.fold_dir(SPLIT, fold, folds), ordered, copies)
+
+
 def test_images(seasons: list[str]) -> dict[str, np.ndarray]:
     """season -> its (N_test, H, W) test images."""
     return datasets.test_images(SPLIT, seasons)

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from _common import load_params, param, stage_main, train_seasons
-from _datasets import SPLIT, training_images, training_places
+from _datasets import SPLIT, training_images, training_places, training_traverses
 from seasonloop.data.datasets import count_folds, fold_dir, split_images_file, trained_on
 from seasonloop.io import staged_dir, write_json
 from seasonloop.models.core.learner import FeatureLearner
@@ -45,6 +45,7 @@ def fit_here(
     learner = learner_class(param(params, name), seed=int(param(params, "seed")))
     images = training_images(params, seasons, fold, folds)
     places = training_places(params, seasons, fold, folds)
+    traverses = training_traverses(params, seasons, fold, folds)
     logs = Path("logs") / name
     logged = fold % folds == folds - 1
     with ExitStack() as opened:
@@ -68,7 +69,7 @@ def fit_here(
         learner.import_libraries()  # before the timer: fit_seconds is the fit, not Python's imports
         with fit_threads(int(param(params, "train.threads"))):
             start = time.perf_counter()
-            info = learner.fit(images, progress=True, on_epoch=on_epoch, places=places)
+            info = learner.fit(images, progress=True, on_epoch=on_epoch, places=places, traverses=traverses)
             fit_seconds = time.perf_counter() - start
     whole_route = param(params, "split.test_fraction") == 1
     facts = {

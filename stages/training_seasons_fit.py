@@ -18,7 +18,7 @@ import functools
 from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main, train_seasons
-from _datasets import SPLIT, test_images, training_images, training_places
+from _datasets import SPLIT, test_images, training_images, training_places, training_traverses
 from _ground_truth import evaluation_context, pair_truths
 from seasonloop.ablations.training_seasons import plan_ablation, reusable_label, run_ablation, write_learner_record
 from seasonloop.data.datasets import count_folds
@@ -80,7 +80,11 @@ def main() -> None:
     run = run_ablation(
         plan,
         {learner: new_learner},
-        lambda seasons: (training_images(params, seasons), training_places(params, seasons)),
+        lambda seasons: (
+            training_images(params, seasons),
+            training_places(params, seasons),
+            training_traverses(params, seasons),
+        ),
         context,
         skip={learner: reused},
     )

@@ -79,7 +79,7 @@ class MeanLearner:
     fitted_on: list[int] = []
     places: list = []
 
-    def fit(self, images, progress=False, places=None):
+    def fit(self, images, progress=False, places=None, traverses=None):
         MeanLearner.fitted_on.append(len(images))
         MeanLearner.places.append(places)
         return {"converged": True, "n_iter": len(images), "n_components": 4}  # fit info, as a learner's
@@ -140,7 +140,8 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
 
     def training_set(seasons):
         # every season shows the same 5 places, each twice (original and augmented copy)
-        return np.zeros((10 * len(seasons), 4, 8)), np.tile(np.repeat(np.arange(5), 2), len(seasons))
+        places = np.tile(np.repeat(np.arange(5), 2), len(seasons))
+        return np.zeros((10 * len(seasons), 4, 8)), places, np.repeat(np.arange(len(seasons)), 10)
 
     MeanLearner.fitted_on, MeanLearner.places = [], []
     run = run_ablation(plan, {"mean": new_learner}, training_set, pair_context(test, evaluate, sequence))
@@ -248,7 +249,11 @@ def test_run_ablation_skips_the_reused_label(tmp_path):
     run = run_ablation(
         plan,
         {"mean": MeanLearner},
-        lambda seasons: (np.zeros((10 * len(seasons), 4, 8)), np.tile(np.repeat(np.arange(5), 2), len(seasons))),
+        lambda seasons: (
+            np.zeros((10 * len(seasons), 4, 8)),
+            np.tile(np.repeat(np.arange(5), 2), len(seasons)),
+            np.repeat(np.arange(len(seasons)), 10),
+        ),
         pair_context(test, evaluate, sequence),
         skip={"mean": "summer+winter"},
     )

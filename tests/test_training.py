@@ -12,8 +12,9 @@ from torch import nn
 from seasonloop.models.core import arithmetic
 from seasonloop.models.core import training as _training
 from seasonloop.models.core.arithmetic import resolve_precision
+from seasonloop.models.core.autoencoder_training import mean_loss, train_until_plateau
 from seasonloop.models.core.lookup import get_learner
-from seasonloop.models.core.training import TrainingConfig, mean_loss, train_until_plateau, validation_places
+from seasonloop.models.core.training import TrainingConfig, validation_places
 from tools.repository import learner_params
 
 CPU = torch.device("cpu")

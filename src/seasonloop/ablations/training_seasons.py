@@ -130,14 +130,15 @@ class AblationRun:
 def run_ablation(
     plan: AblationPlan,
     new_learners: Mapping[str, Callable[[], Any]],
-    training_set: Callable[[list[str]], tuple[np.ndarray, np.ndarray]],
+    training_set: Callable[[list[str]], tuple[np.ndarray, np.ndarray, np.ndarray]],
     context: EvaluationContext,
     skip: Mapping[str, str | None] | None = None,
 ) -> AblationRun:
     """For each learner name (new_learners[name]() gives an unfitted learner) and each list of the plan,
-    a learner fitted on training_set(list) = (images, the place id of each image), evaluated on the
-    plan's pair. The place ids go to fit, so that an auto-encoder holds out whole places (every
-    season and augmented copy of them) for validation. The context's test images are those of the
+    a learner fitted on training_set(list) = (images, the place id and the traverse of each image),
+    evaluated on the plan's pair. The place ids go to fit, so that an auto-encoder holds out whole
+    places (every season and augmented copy of them) for validation, and with the traverses a
+    place-supervised learner knows which images show one place in other conditions. The context's test images are those of the
     pair's seasons, at the test places of its truth, described in the features stage's batches.
     skip[name] names a label that is not fitted (a reused one)."""
     assert plan.pair is not None and plan.labels is not None and plan.season_sets is not None, "a skipped plan"
@@ -153,8 +154,8 @@ def run_ablation(
             if (skip or {}).get(name) == label:
                 continue
             learner = new_learner()
-            images, image_places = training_set(chosen)
-            info = learner.fit(images, progress=True, places=image_places)
+            images, image_places, image_traverses = training_set(chosen)
+            info = learner.fit(images, progress=True, places=image_places, traverses=image_traverses)
             run.fits.setdefault(name, {})[label] = learner.how_fit_ended(info)
             database_descriptors, query_descriptors = (
                 learner.describe(context.test[season], batch_size=context.batch_size) for season in (database, query)

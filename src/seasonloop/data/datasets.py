@@ -142,6 +142,14 @@ def training_places(split_dir: Path, seasons: Sequence[str], copies: int) -> np.
     return np.concatenate([augmented_places(_training_place_ids(split, season), copies) for season in seasons])
 
 
+def training_traverses(split_dir: Path, seasons: Sequence[str], copies: int) -> np.ndarray:
+    """The traverse of every image that training_images returns: its season's position in
+    `seasons` (which images show one place in other conditions)."""
+    split = read_split(split_dir)
+    counts = [len(augmented_places(_training_place_ids(split, season), copies)) for season in seasons]
+    return np.repeat(np.arange(len(seasons)), counts)
+
+
 def _training_place_ids(split: Mapping[str, Any], season: str) -> np.ndarray:
     """The place id of each training image of `season`: when the seasons are not aligned, its
     frames' reference places, so that held-out validation blocks are the same stretch of track in

@@ -12,7 +12,7 @@ import numpy as np
 
 from seasonloop.evaluation.blocks import PairEvaluation, evaluate_descriptors
 from seasonloop.evaluation.context import EvaluationContext
-from seasonloop.models.core.torch_learner import AE_DESCRIPTORS
+from seasonloop.models.core.autoencoder_learner import AE_DESCRIPTORS
 from seasonloop.params.seasons import pair_name
 from seasonloop.params.settings import StatisticsConfig
 from seasonloop.significance.intervals import route_intervals

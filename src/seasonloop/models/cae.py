@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from seasonloop.models.core.torch_learner import TorchAutoEncoderLearner
+from seasonloop.models.core.autoencoder_learner import TorchAutoEncoderLearner
 from seasonloop.params.checks import integer
 
 if TYPE_CHECKING:
-    from seasonloop.models.core.training import AutoEncoder
+    from seasonloop.models.core.autoencoder_training import AutoEncoder
 
 
 def three_positive_integers(key: str, value: Any) -> None:
@@ -48,7 +48,7 @@ class ConvolutionalAutoEncoder(TorchAutoEncoderLearner):
     def _build_model(self, height: int, width: int) -> AutoEncoder:
         from torch import nn
 
-        from seasonloop.models.core.training import AutoEncoder
+        from seasonloop.models.core.autoencoder_training import AutoEncoder
         from seasonloop.models.core.upsampling import UpsampledConv2d
 
         def _conv_relu(in_channels: int, out_channels: int, kernel: int) -> list[nn.Module]:

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from seasonloop.models.core.torch_learner import TorchAutoEncoderLearner
+from seasonloop.models.core.autoencoder_learner import TorchAutoEncoderLearner
 from seasonloop.params.checks import integer, one_of
 
 if TYPE_CHECKING:
-    from seasonloop.models.core.training import AutoEncoder
+    from seasonloop.models.core.autoencoder_training import AutoEncoder
 
 # fae.activation -> the torch.nn module of the hidden layer
 ACTIVATIONS = {"sigmoid": "Sigmoid", "relu": "ReLU"}
@@ -24,7 +24,7 @@ class FullyConnectedAutoEncoder(TorchAutoEncoderLearner):
     def _build_model(self, height: int, width: int) -> AutoEncoder:
         from torch import nn
 
-        from seasonloop.models.core.training import AutoEncoder
+        from seasonloop.models.core.autoencoder_training import AutoEncoder
 
         n_pixels, hidden = height * width, self.params["hidden"]
         activation = getattr(nn, ACTIVATIONS[self.params["activation"]])

@@ -23,8 +23,8 @@ from seasonloop.evaluation.autoencoder_descriptors import (
     fraction_correct_record,
 )
 from seasonloop.evaluation.context import EvaluationContext
+from seasonloop.models.core.autoencoder_learner import AE_DESCRIPTORS
 from seasonloop.models.core.lookup import get_learner, load_learner
-from seasonloop.models.core.torch_learner import AE_DESCRIPTORS
 from seasonloop.params.seasons import pair_name
 from seasonloop.plots import plot_image_grid, plot_loss_curves, plot_series
 

@@ -92,14 +92,11 @@ def to_json_value(value: Any) -> Any:
 
 
 class FeatureLearner(ABC):
-    """A method that turns (N, H, W) images into (N, D) float32 descriptors.
-
-    Subclasses set `name` and `PARAMS` and implement `_fit`, `_describe_batch`, `_save_state`
-    and `_load_state`; `_validate_params` checks params across keys.
-
-    A learner's module is imported by every stage, to check params.yaml before any work
-    (seasonloop.registries.check_whole): it declares, and imports torch or scikit-learn only
-    inside the methods that compute (tests/test_models.py holds every learner module to it).
+    """A learner: (N, H, W) images -> (N, D) float32 descriptors. Subclasses set `name` and `PARAMS`
+    and implement `_fit`, `_describe_batch`, `_save_state` and `_load_state` (`_validate_params`
+    checks params across keys). Every stage imports a learner's module to check params.yaml first
+    (seasonloop.registries.check_whole), so it imports torch or scikit-learn only inside the
+    methods that compute (tests/test_models.py holds every learner module to it).
     """
 
     name: ClassVar[str]
@@ -179,21 +176,25 @@ class FeatureLearner(ABC):
         progress: bool = True,
         on_epoch: EpochCallback | None = None,
         places: np.ndarray | None = None,
+        traverses: np.ndarray | None = None,
     ) -> dict[str, Any]:
         """Learn from uint8 (N, H, W) training images; return JSON-serialisable fit info: the
         model's facts (kept as fit_info and saved with the model) and the run's (RUN_KEYS: time,
         device, threads; returned only).
 
-        places: the place id of every image (augmented copies share their original's), for
-        learners that hold out validation places; None counts every image as its own place.
+        places: each image's place id (shared by its augmented copies and by every traverse's
+        image of that place), for held-out validation places and place labels; None: each image its
+        own place. traverses: each image's traverse; None: all one traverse.
         """
         images = np.asarray(images)
         if images.ndim != 3 or len(images) < 2:
             raise ValueError(f"{self.name}: training images must have shape (N, H, W) with N >= 2, got {images.shape}")
         places = np.arange(len(images)) if places is None else np.asarray(places)
-        if places.shape != (len(images),):
-            raise ValueError(f"{self.name}: {len(images)} training images but places of shape {places.shape}")
-        self.train_places = places
+        traverses = np.zeros(len(images), dtype=np.int64) if traverses is None else np.asarray(traverses)
+        for key, labels in {"places": places, "traverses": traverses}.items():
+            if labels.shape != (len(images),):
+                raise ValueError(f"{self.name}: {len(images)} training images but {key} of shape {labels.shape}")
+        self.train_places, self.train_traverses = places, traverses
         self.fit_info = None  # a failed re-fit must not leave the old fit looking valid
         self.input_shape = (int(images.shape[1]), int(images.shape[2]))
         info = to_json_value(self._fit(images, progress=progress, on_epoch=on_epoch))

@@ -1,17 +1,15 @@
-"""Training of the auto-encoders until they have learned: a validation set held out by place,
+"""Training of the torch learners until they have learned: a validation set held out by place,
 a learning-rate schedule, early stopping on a validation plateau (or at a maximum number of
-epochs, or a wall-clock budget), the best weights kept, and mixed precision where it is fast
-(seasonloop.models.core.arithmetic).
-
-Only the forward pass runs under autocast; the loss, the gradients' accumulation in the float32
-weights and the optimiser state stay float32.
+epochs, or a wall-clock budget), the best weights kept. What an epoch trains and what the
+validation measures are the learner's (autoencoder_training.py: reconstruction;
+place_training.py: recall of held-out places); the stopping rule is here, one for all.
 """
 
 from __future__ import annotations
 
 import copy
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
@@ -19,22 +17,8 @@ from typing import Any
 import numpy as np
 import torch
 from torch import nn
-from tqdm.auto import tqdm
 
-from seasonloop.models.core.arithmetic import autocast
 from seasonloop.models.core.learner import EpochCallback
-
-
-class AutoEncoder(nn.Module):
-    """encoder: (B, 1, H, W) -> code; decoder: code -> (B, 1, H, W) in [0, 1]."""
-
-    def __init__(self, encoder: nn.Module, decoder: nn.Module):
-        super().__init__()
-        self.encoder = encoder
-        self.decoder = decoder
-
-    def forward(self, images: torch.Tensor) -> torch.Tensor:
-        return self.decoder(self.encoder(images))
 
 
 @contextmanager
@@ -66,7 +50,7 @@ STOP_PLATEAU, STOP_MAX_EPOCHS, STOP_BUDGET, STOP_DIVERGED = "plateau", "max_epoc
 
 @dataclass(frozen=True)
 class TrainingConfig:
-    """How long and how fast to train; see the fae/cae sections of params.yaml."""
+    """How long and how fast to train; see the fae, cae and place_cnn sections of params.yaml."""
 
     max_epochs: int
     batch_size: int
@@ -104,62 +88,6 @@ class TrainingResult:
             "validation_loss_per_epoch": self.validation_loss,
             "learning_rate_per_epoch": self.learning_rate,
         }
-
-
-def mean_loss(
-    model: nn.Module,
-    images: torch.Tensor,
-    batch_size: int,
-    device: torch.device,
-    dtype: torch.dtype,
-    memory_format: torch.memory_format,
-) -> float:
-    """Mean squared reconstruction error over `images` (computed in float32)."""
-    model.eval()
-    summed = 0.0
-    with torch.inference_mode():
-        for start in range(0, len(images), batch_size):
-            batch = images[start : start + batch_size].to(device).contiguous(memory_format=memory_format)
-            with autocast(device, dtype):
-                output = model(batch)
-            summed += nn.functional.mse_loss(output.float(), batch, reduction="sum").item()
-    return summed / images[0].numel() / len(images)
-
-
-def _train_epoch(
-    model: nn.Module,
-    train_images: torch.Tensor,
-    order: torch.Tensor,
-    optimiser: torch.optim.Optimizer,
-    batch_size: int,
-    device: torch.device,
-    dtype: torch.dtype,
-    memory_format: torch.memory_format,
-    batches_description: str,
-    progress: bool,
-) -> float:
-    """One pass over train_images in `order`; returns the mean training loss."""
-    model.train()
-    summed = 0.0
-    batches = tqdm(
-        range(0, len(train_images), batch_size),
-        unit="batch",
-        leave=False,
-        desc=batches_description,
-        disable=not progress,
-    )
-    for first in batches:
-        batch = train_images[order[first : first + batch_size]].to(device)
-        batch = batch.contiguous(memory_format=memory_format)
-        optimiser.zero_grad(set_to_none=True)
-        with autocast(device, dtype):
-            output = model(batch)
-        loss = nn.functional.mse_loss(output.float(), batch)
-        loss.backward()
-        optimiser.step()
-        summed += loss.item() * len(batch)
-        batches.set_postfix(loss=f"{loss.item():.5f}")
-    return summed / len(train_images)
 
 
 class _Plateau:
@@ -220,33 +148,27 @@ def learning_rate_schedule(
     )
 
 
-def train_until_plateau(
+def until_plateau(
     model: nn.Module,
-    train_images: torch.Tensor,
-    validation_images: torch.Tensor,
+    optimiser: torch.optim.Optimizer,
+    train_epoch: Callable[[int], float],
+    validation_loss_now: Callable[[], float],
     config: TrainingConfig,
-    device: torch.device,
-    dtype: torch.dtype = torch.float32,
-    memory_format: torch.memory_format = torch.contiguous_format,
-    progress: bool = True,
+    images_per_epoch: int,
     on_epoch: EpochCallback | None = None,
     description: str = "train",
 ) -> TrainingResult:
-    """Minimise the MSE reconstruction loss with Adam until the validation loss plateaus.
+    """Train epoch after epoch (train_epoch(epoch) -> its mean training loss) until the validation
+    loss (validation_loss_now(), lower is better) plateaus.
 
-    images: (N, 1, H, W) float32 on the CPU, moved to `device` a batch at a time. After every
-    epoch the validation loss decides: a new lowest loss keeps a copy of the weights; a relative
-    improvement of at least min_delta (same threshold as ReduceLROnPlateau, which cuts the
+    After every epoch the validation loss decides: a new lowest loss keeps a copy of the weights; a
+    relative improvement of at least min_delta (same threshold as ReduceLROnPlateau, which cuts the
     learning rate after lr_patience epochs without one) restarts the patience count; training
     stops after `patience` epochs without one (plateau), at max_epochs, or when the next epoch
     would overrun budget_seconds, or as soon as a loss is NaN or infinite (diverged). The model ends
     with the weights of its lowest validation loss.
     on_epoch(epoch, {"train_loss", "validation_loss", "learning_rate"}) runs after each epoch.
-    Shuffling has its own generator seeded from config.seed, so the global torch RNG is left alone.
     """
-    generator = torch.Generator().manual_seed(config.seed)
-    model.to(device=device, memory_format=memory_format)
-    optimiser = adam(model, config.learning_rate)
     scheduler = learning_rate_schedule(optimiser, config)
     train_loss: list[float] = []
     validation_loss: list[float] = []
@@ -255,11 +177,9 @@ def train_until_plateau(
     start_time = time.perf_counter()
     stop_reason = STOP_MAX_EPOCHS
     for epoch in range(1, config.max_epochs + 1):
-        order = torch.randperm(len(train_images), generator=generator)
-        batches = (model, train_images, order, optimiser, config.batch_size, device, dtype, memory_format)
-        train_loss.append(_train_epoch(*batches, f"{description} epoch {epoch}/{config.max_epochs}", progress))
+        train_loss.append(train_epoch(epoch))
         learning_rate.append(optimiser.param_groups[0]["lr"])
-        validation_loss.append(mean_loss(model, validation_images, config.batch_size, device, dtype, memory_format))
+        validation_loss.append(validation_loss_now())
         diverged = not (np.isfinite(train_loss[-1]) and np.isfinite(validation_loss[-1]))
         if not diverged:
             scheduler.step(validation_loss[-1])
@@ -275,7 +195,7 @@ def train_until_plateau(
         raise RuntimeError(f"{description}: the validation loss was never finite ({validation_loss})")
     model.load_state_dict(plateau.best_state)
     model.eval()
-    seconds, images_seen = time.perf_counter() - start_time, len(train_images) * len(train_loss)
+    seconds, images_seen = time.perf_counter() - start_time, images_per_epoch * len(train_loss)
     return TrainingResult(
         train_loss, validation_loss, learning_rate, plateau.best_epoch, stop_reason, seconds, images_seen
     )

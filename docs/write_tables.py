@@ -194,7 +194,12 @@ def _training_seasons(path: Path) -> str:
     for learner, fractions in record["fraction_correct"].items():
         cells = [percent_cell(fractions[s], intervals.get(learner, {}).get(s)) for s in sets]
         lines.append(f"| {learner} | " + " | ".join(cells) + " |")
-    return "\n".join(lines) + "\n"
+    unfitted = [
+        f"{learner} on {label}: {why}"
+        for learner, by in record.get("not_fitted", {}).items()
+        for label, why in by.items()
+    ]
+    return "\n".join(lines + (["", "n/a: " + "; ".join(unfitted) + "."] if unfitted else [])) + "\n"
 
 
 def _whole(path: Path) -> str:

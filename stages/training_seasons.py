@@ -12,12 +12,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from _common import data_seasons, load_params, param, stage_main
-from seasonloop.ablations.training_seasons import (
-    plan_ablation,
+from seasonloop.ablations.training_season_records import (
     read_learner_intervals,
     read_learner_records,
+    read_not_fitted,
     write_ablation,
 )
+from seasonloop.ablations.training_seasons import plan_ablation
 from seasonloop.params.settings import AblationConfig, EvaluateConfig
 
 RECORDS = Path("metrics/training_seasons")
@@ -39,7 +40,8 @@ def main() -> None:
         return
     fraction_correct = read_learner_records(plan, ablation.learners, RECORDS, EVALUATIONS)
     intervals = read_learner_intervals(plan, ablation.learners, RECORDS, EVALUATIONS)
-    write_ablation(plan, fraction_correct, RECORD, FIGURE, intervals)
+    not_fitted = read_not_fitted(ablation.learners, RECORDS)
+    write_ablation(plan, fraction_correct, RECORD, FIGURE, intervals, not_fitted)
 
 
 if __name__ == "__main__":

@@ -3,18 +3,25 @@ import json
 import numpy as np
 import pytest
 
+from seasonloop.ablations.training_season_records import (
+    read_learner_intervals,
+    read_learner_records,
+    read_not_fitted,
+    write_ablation,
+)
 from seasonloop.ablations.training_seasons import (
     AblationRun,
     plan_ablation,
-    read_learner_records,
     reusable_label,
     run_ablation,
-    write_ablation,
     write_learner_record,
 )
 from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
+from seasonloop.reporting.model_sections import training_seasons_section
+from seasonloop.reporting.replicates import first_to_last
+from seasonloop.reporting.summary import percent_cell
 
 SEASONS4 = ["summer", "spring", "fall", "winter"]
 STUDY_SETS = [["summer"], ["summer", "winter"], ["summer", "winter", "spring"], ["summer", "winter", "spring", "fall"]]
@@ -270,3 +277,47 @@ def test_how_a_fit_ended_is_the_learners_own_reading_of_its_fit():
     ended = get_learner("ica_bovw").how_fit_ended(bovw)
     assert ended == {"ica converged": False, "ica n_iter": 400, "kmeans n_iter": 3}
     assert get_learner("pca").how_fit_ended({"n_components": 4}) == {}
+
+
+class NeedsTwoTraverses(MeanLearner):
+    """A learner that learns from places seen in two traverses (as models/place_cnn.py)."""
+
+    min_traverses = 2
+
+
+def test_a_set_of_fewer_traverses_than_the_learner_needs_is_not_fitted_and_says_why(tmp_path):
+    plan = plan_ablation(
+        ["summer", "fall", "winter"], "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"]
+    )
+    rng = np.random.default_rng(0)
+    test = {"summer": rng.random((6, 4, 8))}
+    test["fall"] = test["summer"] + rng.normal(0, 0.01, (6, 4, 8))
+    evaluate, sequence = matching_settings()
+    MeanLearner.fitted_on, MeanLearner.places = [], []
+    run = run_ablation(
+        plan,
+        {"cnn": NeedsTwoTraverses},
+        lambda seasons: (
+            np.zeros((10 * len(seasons), 4, 8)),
+            np.tile(np.repeat(np.arange(5), 2), len(seasons)),
+            np.repeat(np.arange(len(seasons)), 10),
+        ),
+        pair_context(test, evaluate, sequence),
+    )
+    assert MeanLearner.fitted_on == [20]  # summer+winter only
+    assert run.fraction_correct["cnn"]["summer"] is None and run.fraction_correct["cnn"]["summer+winter"] == 1.0
+    assert run.not_fitted["cnn"]["summer"].startswith("not fitted: cnn trains on 2 traverses or more")
+    assert set(run.intervals["cnn"]) == {"summer+winter"}
+    write_learner_record(plan, "cnn", run, tmp_path / "cnn.json")
+    assert read_learner_records(plan, ["cnn"], tmp_path, tmp_path / "eval") == run.fraction_correct
+    intervals = read_learner_intervals(plan, ["cnn"], tmp_path, tmp_path / "eval")
+    not_fitted = read_not_fitted(["cnn"], tmp_path)
+    assert not_fitted == run.not_fitted
+    write_ablation(plan, run.fraction_correct, tmp_path / "record.json", tmp_path / "figure.png", intervals, not_fitted)
+    record = json.loads((tmp_path / "record.json").read_text())
+    assert record["not_fitted"] == run.not_fitted and record["fraction_correct"]["cnn"]["summer"] is None
+    # the report's table and the docs' read it: n/a, and why beside the table
+    section = training_seasons_section(record, tmp_path / "figure.png")
+    assert "cnn on summer: not fitted" in str(section)
+    assert percent_cell(None) == "n/a"
+    assert first_to_last({"0": record}) == {}  # one fitted set: nothing to compare

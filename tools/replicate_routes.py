@@ -375,8 +375,8 @@ def _replicate_training_seasons(path: Path) -> str:
         "|---|" + "---|" * (len(sets) + 1),
     ]
     for label, by_set in spread.items():
-        cells = [_spread_cell(by_set[name]) for name in sets]
-        change = changes[label]
+        cells = ["n/a" if by_set[name] is None else _spread_cell(by_set[name]) for name in sets]
+        change = changes.get(label, {"up": 0, "down": 0, "same": 0})
         cells.append(f"above in {change['up']}, below in {change['down']}, equal in {change['same']}")
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"

@@ -6,8 +6,10 @@ of training seasons cut to the seasons present, repeats dropped. With fewer than
 there is no pair to evaluate, and on a whole route (split.test_fraction 1) no list may hold the
 pair's query traverse; an ablation left with nothing to compare is skipped, with the reason. run_ablation fits and
 evaluates the plan, one learner at a time (one pipeline stage per learner, so that a learner's
-change refits only its own ablation); write_learner_record and read_learner_records keep each
-learner's result, write_ablation writes the combined record and figure.
+change refits only its own ablation); write_learner_record keeps each learner's result, which
+training_season_records.py reads back into the combined record and figure. A label of fewer
+seasons than a learner's min_traverses is not fitted (a place-supervised learner needs a place seen
+in two traverses): its value is None and the records say why.
 
 Reuse: a list of training seasons that is the pipeline's own training set (train.seasons, as a set:
 the training images are concatenated in data.seasons order whatever the list's order) gives the
@@ -33,7 +35,7 @@ import numpy as np
 from seasonloop.evaluation.blocks import evaluate_descriptors
 from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.evaluation.matchers import result_suffix
-from seasonloop.io import read_json, write_json
+from seasonloop.io import write_json
 from seasonloop.params.seasons import SEASONS, check_seasons, pair_name, pair_present, parse_pair
 from seasonloop.significance.intervals import route_intervals
 
@@ -119,12 +121,14 @@ class AblationRun:
     """What run_ablation found, per series (a learner under one distance: "<learner>" under
     evaluate.metric, "<learner>@<metric>" under each of evaluate.extra_metrics) and training-season
     label (the seasons joined by "+"): the fraction correct on the plan's pair, single-image
-    matching, and its interval along the route {low, high}; and per learner and label how its fit
-    ended (the learner's how_fit_ended)."""
+    matching (None where the learner cannot train on the label's seasons), and its interval along
+    the route {low, high}; per learner and label how its fit ended (the learner's how_fit_ended),
+    and why a label was not fitted (not_fitted: a place-supervised learner on one traverse)."""
 
-    fraction_correct: dict[str, dict[str, float]]
+    fraction_correct: dict[str, dict[str, float | None]]
     intervals: dict[str, dict[str, dict[str, float]]]
     fits: dict[str, dict[str, dict[str, Any]]]
+    not_fitted: dict[str, dict[str, str]] = field(default_factory=dict)
 
 
 def run_ablation(
@@ -140,7 +144,8 @@ def run_ablation(
     places (every season and augmented copy of them) for validation, and with the traverses a
     place-supervised learner knows which images show one place in other conditions. The context's test images are those of the
     pair's seasons, at the test places of its truth, described in the features stage's batches.
-    skip[name] names a label that is not fitted (a reused one)."""
+    skip[name] names a label that is not fitted (a reused one); a label of fewer seasons than the
+    learner's min_traverses is not fitted either, its value None and its reason in not_fitted."""
     assert plan.pair is not None and plan.labels is not None and plan.season_sets is not None, "a skipped plan"
     database, query = plan.pair
     truth, evaluate = context.truths[plan.pair], context.evaluate
@@ -154,6 +159,14 @@ def run_ablation(
             if (skip or {}).get(name) == label:
                 continue
             learner = new_learner()
+            needs = getattr(learner, "min_traverses", 1)
+            if len(chosen) < needs:
+                for metric in metrics_used:
+                    run.fraction_correct[name + result_suffix(metric, "single", evaluate)][label] = None
+                run.not_fitted.setdefault(name, {})[label] = (
+                    f"not fitted: {name} trains on {needs} traverses or more (places seen in other conditions)"
+                )
+                continue
             images, image_places, image_traverses = training_set(chosen)
             info = learner.fit(images, progress=True, places=image_places, traverses=image_traverses)
             run.fits.setdefault(name, {})[label] = learner.how_fit_ended(info)
@@ -169,51 +182,6 @@ def run_ablation(
                 correct.setdefault(series, {})[label] = evaluation.outcomes.correct
     run.intervals.update({series: route_intervals(labels, context.statistics) for series, labels in correct.items()})
     return run
-
-
-def write_ablation(
-    plan: AblationPlan,
-    fraction_correct: dict[str, dict[str, float]] | None,
-    record: Path,
-    figure: Path,
-    intervals: Mapping[str, Mapping[str, Mapping[str, float]]] | None = None,
-) -> None:
-    """The ablation's JSON record and its figure (study Fig. 18), each fraction correct with its
-    interval (intervals[series][label] = {low, high}) where given; for a skipped plan, both say why."""
-    # imported here: matplotlib is ~0.25 s of every training_seasons_fit process, which draws nothing
-    from seasonloop.plots import percent_bands, plot_message, plot_series
-
-    if plan.skipped:
-        write_json(record, {"skipped": plan.skipped})
-        plot_message(figure, f"Training-season effect {plan.skipped}")
-        return
-    assert plan.pair is not None and plan.labels is not None and fraction_correct is not None
-    pair = pair_name(*plan.pair)
-    # season_sets keeps the order (the JSON's keys are sorted)
-    intervals = intervals or {}
-    write_json(
-        record,
-        {
-            "pair": pair,
-            "season_sets": plan.labels,
-            "notes": plan.notes,
-            "fraction_correct": fraction_correct,
-            "intervals": intervals,
-        },
-    )
-    plot_series(
-        {
-            series: (plan.labels, [100 * values[label] for label in plan.labels])
-            for series, values in fraction_correct.items()
-        },
-        figure,
-        title=f"Training-season effect on {pair} (bars: 95% intervals)"
-        if intervals
-        else f"Training-season effect on {pair}",
-        xlabel="training seasons",
-        ylabel="fraction correct (%)",
-        bands={series: percent_bands([bounds[label] for label in plan.labels]) for series, bounds in intervals.items()},
-    )
 
 
 def write_learner_record(
@@ -234,67 +202,6 @@ def write_learner_record(
             "reused_from_pipeline": [reused] if reused else [],
             "fits": {label: dict(ended) for label, ended in run.fits.get(learner, {}).items()},
             "intervals": {series: dict(bounds) for series, bounds in run.intervals.items()},
+            **({"not_fitted": run.not_fitted[learner]} if learner in run.not_fitted else {}),
         },
     )
-
-
-def read_learner_records(
-    plan: AblationPlan, learners: Sequence[str], folder: Path, eval_dir: Path
-) -> dict[str, dict[str, float]]:
-    """fraction_correct[series][label] from folder/<learner>.json of every learner, each checked to
-    hold the plan's pair and season lists (a record of another plan is a stale input); a reused
-    label's value from eval_dir (fill_reused)."""
-    assert plan.pair is not None
-    fraction_correct: dict[str, dict[str, float]] = {}
-    for learner in learners:
-        path = folder / f"{learner}.json"
-        if not path.is_file():
-            raise FileNotFoundError(f"{path}: not found (run the stage training_seasons_fit@{learner} first)")
-        record = read_json(path)
-        reused = set(record.get("reused_from_pipeline", []))
-        series = record.get("fraction_correct", {})
-        # JSON keys are sorted: compare the season lists as sets
-        stale = not series or any(set(values) | reused != set(plan.labels) for values in series.values())
-        if record.get("pair") != pair_name(*plan.pair) or stale:
-            raise ValueError(f"{path}: written for another ablation plan than {pair_name(*plan.pair)} on {plan.labels}")
-        for name, values in series.items():
-            fraction_correct[name] = dict(values)
-            for label in reused:
-                fraction_correct[name][label] = fill_reused(name, pair_name(*plan.pair), eval_dir)
-    return fraction_correct
-
-
-def read_learner_intervals(
-    plan: AblationPlan, learners: Sequence[str], folder: Path, eval_dir: Path
-) -> dict[str, dict[str, dict[str, float]]]:
-    """intervals[series][label] = {low, high} from the records read_learner_records has checked; a
-    reused label's from the interval evaluate@<learner> wrote beside its fraction correct."""
-    assert plan.pair is not None
-    intervals: dict[str, dict[str, dict[str, float]]] = {}
-    for learner in learners:
-        record = read_json(folder / f"{learner}.json")
-        for name in record["fraction_correct"]:
-            intervals[name] = dict(record.get("intervals", {}).get(name, {}))
-            for label in record.get("reused_from_pipeline", []):
-                intervals[name][label] = reused_metrics(name, pair_name(*plan.pair), eval_dir)["intervals"][
-                    "fraction_correct"
-                ]["route"]
-            if set(intervals[name]) != set(plan.labels):
-                raise ValueError(f"{folder / learner}.json: no interval for every season list (rerun its stage)")
-    return intervals
-
-
-def fill_reused(series: str, pair: str, eval_dir: Path) -> float:
-    """The single-image fraction correct that evaluate@<learner> wrote for `pair` under the series'
-    distance ("<learner>": evaluate.metric, "<learner>@<metric>": that one): the ablation's value for
-    the pipeline's own training set (module doc)."""
-    return float(reused_metrics(series, pair, eval_dir)["fraction_correct"])
-
-
-def reused_metrics(series: str, pair: str, eval_dir: Path) -> dict[str, Any]:
-    """The metrics evaluate@<learner> wrote for `pair` under the series' distance (single images)."""
-    learner, _, metric = series.partition("@")
-    path = eval_dir / learner / f"{pair}{'@' + metric if metric else ''}.json"
-    if not path.is_file():
-        raise FileNotFoundError(f"{path}: not found (run the stage evaluate@{learner} first)")
-    return read_json(path)

@@ -22,6 +22,7 @@ class PlaceCNN(TorchLearner):
     channels, a linear layer to `dim`, L2-normalised."""
 
     name = "place_cnn"
+    min_traverses = 2  # a place seen in two conditions at least: what the loss learns from
     TINY_RUN = {"channels": [4, 8], "dim": 16, "max_epochs": 2}
     LIBRARIES = (*TorchLearner.LIBRARIES, "pytorch_metric_learning", "seasonloop.models.core.place_training")
     PARAMS = {
@@ -71,7 +72,7 @@ class PlaceCNN(TorchLearner):
         from seasonloop.models.core.training import deterministic_algorithms
 
         traverses = np.unique(self.train_traverses)
-        if len(traverses) < 2:
+        if len(traverses) < self.min_traverses:
             raise ValueError(
                 f"{self.name}: every training image is of one traverse (train.seasons): place supervision needs "
                 "places seen in two traverses or more"

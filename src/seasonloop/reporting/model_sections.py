@@ -36,6 +36,11 @@ def training_seasons_section(training_seasons: Mapping[str, Any], figure: Png) -
         "Training-season effect",
         [
             *(Text(note) for note in training_seasons.get("notes", [])),
+            *(
+                Text(f"{learner} on {label}: {why}")
+                for learner, by_label in training_seasons.get("not_fitted", {}).items()
+                for label, why in by_label.items()
+            ),
             Table(
                 f"Fraction correct (%) on {pair} with its 95% interval, single-image matching, by the "
                 "seasons trained on (<learner>@<metric>: under that distance)",

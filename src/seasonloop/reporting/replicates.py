@@ -33,15 +33,20 @@ from seasonloop.reporting.comparisons import claim_cell, claim_cells, claim_valu
 from seasonloop.significance.tables import Variant
 
 
-def fraction_spread(summaries: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, dict[str, float]]]:
+def fraction_spread(summaries: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, dict[str, float] | None]]:
     """label -> pair -> {mean, std, min, max} of fraction correct over the routes (summaries[route]:
-    that route's metrics/summary.json; std with one degree of freedom, 0 for a single route)."""
+    that route's metrics/summary.json; std with one degree of freedom, 0 for a single route); None
+    where no route has a value (a learner not fitted on a training set it cannot learn from)."""
     first = next(iter(summaries.values()))["fraction_correct"]
-    spread: dict[str, dict[str, dict[str, float]]] = {}
+    spread: dict[str, dict[str, dict[str, float] | None]] = {}
     for label, by_pair in first.items():
         spread[label] = {}
         for pair in by_pair:
-            values = np.array([summary["fraction_correct"][label][pair] for summary in summaries.values()])
+            found = [summary["fraction_correct"][label][pair] for summary in summaries.values()]
+            values = np.array([value for value in found if value is not None], dtype=np.float64)
+            if not len(values):
+                spread[label][pair] = None
+                continue
             spread[label][pair] = {
                 "mean": float(values.mean()),
                 "std": float(values.std(ddof=1)) if len(values) > 1 else 0.0,
@@ -54,11 +59,14 @@ def fraction_spread(summaries: Mapping[str, Mapping[str, Any]]) -> dict[str, dic
 def first_to_last(records: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[str, int]]:
     """label -> in how many routes the last training set's fraction correct is above ("up"), below
     ("down") or equal to ("same") the first's (records[route]: its metrics/training_seasons.json,
-    whose training sets are named by their seasons joined with "+": first and last by that count)."""
+    whose training sets are named by their seasons joined with "+": first and last by that count,
+    among the sets the learner was fitted on)."""
     counts: dict[str, dict[str, int]] = {}
     for record in records.values():
         for label, by_set in record["fraction_correct"].items():
-            sets = sorted(by_set, key=lambda name: name.count("+"))
+            sets = sorted((name for name in by_set if by_set[name] is not None), key=lambda name: name.count("+"))
+            if len(sets) < 2:
+                continue
             first, last = by_set[sets[0]], by_set[sets[-1]]
             change = "up" if last > first else "down" if last < first else "same"
             counts.setdefault(label, {"up": 0, "down": 0, "same": 0})[change] += 1

@@ -80,9 +80,12 @@ def with_interval(percent: float, low: float | None = None, high: float | None =
     return f"{percent:.1f} [{low:.0f}, {high:.0f}]"
 
 
-def percent_cell(value: float, interval: Mapping[str, float | None] | None = None) -> str:
+def percent_cell(value: float | None, interval: Mapping[str, float | None] | None = None) -> str:
     """with_interval's cell of a fraction (not %) and its interval {low, high} (fractions; low None
-    where the route was too short for one: LONG_RUNS where its runs made it so) where it has one."""
+    where the route was too short for one: LONG_RUNS where its runs made it so) where it has one;
+    "n/a" where there is no value (a learner not fitted on a training set it cannot learn from)."""
+    if value is None:
+        return "n/a"
     if not interval:
         return with_interval(100 * value)
     low, high = interval["low"], interval["high"]

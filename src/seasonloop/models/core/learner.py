@@ -17,10 +17,9 @@ from seasonloop.params.checks import Check
 
 LEARNER_FILE = "learner.json"
 
-# Fit-info keys that describe the run, not the model: how long it took and the machine it ran on.
-# fit() returns them (the fit stage writes them to metrics/fit/<learner>.json) but they are kept out
-# of fit_info and so out of models/: the same params and data give the same model bytes on every run,
-# and DVC reruns nothing downstream of a refit that changed nothing.
+# Fit-info keys of the run, not the model (its time, its machine): fit() returns them for
+# metrics/fit/<learner>.json but keeps them out of fit_info and models/, so the same params and data
+# give the same model bytes on every run and DVC reruns nothing after a refit that changed nothing.
 RUN_KEYS = ("training_seconds", "device", "torch_threads", "cpu_native_bfloat16")
 
 EpochCallback = Callable[[int, dict[str, float]], None]
@@ -100,10 +99,9 @@ class FeatureLearner(ABC):
     """
 
     name: ClassVar[str]
-    # the learner's params section (its name is `name`): every key with the check its value must pass
-    # (seasonloop.params.checks). The values live in params.yaml's section only, so a setting has one
-    # default: the section is checked against PARAMS before any stage works (every key set, none
-    # unknown), and the given params again when the learner is built
+    # its params section (named `name`): each key's check (seasonloop.params.checks); the values live
+    # in params.yaml only (one default a setting), checked against PARAMS before any stage works (every
+    # key set, none unknown) and again when the learner is built
     PARAMS: ClassVar[dict[str, Check]]
     # the libraries its methods import when they compute (torch, scikit-learn, ...): the fit stage
     # imports them before its timer starts, so that fit_seconds is the learner's work and not
@@ -113,6 +111,8 @@ class FeatureLearner(ABC):
     trains_in_epochs: ClassVar[bool] = False
     # False: a descriptor that learns nothing from the training images (fit records their size only)
     learns: ClassVar[bool] = True
+    # the fewest traverses its training images may come from (2: it learns from places seen twice)
+    min_traverses: ClassVar[int] = 1
     # the study's figures its fitted model draws (keys of seasonloop.reporting.figures.FIGURES)
     figures: ClassVar[tuple[str, ...]] = ()
     # its settings in the tests' tiny runs (tools.small_runs: 36 x 64 images, a few hundred places),

@@ -107,3 +107,13 @@ def test_no_published_number_comes_from_uncommitted_changes():
     # reproduces it (docs/write_tables.py refuses a dirty record; this keeps the pages so)
     for document in write_tables.DOCUMENTS:
         assert "uncommitted" not in document.read_text().lower(), f"{document.name} says uncommitted"
+
+
+def test_every_docs_page_opens_with_the_question_it_answers():
+    # a reader lands on a page with a question: the first sentence after its title is that question
+    for page in sorted((write_tables.ROOT / "docs").glob("*.md")):
+        prose = " ".join(
+            line for line in page.read_text().splitlines()[1:] if line.strip() and not line.startswith("#")
+        )
+        question, statement = prose.find("?"), prose.find(". ")
+        assert question >= 0 and (statement < 0 or question < statement), f"{page.name}: {prose[:120]}"

@@ -320,4 +320,5 @@ def test_a_set_of_fewer_traverses_than_the_learner_needs_is_not_fitted_and_says_
     section = training_seasons_section(record, tmp_path / "figure.png")
     assert "cnn on summer: not fitted" in str(section)
     assert percent_cell(None) == "n/a"
-    assert first_to_last({"0": record}) == {}  # one fitted set: nothing to compare
+    # the replicate routes compare its smallest fitted set with its largest (here one: the same)
+    assert first_to_last({"0": record})["cnn"] == {"up": 0, "down": 0, "same": 1}

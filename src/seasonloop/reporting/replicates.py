@@ -65,7 +65,7 @@ def first_to_last(records: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[st
     for record in records.values():
         for label, by_set in record["fraction_correct"].items():
             sets = sorted((name for name in by_set if by_set[name] is not None), key=lambda name: name.count("+"))
-            if len(sets) < 2:
+            if not sets:
                 continue
             first, last = by_set[sets[0]], by_set[sets[-1]]
             change = "up" if last > first else "down" if last < first else "same"

@@ -131,6 +131,13 @@ def pair_context(test, evaluate, sequence) -> EvaluationContext:
     )
 
 
+def five_places_twice(seasons):
+    """A training set where every season shows the same 5 places, each twice (original and augmented
+    copy): (images, their places, their traverses)."""
+    places = np.tile(np.repeat(np.arange(5), 2), len(seasons))
+    return np.zeros((10 * len(seasons), 4, 8)), places, np.repeat(np.arange(len(seasons)), 10)
+
+
 def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
     plan = plan_ablation(
         ["summer", "fall", "winter"], "summer-fall", [["summer"], ["summer", "winter"]], ["summer-fall"]
@@ -145,13 +152,8 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
         made.append(1)
         return MeanLearner()
 
-    def training_set(seasons):
-        # every season shows the same 5 places, each twice (original and augmented copy)
-        places = np.tile(np.repeat(np.arange(5), 2), len(seasons))
-        return np.zeros((10 * len(seasons), 4, 8)), places, np.repeat(np.arange(len(seasons)), 10)
-
     MeanLearner.fitted_on, MeanLearner.places = [], []
-    run = run_ablation(plan, {"mean": new_learner}, training_set, pair_context(test, evaluate, sequence))
+    run = run_ablation(plan, {"mean": new_learner}, five_places_twice, pair_context(test, evaluate, sequence))
     fraction_correct, intervals = run.fraction_correct, run.intervals
     assert len(made) == 2 and MeanLearner.fitted_on == [10, 20]
     # how each fit ended is kept per training-season list
@@ -160,8 +162,8 @@ def test_run_ablation_fits_a_fresh_learner_per_list(tmp_path):
     }
     # the place ids reach fit: an auto-encoder then validates on places it never trains on
     assert [None if places is None else list(places) for places in MeanLearner.places] == [
-        list(training_set(["summer"])[1]),
-        list(training_set(["summer", "winter"])[1]),
+        list(five_places_twice(["summer"])[1]),
+        list(five_places_twice(["summer", "winter"])[1]),
     ]
     # one series per distance, named as the tables' rows
     assert list(fraction_correct) == ["mean", "mean@cityblock"]
@@ -256,11 +258,7 @@ def test_run_ablation_skips_the_reused_label(tmp_path):
     run = run_ablation(
         plan,
         {"mean": MeanLearner},
-        lambda seasons: (
-            np.zeros((10 * len(seasons), 4, 8)),
-            np.tile(np.repeat(np.arange(5), 2), len(seasons)),
-            np.repeat(np.arange(len(seasons)), 10),
-        ),
+        five_places_twice,
         pair_context(test, evaluate, sequence),
         skip={"mean": "summer+winter"},
     )
@@ -294,16 +292,7 @@ def test_a_set_of_fewer_traverses_than_the_learner_needs_is_not_fitted_and_says_
     test["fall"] = test["summer"] + rng.normal(0, 0.01, (6, 4, 8))
     evaluate, sequence = matching_settings()
     MeanLearner.fitted_on, MeanLearner.places = [], []
-    run = run_ablation(
-        plan,
-        {"cnn": NeedsTwoTraverses},
-        lambda seasons: (
-            np.zeros((10 * len(seasons), 4, 8)),
-            np.tile(np.repeat(np.arange(5), 2), len(seasons)),
-            np.repeat(np.arange(len(seasons)), 10),
-        ),
-        pair_context(test, evaluate, sequence),
-    )
+    run = run_ablation(plan, {"cnn": NeedsTwoTraverses}, five_places_twice, pair_context(test, evaluate, sequence))
     assert MeanLearner.fitted_on == [20]  # summer+winter only
     assert run.fraction_correct["cnn"]["summer"] is None and run.fraction_correct["cnn"]["summer+winter"] == 1.0
     assert run.not_fitted["cnn"]["summer"].startswith("not fitted: cnn trains on 2 traverses or more")

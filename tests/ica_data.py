@@ -24,3 +24,21 @@ def images(n: int, seed: int) -> np.ndarray:
     rng = np.random.default_rng(seed)
     pixels = 128 + 6 * rng.laplace(size=(n, 8)) @ patterns + rng.normal(0, 3, (n, 8 * 16))
     return np.clip(pixels, 0, 255).astype(np.uint8).reshape(n, 8, 16)
+
+
+# The tests' own solver settings: the estimators take every setting explicitly (the pipeline's
+# values are params.yaml's ica section); a test states only what it changes.
+SETTINGS = {
+    "max_iter": 200,
+    "tol": 1e-4,
+    "seed": 0,
+    "fun": "logcosh",
+    "whiten_solver": "eigh",
+    "device": "cpu",
+    "precision": "float32",
+}
+
+
+def estimator(solver: type, n_components: int, **changes: object) -> object:
+    """solver(n_components) at SETTINGS with `changes`."""
+    return solver(n_components, **{**SETTINGS, **changes})

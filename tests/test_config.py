@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import inspect
 import subprocess
 import sys
 from pathlib import Path
@@ -199,6 +200,18 @@ def test_a_learner_has_no_default_of_its_own_so_params_yaml_holds_the_only_one()
         partial = {k: v for k, v in params[name].items() if k != key}
         with pytest.raises(ValueError, match=rf"^{name}\.{key}: missing"):
             learner(partial)
+
+
+def test_what_a_learner_passes_its_settings_to_declares_no_default_for_them():
+    # the ICA estimators and the contrast step take params.yaml's values explicitly: a default there
+    # would be a second value of ica.tol, preprocess.clahe_clip, ... that the reader could trust
+    from seasonloop.data.preprocess import enhance_image_contrast
+    from seasonloop.models.core.fastica_sklearn import fit_fastica
+    from seasonloop.models.core.torch_ica import TorchICA
+
+    for function in (TorchICA.__init__, fit_fastica, enhance_image_contrast):
+        defaults = [p.name for p in inspect.signature(function).parameters.values() if p.default is not p.empty]
+        assert defaults == [], f"{function.__qualname__} declares defaults for {defaults}"
 
 
 def test_the_torch_ica_solvers_implement_every_value_ica_declares():

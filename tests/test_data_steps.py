@@ -188,11 +188,11 @@ def test_preprocess_shapes_and_contrast():
     gray = to_gray(frames, 32, 64)
     assert gray.shape == (3, 32, 64) and gray.dtype == np.uint8
     for method in ("clahe", "equalize"):
-        enhanced = enhance_image_contrast(gray, method)
+        enhanced = enhance_image_contrast(gray, method, 2.0, 4)
         # a low-contrast image gets its contrast stretched
         assert enhanced.std() > 2 * gray.std()
     with pytest.raises(ValueError, match="preprocess.contrast"):
-        enhance_image_contrast(gray, "sharpen")
+        enhance_image_contrast(gray, "sharpen", 2.0, 4)
     brightness, change = frame_statistics(np.stack([gray[0], gray[0], gray[1]]))
     assert change[0] == np.inf and change[1] == 0 and change[2] > 0
     np.testing.assert_allclose(brightness[0], gray[0].mean())
@@ -201,14 +201,14 @@ def test_preprocess_shapes_and_contrast():
 @pytest.mark.parametrize("method", list(CONTRASTS))
 def test_every_contrast_method_keeps_shape_and_dtype(method):
     gray = np.random.default_rng(1).integers(90, 110, (2, 16, 24), dtype=np.uint8)
-    enhanced = enhance_image_contrast(gray, method)
+    enhanced = enhance_image_contrast(gray, method, 2.0, 4)
     assert enhanced.shape == gray.shape and enhanced.dtype == np.uint8 and enhanced is not gray
-    assert enhance_image_contrast(gray[:0], method).shape == (0, 16, 24)
+    assert enhance_image_contrast(gray[:0], method, 2.0, 4).shape == (0, 16, 24)
 
 
 def test_an_unknown_contrast_method_is_one_line_naming_the_key_and_the_methods():
     with pytest.raises(ValueError) as error:
-        enhance_image_contrast(np.zeros((1, 4, 4), np.uint8), "sharpen")
+        enhance_image_contrast(np.zeros((1, 4, 4), np.uint8), "sharpen", 2.0, 4)
     message = str(error.value)
     assert "\n" not in message and message.startswith("preprocess.contrast: unknown method 'sharpen'")
     assert message.endswith(f"(known: {', '.join(CONTRASTS)})")

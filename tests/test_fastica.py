@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 import torch
-from ica_data import images, mixed_sources
+from ica_data import estimator, images, mixed_sources
 from sklearn.decomposition import FastICA
 
 from seasonloop.models.core.fastica import TorchFastICA
@@ -30,7 +30,7 @@ def test_amari_distance_is_zero_for_a_scaled_permutation_only():
 
 def test_recovers_known_sources(mixture):
     data, mixing = mixture
-    ica = TorchFastICA(N_SOURCES, max_iter=200, tol=1e-4, seed=0).fit(data)
+    ica = estimator(TorchFastICA, N_SOURCES, max_iter=200, tol=1e-4, seed=0).fit(data)
     assert ica.converged_ and ica.n_iter_ < 200
     assert amari_distance(ica.components_, mixing) < 0.03
     sources = ica.transform(data)
@@ -43,7 +43,9 @@ def test_recovers_known_sources(mixture):
 @pytest.mark.parametrize("whiten_solver", ["eigh", "svd"])
 def test_agrees_with_scikit_learn(mixture, fun, whiten_solver):
     data, mixing = mixture
-    ours = TorchFastICA(N_SOURCES, max_iter=200, tol=1e-4, seed=3, fun=fun, whiten_solver=whiten_solver).fit(data)
+    ours = estimator(TorchFastICA, N_SOURCES, max_iter=200, tol=1e-4, seed=3, fun=fun, whiten_solver=whiten_solver).fit(
+        data
+    )
     reference = FastICA(
         N_SOURCES, fun=fun, whiten="unit-variance", whiten_solver=whiten_solver, max_iter=200, tol=1e-4, random_state=3
     ).fit(data)
@@ -56,18 +58,18 @@ def test_agrees_with_scikit_learn(mixture, fun, whiten_solver):
 
 def test_deterministic_for_a_seed(mixture):
     data, _ = mixture
-    first = TorchFastICA(N_SOURCES, seed=7).fit(data)
-    second = TorchFastICA(N_SOURCES, seed=7).fit(data)
+    first = estimator(TorchFastICA, N_SOURCES, seed=7).fit(data)
+    second = estimator(TorchFastICA, N_SOURCES, seed=7).fit(data)
     for key, value in first.to_arrays().items():
         np.testing.assert_array_equal(second.to_arrays()[key], value)
-    other = TorchFastICA(N_SOURCES, seed=8).fit(data)
+    other = estimator(TorchFastICA, N_SOURCES, seed=8).fit(data)
     assert not np.array_equal(other.unmixing_, first.unmixing_)
 
 
 def test_progress_bar_counts_iterations_and_changes_nothing(mixture, capsys):
     data, _ = mixture
-    quiet = TorchFastICA(N_SOURCES, max_iter=30, seed=2).fit(data)
-    shown = TorchFastICA(N_SOURCES, max_iter=30, seed=2).fit(data, progress=True)
+    quiet = estimator(TorchFastICA, N_SOURCES, max_iter=30, seed=2).fit(data)
+    shown = estimator(TorchFastICA, N_SOURCES, max_iter=30, seed=2).fit(data, progress=True)
     bar = capsys.readouterr().err
     assert "FastICA iterations" in bar and f"{shown.n_iter_}/30" in bar
     np.testing.assert_array_equal(shown.unmixing_, quiet.unmixing_)
@@ -75,33 +77,33 @@ def test_progress_bar_counts_iterations_and_changes_nothing(mixture, capsys):
 
 def test_converged_flag_is_honest(mixture):
     data, _ = mixture
-    stopped = TorchFastICA(N_SOURCES, max_iter=1, tol=1e-4, seed=0).fit(data)
+    stopped = estimator(TorchFastICA, N_SOURCES, max_iter=1, tol=1e-4, seed=0).fit(data)
     assert stopped.converged_ is False and stopped.n_iter_ == 1 and stopped.criterion_ >= 1e-4
-    finished = TorchFastICA(N_SOURCES, max_iter=500, tol=1e-4, seed=0).fit(data)
+    finished = estimator(TorchFastICA, N_SOURCES, max_iter=500, tol=1e-4, seed=0).fit(data)
     assert finished.converged_ is True and finished.n_iter_ < 500 and finished.criterion_ < 1e-4
 
 
 def test_bad_input_raises(mixture):
     data, _ = mixture
     with pytest.raises(ValueError, match="n_components = 17 exceeds"):
-        TorchFastICA(17).fit(data)
+        estimator(TorchFastICA, 17).fit(data)
     # 10 samples centred have rank 9: the 10th direction is rounding noise.
     few = np.random.default_rng(0).normal(size=(10, N_FEATURES)).astype(np.float32)
     for whiten_solver in ("eigh", "svd"):
-        TorchFastICA(9, whiten_solver=whiten_solver).fit(few)
+        estimator(TorchFastICA, 9, whiten_solver=whiten_solver).fit(few)
         with pytest.raises(ValueError, match="n_components = 10 exceeds the 9 directions"):
-            TorchFastICA(10, whiten_solver=whiten_solver).fit(few)
+            estimator(TorchFastICA, 10, whiten_solver=whiten_solver).fit(few)
     with pytest.raises(ValueError, match="fun"):
-        TorchFastICA(3, fun="tanh")
+        estimator(TorchFastICA, 3, fun="tanh")
     with pytest.raises(ValueError, match="whiten_solver"):
-        TorchFastICA(3, whiten_solver="qr")
+        estimator(TorchFastICA, 3, whiten_solver="qr")
 
 
 @pytest.mark.skipif(not torch.cuda.is_available(), reason="no CUDA device")
 def test_cuda_matches_cpu(mixture):
     data, mixing = mixture
-    cpu = TorchFastICA(N_SOURCES, seed=0, device="cpu").fit(data)
-    cuda = TorchFastICA(N_SOURCES, seed=0, device="cuda").fit(data)
+    cpu = estimator(TorchFastICA, N_SOURCES, seed=0, device="cpu").fit(data)
+    cuda = estimator(TorchFastICA, N_SOURCES, seed=0, device="cuda").fit(data)
     assert abs(cuda.n_iter_ - cpu.n_iter_) <= 1
     assert amari_distance(cuda.components_, mixing) < 0.03
     np.testing.assert_allclose(cuda.transform(data), cpu.transform(data), atol=2e-3)
@@ -160,7 +162,7 @@ def test_whitening_is_white_for_ill_conditioned_data():
     rng = np.random.default_rng(0)
     rotation, _ = np.linalg.qr(rng.normal(size=(256, 256)))
     data = (0.5 + rng.laplace(size=(6000, 256)) * np.logspace(0, -2, 256) @ rotation).astype(np.float32)
-    ica = TorchFastICA(192, seed=0, whiten_solver="eigh")
+    ica = estimator(TorchFastICA, 192, seed=0, whiten_solver="eigh")
     mean = torch.from_numpy(data.mean(axis=0, dtype=np.float64).astype(np.float32))
     whitened = ica._project(data, mean, ica._whitening(data, mean)).double()
     covariance = whitened @ whitened.T / whitened.shape[1]
@@ -210,4 +212,4 @@ def test_unknown_solvers_are_one_line_errors_naming_the_key_and_the_choices():
             get_learner("ica")(learner_params("ica", params))
         assert str(error.value) == message
     with pytest.raises(ValueError, match="whiten_solver must be one of eigh, svd, got 'qr'"):
-        TorchFastICA(3, whiten_solver="qr")
+        estimator(TorchFastICA, 3, whiten_solver="qr")

@@ -4,7 +4,7 @@ that every ICA solver reports."""
 import numpy as np
 import pytest
 import torch
-from ica_data import images, mixed_sources
+from ica_data import estimator, images, mixed_sources
 
 from seasonloop.models.core.fastica import TorchFastICA
 from seasonloop.models.core.ica_stationarity import amari_distance, relative_gradient
@@ -26,7 +26,7 @@ def mixture() -> tuple[np.ndarray, np.ndarray]:
 @pytest.mark.parametrize("precision", ["float32", "float64"])
 def test_recovers_super_and_sub_gaussian_sources_to_the_gradient_tolerance(mixture, precision):
     data, mixing = mixture
-    ica = TorchPicard(N_SOURCES, max_iter=500, tol=1e-7, seed=0, precision=precision).fit(data)
+    ica = estimator(TorchPicard, N_SOURCES, max_iter=500, tol=1e-7, seed=0, precision=precision).fit(data)
     assert ica.converged_ and ica.n_iter_ < 500
     # its own criterion is the shared measure, confirmed on sources computed afresh from W
     assert ica.criterion_ < 1e-7 and ica.gradient_ < 1e-7
@@ -39,8 +39,8 @@ def test_recovers_super_and_sub_gaussian_sources_to_the_gradient_tolerance(mixtu
 def test_equals_python_picard_from_the_same_start(mixture):
     """The same whitened data and initial matrix: python-picard and ours take the same steps."""
     data, _ = mixture
-    ours = TorchPicard(N_SOURCES, max_iter=500, tol=1e-8, seed=3, precision="float64").fit(data)
-    reference = LibraryPicard(N_SOURCES, max_iter=500, tol=1e-8, seed=3, precision="float64").fit(data)
+    ours = estimator(TorchPicard, N_SOURCES, max_iter=500, tol=1e-8, seed=3, precision="float64").fit(data)
+    reference = estimator(LibraryPicard, N_SOURCES, max_iter=500, tol=1e-8, seed=3, precision="float64").fit(data)
     assert reference.converged_ and ours.converged_
     # ours may spend one more gradient evaluation confirming the result on fresh sources
     assert reference.n_iter_ <= ours.n_iter_ <= reference.n_iter_ + 1
@@ -49,7 +49,7 @@ def test_equals_python_picard_from_the_same_start(mixture):
 
 def test_relative_gradient_is_zero_at_fastica_fixed_points_and_not_elsewhere(mixture):
     data, _ = mixture
-    fastica = TorchFastICA(N_SOURCES, max_iter=1000, tol=1e-7, seed=0, precision="float64").fit(data)
+    fastica = estimator(TorchFastICA, N_SOURCES, max_iter=1000, tol=1e-7, seed=0, precision="float64").fit(data)
     assert fastica.converged_
     at_fixed_point = relative_gradient(fastica.transform(data))
     assert at_fixed_point < 1e-5
@@ -65,9 +65,9 @@ def test_relative_gradient_is_zero_at_fastica_fixed_points_and_not_elsewhere(mix
 
 def test_a_stopped_fit_says_so_and_a_seed_fixes_the_result(mixture):
     data, _ = mixture
-    stopped = TorchPicard(N_SOURCES, max_iter=2, tol=1e-7, seed=0).fit(data)
+    stopped = estimator(TorchPicard, N_SOURCES, max_iter=2, tol=1e-7, seed=0).fit(data)
     assert stopped.converged_ is False and stopped.n_iter_ == 2 and stopped.criterion_ >= 1e-7
-    first, second = (TorchPicard(N_SOURCES, seed=7, tol=1e-7, max_iter=500).fit(data) for _ in range(2))
+    first, second = (estimator(TorchPicard, N_SOURCES, seed=7, tol=1e-7, max_iter=500).fit(data) for _ in range(2))
     for key, value in first.to_arrays().items():
         np.testing.assert_array_equal(second.to_arrays()[key], value)
 
@@ -87,8 +87,8 @@ class StopsEarlyOnce(TorchPicard):
 
 def test_a_stored_model_that_misses_tol_goes_on_from_where_it_stopped(mixture):
     data, _ = mixture
-    ica = StopsEarlyOnce(N_SOURCES, max_iter=500, tol=1e-7, seed=0, precision="float64").fit(data)
-    first_run = TorchPicard(N_SOURCES, max_iter=500, tol=1e-3, seed=0, precision="float64").fit(data)
+    ica = estimator(StopsEarlyOnce, N_SOURCES, max_iter=500, tol=1e-7, seed=0, precision="float64").fit(data)
+    first_run = estimator(TorchPicard, N_SOURCES, max_iter=500, tol=1e-3, seed=0, precision="float64").fit(data)
     assert first_run.gradient_ > 1e-7  # the first stop left the stored model above tol
     # then on from that unmixing, aiming at a tenth of tol, with what was left of the budget
     assert ica.aims == [(1e-7, 500), (1e-8, 500 - first_run.n_iter_)]
@@ -97,7 +97,7 @@ def test_a_stored_model_that_misses_tol_goes_on_from_where_it_stopped(mixture):
 
 def test_progress_bar_shows_the_gradient(mixture, capsys):
     data, _ = mixture
-    TorchPicard(N_SOURCES, max_iter=5, seed=0).fit(data, progress=True)
+    estimator(TorchPicard, N_SOURCES, max_iter=5, seed=0).fit(data, progress=True)
     bar = capsys.readouterr().err
     assert "Picard-O iterations" in bar and "gradient=" in bar
 
@@ -108,22 +108,22 @@ def test_python_picard_optimises_the_same_density_as_ours(fun):
     as density objects, both optimise one contrast and reach one unmixing."""
     rng = np.random.default_rng(0)
     data = rng.laplace(size=(2000, 32)) @ rng.normal(size=(32, 32))
-    ours = TorchPicard(32, max_iter=500, tol=1e-7, seed=0, precision="float64", fun=fun).fit(data)
-    reference = LibraryPicard(32, max_iter=500, tol=1e-7, seed=0, precision="float64", fun=fun).fit(data)
+    ours = estimator(TorchPicard, 32, max_iter=500, tol=1e-7, seed=0, precision="float64", fun=fun).fit(data)
+    reference = estimator(LibraryPicard, 32, max_iter=500, tol=1e-7, seed=0, precision="float64", fun=fun).fit(data)
     assert ours.converged_ and reference.converged_
     np.testing.assert_allclose(ours.components_, reference.components_, atol=1e-4)
 
 
-@pytest.mark.parametrize("estimator", [TorchPicard, TorchFastICA, LibraryPicard])
-def test_every_solver_traces_the_gradient_of_each_iterate(mixture, estimator):
+@pytest.mark.parametrize("solver", [TorchPicard, TorchFastICA, LibraryPicard])
+def test_every_solver_traces_the_gradient_of_each_iterate(mixture, solver):
     """trace_[i] is the gradient of the unmixing after i iterations (timed from the fit's start,
     whitening included): the model a fit of max_iter i returns has that gradient."""
     data, _ = mixture
-    traced = estimator(N_SOURCES, max_iter=4, tol=1e-12, seed=0, precision="float64").fit(data)
+    traced = estimator(solver, N_SOURCES, max_iter=4, tol=1e-12, seed=0, precision="float64").fit(data)
     times = [seconds for seconds, _ in traced.trace_]
     assert len(traced.trace_) == 4 and times == sorted(times) and times[0] > 0
     for iterations in (1, 2, 3):
-        stopped = estimator(N_SOURCES, max_iter=iterations, tol=1e-12, seed=0, precision="float64").fit(data)
+        stopped = estimator(solver, N_SOURCES, max_iter=iterations, tol=1e-12, seed=0, precision="float64").fit(data)
         assert traced.trace_[iterations][1] == pytest.approx(stopped.gradient_, rel=1e-3)
 
 
@@ -160,7 +160,7 @@ def test_ica_learner_with_picard_in_float32_records_the_shared_measure(tmp_path)
 @pytest.mark.skipif(not torch.cuda.is_available(), reason="no CUDA device")
 def test_cuda_matches_cpu(mixture):
     data, mixing = mixture
-    cpu = TorchPicard(N_SOURCES, seed=0, tol=1e-7, max_iter=500, device="cpu").fit(data)
-    cuda = TorchPicard(N_SOURCES, seed=0, tol=1e-7, max_iter=500, device="cuda").fit(data)
+    cpu = estimator(TorchPicard, N_SOURCES, seed=0, tol=1e-7, max_iter=500, device="cpu").fit(data)
+    cuda = estimator(TorchPicard, N_SOURCES, seed=0, tol=1e-7, max_iter=500, device="cuda").fit(data)
     assert cuda.converged_ and amari_distance(cuda.components_, mixing) < 0.03
     np.testing.assert_allclose(cuda.transform(data), cpu.transform(data), atol=2e-3)

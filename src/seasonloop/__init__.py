@@ -15,7 +15,7 @@ PACKAGES = {
     "reporting": "summary tables beside the study's numbers, dvc plots files, the study's figures, the HTML report",
     "evaluation": "distances and best matches, SeqSLAM sequences, sequence descriptors, fraction correct, PR curves",
     "significance": "intervals along the route, paired tests and Holm's correction over a table",
-    "models": "the learners, one module each (registry.py: their names), and their shared core/",
+    "models": "the learners, one module each (core/lookup.py finds one by its name), and their shared core/",
     "data": "the synthetic renderer, real videos and frames, preprocessing, ground truth, the split, augmentation",
     "params": "params.yaml's sections, each key declared once with its check, seasons and pairs",
 }

@@ -53,7 +53,7 @@ def _clahe(images: np.ndarray, clahe_clip: float, clahe_grid: int) -> np.ndarray
 CONTRASTS: dict[str, ContrastMethod] = {"clahe": _clahe, "equalize": _equalize, "none": _no_contrast}
 
 
-def enhance_image_contrast(images: np.ndarray, method: str, clahe_clip: float = 2.0, clahe_grid: int = 4) -> np.ndarray:
+def enhance_image_contrast(images: np.ndarray, method: str, clahe_clip: float, clahe_grid: int) -> np.ndarray:
     """Contrast-enhance each (H, W) uint8 image independently with CONTRASTS[method]."""
     if method not in CONTRASTS:
         raise ValueError(f"preprocess.contrast: unknown method '{method}' (known: {', '.join(CONTRASTS)})")

@@ -118,6 +118,9 @@ class ICABoVW(FeatureLearner):
             max_iter=self.params["max_iter"],
             tol=self.params["tol"],
             seed=self.seed,
+            # scikit-learn's own defaults (not settings of this learner)
+            algorithm="parallel",
+            fun="logcosh",
             # With n_samples >> 64 features both solvers are fast; svd copes better with the
             # null direction that DC removal creates.
             whiten_solver="svd",

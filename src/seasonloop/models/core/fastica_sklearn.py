@@ -19,9 +19,9 @@ def fit_fastica(
     max_iter: int,
     tol: float,
     seed: int,
-    algorithm: str = "parallel",
-    fun: str = "logcosh",
-    whiten_solver: str = "eigh",
+    algorithm: str,
+    fun: str,
+    whiten_solver: str,
 ) -> tuple[FastICA, dict[str, Any]]:
     """Fit sklearn FastICA (centering, unit-variance whitening, fixed-point iteration) on
     (n_samples, n_features) data.

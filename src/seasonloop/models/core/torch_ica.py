@@ -97,14 +97,16 @@ class TorchICA(ABC):
     def __init__(
         self,
         n_components: int,
-        max_iter: int = 200,
-        tol: float = 1e-4,
-        seed: int = 0,
-        fun: str = "logcosh",
-        whiten_solver: str = "eigh",
-        device: str | torch.device = "cpu",
-        precision: str = "float32",
+        *,
+        max_iter: int,
+        tol: float,
+        seed: int,
+        fun: str,
+        whiten_solver: str,
+        device: str | torch.device,
+        precision: str,
     ):
+        # no defaults: the ica section of params.yaml is the one place a setting's value is declared
         if isinstance(n_components, bool) or not isinstance(n_components, (int, np.integer)) or n_components < 1:
             raise ValueError(f"n_components must be an integer >= 1, got {n_components!r}")
         if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:

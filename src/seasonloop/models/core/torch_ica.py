@@ -79,13 +79,13 @@ STATE_KEYS = ("mean", "whitening", "unmixing", "n_iter", "converged", "criterion
 
 class TorchICA(ABC):
     """ICA in torch on `device` (CPU or CUDA), whitening in float32 and the iterations in
-    `precision` (float32 or float64); a subclass sets `algorithm` and
-    `criterion_name` (what its own stopping test measures) and implements `_rotate`.
+    `precision` (float32 or float64); every setting explicit (params.yaml's ica section holds the
+    values). A subclass sets `algorithm` and `criterion_name` (what its own stopping test measures)
+    and implements `_rotate`.
 
     After `fit`: mean_ (D,), whitening_ (k, D) in float32, unmixing_ (k, k) scaled so the training
     sources have unit variance and components_ = unmixing_ @ whitening_, both in the iterations'
-    precision, n_iter_, converged_ (the solver's own
-    test met within max_iter), criterion_ (the last value of that test), gradient_ (the
+    precision, n_iter_, converged_ (the solver's own test met within max_iter), criterion_ (the last value of that test), gradient_ (the
     stationarity measure every solver reports, ica_stationarity.relative_gradient, of the sources
     the stored model gives the training data) and trace_ (seconds since fit began, whitening
     included, and the gradient at the start of each iteration).
@@ -97,7 +97,6 @@ class TorchICA(ABC):
     def __init__(
         self,
         n_components: int,
-        *,
         max_iter: int,
         tol: float,
         seed: int,
@@ -106,7 +105,6 @@ class TorchICA(ABC):
         device: str | torch.device,
         precision: str,
     ):
-        # no defaults: the ica section of params.yaml is the one place a setting's value is declared
         if isinstance(n_components, bool) or not isinstance(n_components, (int, np.integer)) or n_components < 1:
             raise ValueError(f"n_components must be an integer >= 1, got {n_components!r}")
         if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:

@@ -14,6 +14,7 @@ the CAE's) is printed last.
 from __future__ import annotations
 
 import argparse
+import json
 import statistics
 from pathlib import Path
 
@@ -72,6 +73,29 @@ def main() -> None:
     record = {"fits": fits, "median_seconds": median, "ratio": ratio, "headline": headline}
     record["load_note"] = load_note(measured_on)
     save_and_report("bench_place_cnn", record, measured_on)
+
+
+def place_cnn_table(path: Path) -> str:
+    """bench_place_cnn's record: each fit of the two learners, how it ended, the headline ratio."""
+    from benchmarks.common import where_measured
+
+    record = json.loads(path.read_text())
+    lines = ["| learner | fit (s) | epochs | converged | best validation |", "|---|---|---|---|---|"]
+    for name, fits in record["fits"].items():
+        for fit in fits:
+            # place_cnn's validation loss is 1 - recall@1 of held-out places; the CAE's its MSE
+            best = (
+                f"recall@1 {1 - fit['best_validation_loss']:.3f}"
+                if name == "place_cnn"
+                else (f"loss {fit['best_validation_loss']:.5f}")
+            )
+            lines.append(
+                f"| {name} | {fit['seconds']:.1f} | {fit['epochs_run']} | {'yes' if fit['converged'] else 'no'} | {best} |"
+            )
+    return "\n".join(lines) + f"\n\n{record['headline']}.\n\n{where_measured(record)}\n"
+
+
+TABLES = {"bench_place_cnn": ("benchmarks/results/bench_place_cnn.json", "bench_place_cnn.json", place_cnn_table)}
 
 
 if __name__ == "__main__":

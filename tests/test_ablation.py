@@ -40,7 +40,15 @@ def matching_settings(extra_metrics: tuple[str, ...] = ()) -> tuple[EvaluateConf
         tolerance_m=10.0,
         matchers=("single",),
     )
-    return evaluate, SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2, window_at_breaks="clip")
+    return evaluate, SequenceConfig(
+        length=3,
+        v_min=0.8,
+        v_max=1.2,
+        v_steps=3,
+        window=2,
+        window_at_breaks="clip",
+        descriptor_window_at_breaks="shift",
+    )
 
 
 def test_all_seasons_keep_the_study_plan():

@@ -14,7 +14,9 @@ from seasonloop.evaluation.matchers import match_distances
 from seasonloop.evaluation.sequence import sequence_distance_blocks, sequence_distances
 from seasonloop.params.settings import EvaluateConfig, SequenceConfig
 
-SEQUENCE = SequenceConfig(length=4, v_min=0.8, v_max=1.2, v_steps=3, window=4, window_at_breaks="ignore")
+SEQUENCE = SequenceConfig(
+    length=4, v_min=0.8, v_max=1.2, v_steps=3, window=4, window_at_breaks="ignore", descriptor_window_at_breaks="shift"
+)
 
 
 def evaluate_config(confidence: str) -> EvaluateConfig:

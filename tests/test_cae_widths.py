@@ -73,7 +73,15 @@ def test_sweep_record_table_and_figure(tmp_path):
         tolerance_m=10.0,
         matchers=("single",),
     )
-    sequence = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2, window_at_breaks="clip")
+    sequence = SequenceConfig(
+        length=3,
+        v_min=0.8,
+        v_max=1.2,
+        v_steps=3,
+        window=2,
+        window_at_breaks="clip",
+        descriptor_window_at_breaks="shift",
+    )
     raw = RawPatchNorm(learner_params("raw_patchnorm", {"patch_size": 4}), seed=0)
     raw.fit(summer, progress=False)
     fitted_channels = []

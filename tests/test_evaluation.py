@@ -33,7 +33,9 @@ EVALUATE = replace(
     tolerance_frames=0,
     tolerance_m=10.0,
 )
-SEQUENCE = SequenceConfig(length=3, v_min=1.0, v_max=1.0, v_steps=1, window=4, window_at_breaks="clip")
+SEQUENCE = SequenceConfig(
+    length=3, v_min=1.0, v_max=1.0, v_steps=1, window=4, window_at_breaks="clip", descriptor_window_at_breaks="shift"
+)
 # the raw section, as params.yaml holds it
 EVALUATE_DICT = {
     **PARAMS["evaluate"],

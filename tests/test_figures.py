@@ -23,7 +23,9 @@ EVALUATE = EvaluateConfig(
     tolerance_m=10.0,
     matchers=("single",),
 )
-SEQUENCE = SequenceConfig(length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2, window_at_breaks="clip")
+SEQUENCE = SequenceConfig(
+    length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2, window_at_breaks="clip", descriptor_window_at_breaks="shift"
+)
 
 
 class FakeAutoEncoder:

@@ -168,7 +168,15 @@ def fold_evaluation(rng, places, n_database=None):
     truth = aligned_truth(database, places, 0)
     distances = rng.random((len(places), len(database)))
     distances[np.arange(len(database)), np.arange(len(database))] -= rng.random(len(database)) * 0.8
-    sequence = SequenceConfig(length=10, v_min=0.8, v_max=1.2, v_steps=5, window=10, window_at_breaks="ignore")
+    sequence = SequenceConfig(
+        length=10,
+        v_min=0.8,
+        v_max=1.2,
+        v_steps=5,
+        window=10,
+        window_at_breaks="ignore",
+        descriptor_window_at_breaks="shift",
+    )
     return evaluate_in_blocks(lambda rows: distances[rows], len(database), truth, "single", EVALUATE, sequence), (
         distances,
         truth,

@@ -96,7 +96,15 @@ def test_evaluate_learner_writes_every_pair_metric_and_matcher(tmp_path):
         tolerance_m=10.0,
         matchers=("single", "sequence"),
     )
-    sequence = SequenceConfig(length=3, v_min=1.0, v_max=1.0, v_steps=1, window=4, window_at_breaks="clip")
+    sequence = SequenceConfig(
+        length=3,
+        v_min=1.0,
+        v_max=1.0,
+        v_steps=1,
+        window=4,
+        window_at_breaks="clip",
+        descriptor_window_at_breaks="shift",
+    )
     statistics = StatisticsConfig(level=0.95, degrees_scale=0.15, persistence_scale=0.38, alpha=0.05)
     dirs = [tmp_path / name for name in ("metrics", "pr", "similarity", "outcomes")]
     for folder in dirs:

@@ -50,7 +50,15 @@ def child(n_queries: int, n_database: int, dim: int, matcher: str, path: str, me
     queries = scene[:n_queries] + 1.5 * rng.normal(size=(n_queries, dim)).astype(np.float32)
     del scene
     evaluate = EvaluateConfig(("a-b",), metric, (), "distance", 10, TOLERANCE, 10.0, (matcher,))
-    sequence = SequenceConfig(length=10, v_min=0.8, v_max=1.2, v_steps=5, window=10, window_at_breaks="ignore")
+    sequence = SequenceConfig(
+        length=10,
+        v_min=0.8,
+        v_max=1.2,
+        v_steps=5,
+        window=10,
+        window_at_breaks="ignore",
+        descriptor_window_at_breaks="shift",
+    )
     baseline = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     start = time.perf_counter()
     truth = aligned_truth(np.arange(n_database), np.arange(n_queries), TOLERANCE)

@@ -95,11 +95,11 @@ def _sequence(
 
 
 def _delta(descriptors: np.ndarray, places: np.ndarray, sequence: SequenceConfig) -> np.ndarray:
-    return delta_descriptors(descriptors, places, int(sequence.length))
+    return delta_descriptors(descriptors, places, int(sequence.length), sequence.descriptor_window_at_breaks)
 
 
 def _smoothed(descriptors: np.ndarray, places: np.ndarray, sequence: SequenceConfig) -> np.ndarray:
-    return smoothed_descriptors(descriptors, places, int(sequence.length))
+    return smoothed_descriptors(descriptors, places, int(sequence.length), sequence.descriptor_window_at_breaks)
 
 
 # A new matcher is one function plus one line here (evaluate.matchers is checked against it). The

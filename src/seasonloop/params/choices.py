@@ -22,6 +22,13 @@ MIN_SEQUENCE_WINDOW = 2
 #   shift:  a window of fixed size shifted to lie inside the column's segment (the whole segment when shorter)
 #   clip:   clipped at the segment's ends (a 2-place segment then always enhances to +-1)
 WINDOW_RULES = ("ignore", "shift", "clip")
+# How the sequence descriptors' window (delta, smoothed) meets a break in the place ids
+# (seasonloop.evaluation.descriptor_sequences):
+#   shift: oravus/seqNet's (datasets.py getSeqInds): L frames, shifted to lie inside the segment
+#          (the whole segment when shorter), with seqNet's Delta weights
+#   clip:  clipped at the segment's ends, every frame its own window (the smoothing is then
+#          DeltaDescriptors' zero-padded one); Delta the difference of the halves' means
+DESCRIPTOR_WINDOW_RULES = ("shift", "clip")
 
 # synthetic.rides.<season>: seasonloop.data.synthetic.SeasonRide's fields and their ranges, each
 # optional; SeasonRide checks its fields with these

@@ -30,6 +30,7 @@ from seasonloop.params.checks import (
     text,
 )
 from seasonloop.params.choices import (
+    DESCRIPTOR_WINDOW_RULES,
     MIN_SEQUENCE_WINDOW,
     POSITION_SOURCES,
     POSITION_UNITS,
@@ -190,6 +191,7 @@ class SequenceConfig(Section):
     # one source for the range: seasonloop.evaluation.sequence checks the same constant
     window: int = setting(integer(MIN_SEQUENCE_WINDOW))
     window_at_breaks: str = setting(one_of(*WINDOW_RULES))
+    descriptor_window_at_breaks: str = setting(one_of(*DESCRIPTOR_WINDOW_RULES))
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,7 @@
 
 `--snapshot` copies each table's source (an output of `dvc repro` or of a `dvc exp run`) into
 docs/results/ together with where it came from (the git commit, whether the workspace had
-uncommitted changes, the CPU), so that the tables can be checked in a clone that has no pipeline
+changes not committed, the CPU), so that the tables can be checked in a clone that has no pipeline
 outputs: tests/test_readme_tables.py fails when a README table differs from what this script
 writes from docs/results/. A table's block sits between `<!-- table: NAME -->` and `<!-- /table -->`
 in one of DOCUMENTS.
@@ -388,7 +388,7 @@ def measured_at(path: Path, run: dict) -> str:
     else the one the snapshot was taken at."""
     record = json.loads(path.read_text()) if path.suffix == ".json" else {}
     commit, dirty = record.get("commit") or run.get("commit", "?"), record.get("dirty", run.get("dirty"))
-    return f"{commit}{' + uncommitted changes' if dirty else ''}"
+    return f"{commit}{' + changes not committed' if dirty else ''}"
 
 
 def provenance_line(name: str, provenance: dict) -> str:
@@ -401,7 +401,7 @@ def provenance_line(name: str, provenance: dict) -> str:
         )
     return (
         f"_Written by `docs/write_tables.py` from `{source}` (copy: `docs/results/{snapshot}`), produced at "
-        f"commit {run.get('commit', '?')}{' + uncommitted changes' if run.get('dirty') else ''} "
+        f"commit {run.get('commit', '?')}{' + changes not committed' if run.get('dirty') else ''} "
         f"by `{run.get('command', 'dvc repro')}` on {run.get('cpu', '?')}._\n"
     )
 
@@ -426,7 +426,7 @@ def rewrite(text: str, provenance: dict, folder: str = "docs/results") -> str:
 
 
 def run_state(workspace: Path, command: str, preset: str | None = None) -> tuple[str, bool, str]:
-    """(commit, uncommitted changes, command) of the run in `workspace`. `preset`: the workspace is
+    """(commit, changes not committed, command) of the run in `workspace`. `preset`: the workspace is
     its commit with that preset applied and `dvc repro` run (checked: params.yaml is exactly the
     preset's text over the commit's, no other tracked file but dvc.lock changed), so its tables
     come from a committed state and the command that reproduces them."""
@@ -451,18 +451,18 @@ def run_state(workspace: Path, command: str, preset: str | None = None) -> tuple
     return commit, False, f"python -m seasonloop.preset {preset} && dvc repro"
 
 
-def refuse_uncommitted(source: Path, measured: bool, dirty: bool) -> None:
+def refuse_dirty(source: Path, measured: bool, dirty: bool) -> None:
     """A published table comes from a committed state: a benchmark's record measured with
-    uncommitted changes, or a run's outputs in a workspace that has them, are refused (SystemExit)."""
+    changes not committed, or a run's outputs in a workspace that has them, are refused (SystemExit)."""
     if measured:
         record = json.loads(source.read_text())
         if record.get("dirty"):
             raise SystemExit(
-                f"{source}: measured at {record.get('commit')} + uncommitted changes; rerun it from a commit"
+                f"{source}: measured at {record.get('commit')} + changes not committed; rerun it from a commit"
             )
     elif dirty:
         raise SystemExit(
-            f"{source}: its workspace has uncommitted changes; commit them (or name the preset applied: --preset)"
+            f"{source}: its workspace has changes not committed; commit them (or name the preset applied: --preset)"
         )
 
 
@@ -476,7 +476,7 @@ def snapshot(names: list[str], command: str, workspace: Path = ROOT, preset: str
         source, copy, _ = TABLES[name]
         if not (workspace / source).exists():
             raise FileNotFoundError(f"{workspace / source}: not found (run the pipeline first)")
-        refuse_uncommitted(workspace / source, source.startswith("benchmarks/"), dirty)
+        refuse_dirty(workspace / source, source.startswith("benchmarks/"), dirty)
         if (workspace / source).is_dir():  # a folder of small files (metrics/eval): copied whole,
             shutil.rmtree(RESULTS / copy, ignore_errors=True)  # but DVC's .gitignore, which would hide them
             shutil.copytree(workspace / source, RESULTS / copy, ignore=shutil.ignore_patterns(".gitignore"))

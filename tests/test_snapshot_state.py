@@ -12,7 +12,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "docs"))
 
-from write_tables import refuse_uncommitted, run_state  # noqa: E402
+from write_tables import refuse_dirty, run_state  # noqa: E402
 
 from seasonloop.preset import apply_preset  # noqa: E402
 
@@ -38,7 +38,7 @@ def test_a_preset_run_is_its_commit_and_the_command_that_reproduces_it(clone):
     (clone / "dvc.lock").write_text("schema: '2.0'\nstages: {}\n")  # dvc repro rewrites the lock
     commit, dirty, command = run_state(clone, "dvc repro", "wide")
     assert not dirty and command == "python -m seasonloop.preset wide && dvc repro" and len(commit) >= 7
-    assert run_state(clone, "dvc repro")[1]  # without the preset named: uncommitted changes
+    assert run_state(clone, "dvc repro")[1]  # without the preset named: changes not committed
 
 
 def test_params_edited_beyond_the_preset_are_refused(clone):
@@ -56,13 +56,13 @@ def test_another_changed_file_is_refused(clone):
         run_state(clone, "dvc repro", "wide")
 
 
-def test_a_table_from_uncommitted_changes_is_refused(clone):
+def test_a_table_from_changes_not_committed_is_refused(clone):
     record = clone / "bench.json"
     record.write_text('{"commit": "abc1234", "dirty": true}')
-    with pytest.raises(SystemExit, match="abc1234 \\+ uncommitted changes"):
-        refuse_uncommitted(record, measured=True, dirty=False)
+    with pytest.raises(SystemExit, match="abc1234 \\+ changes not committed"):
+        refuse_dirty(record, measured=True, dirty=False)
     record.write_text('{"commit": "abc1234", "dirty": false}')
-    refuse_uncommitted(record, measured=True, dirty=True)  # a record says its own state
-    with pytest.raises(SystemExit, match="uncommitted changes"):
-        refuse_uncommitted(clone / "dvc.lock", measured=False, dirty=True)
-    refuse_uncommitted(clone / "dvc.lock", measured=False, dirty=False)
+    refuse_dirty(record, measured=True, dirty=True)  # a record says its own state
+    with pytest.raises(SystemExit, match="changes not committed"):
+        refuse_dirty(clone / "dvc.lock", measured=False, dirty=True)
+    refuse_dirty(clone / "dvc.lock", measured=False, dirty=False)

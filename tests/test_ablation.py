@@ -2,6 +2,7 @@ import json
 
 import numpy as np
 import pytest
+from sequence_settings import sequence_config
 
 from seasonloop.ablations.training_season_records import (
     read_learner_intervals,
@@ -40,15 +41,7 @@ def matching_settings(extra_metrics: tuple[str, ...] = ()) -> tuple[EvaluateConf
         tolerance_m=10.0,
         matchers=("single",),
     )
-    return evaluate, SequenceConfig(
-        length=3,
-        v_min=0.8,
-        v_max=1.2,
-        v_steps=3,
-        window=2,
-        window_at_breaks="clip",
-        descriptor_window_at_breaks="shift",
-    )
+    return evaluate, sequence_config(v_min=0.8, v_max=1.2, v_steps=3, window=2)
 
 
 def test_all_seasons_keep_the_study_plan():

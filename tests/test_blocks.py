@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from sequence_settings import sequence_config
 
 from seasonloop.data import ground_truth
 from seasonloop.data.ground_truth import PairTruth, aligned_truth, position_truth
@@ -12,11 +13,9 @@ from seasonloop.evaluation.blocks import evaluate_in_blocks, pair_distances, sim
 from seasonloop.evaluation.distances import distance_matrix
 from seasonloop.evaluation.matchers import match_distances
 from seasonloop.evaluation.sequence import sequence_distance_blocks, sequence_distances
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig
 
-SEQUENCE = SequenceConfig(
-    length=4, v_min=0.8, v_max=1.2, v_steps=3, window=4, window_at_breaks="ignore", descriptor_window_at_breaks="shift"
-)
+SEQUENCE = sequence_config(length=4, v_min=0.8, v_max=1.2, v_steps=3, window_at_breaks="ignore")
 
 
 def evaluate_config(confidence: str) -> EvaluateConfig:

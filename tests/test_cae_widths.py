@@ -6,6 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from sequence_settings import sequence_config
 
 from seasonloop.ablations.cae_widths import (
     agreement,
@@ -21,7 +22,7 @@ from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.models.cae import ConvolutionalAutoEncoder
 from seasonloop.models.raw_patchnorm import RawPatchNorm
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
+from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.registries.choices import check_whole
 from seasonloop.reporting.html import build_report
 from seasonloop.reporting.model_sections import cae_widths_section
@@ -73,15 +74,7 @@ def test_sweep_record_table_and_figure(tmp_path):
         tolerance_m=10.0,
         matchers=("single",),
     )
-    sequence = SequenceConfig(
-        length=3,
-        v_min=0.8,
-        v_max=1.2,
-        v_steps=3,
-        window=2,
-        window_at_breaks="clip",
-        descriptor_window_at_breaks="shift",
-    )
+    sequence = sequence_config(v_min=0.8, v_max=1.2, v_steps=3, window=2)
     raw = RawPatchNorm(learner_params("raw_patchnorm", {"patch_size": 4}), seed=0)
     raw.fit(summer, progress=False)
     fitted_channels = []

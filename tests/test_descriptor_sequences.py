@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from sequence_settings import sequence_config
 
 from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.evaluation.blocks import evaluate_descriptors
@@ -15,15 +16,7 @@ EVALUATE = EvaluateConfig(("a-b",), "cosine", (), "distance", 0, 0, 10.0, ("sing
 
 
 def sequence_of(length: int, at_breaks: str = "shift") -> SequenceConfig:
-    return SequenceConfig(
-        length=length,
-        v_min=1.0,
-        v_max=1.0,
-        v_steps=1,
-        window=4,
-        window_at_breaks="ignore",
-        descriptor_window_at_breaks=at_breaks,
-    )
+    return sequence_config(length=length, window_at_breaks="ignore", descriptor_window_at_breaks=at_breaks)
 
 
 def seqnet_window(index: int, length: int, first: int, stop: int) -> np.ndarray:

@@ -6,6 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from sequence_settings import sequence_config
 
 from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.evaluation.blocks import pair_distances
@@ -19,7 +20,7 @@ from seasonloop.evaluation.matchers import (
     result_suffix,
 )
 from seasonloop.evaluation.sequence import sequence_distances
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig
+from seasonloop.params.settings import EvaluateConfig
 from seasonloop.reporting.summary import pr_landmarks, pr_landmarks_table
 
 PARAMS = yaml.safe_load((Path(__file__).resolve().parents[1] / "params.yaml").read_text())
@@ -33,9 +34,7 @@ EVALUATE = replace(
     tolerance_frames=0,
     tolerance_m=10.0,
 )
-SEQUENCE = SequenceConfig(
-    length=3, v_min=1.0, v_max=1.0, v_steps=1, window=4, window_at_breaks="clip", descriptor_window_at_breaks="shift"
-)
+SEQUENCE = sequence_config()
 # the raw section, as params.yaml holds it
 EVALUATE_DICT = {
     **PARAMS["evaluate"],

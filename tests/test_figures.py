@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import numpy as np
+from sequence_settings import sequence_config
 
 from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.data.patchnorm import patch_normalise
 from seasonloop.evaluation.autoencoder_descriptors import autoencoder_descriptors
 from seasonloop.evaluation.context import EvaluationContext
 from seasonloop.models.core.lookup import get_learner
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig, StatisticsConfig
+from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.reporting.figures import AE_DESCRIPTORS, draw_figures
 from tools.repository import learner_params
 
@@ -23,9 +24,7 @@ EVALUATE = EvaluateConfig(
     tolerance_m=10.0,
     matchers=("single",),
 )
-SEQUENCE = SequenceConfig(
-    length=3, v_min=0.8, v_max=1.2, v_steps=3, window=2, window_at_breaks="clip", descriptor_window_at_breaks="shift"
-)
+SEQUENCE = sequence_config(v_min=0.8, v_max=1.2, v_steps=3, window=2)
 
 
 class FakeAutoEncoder:

@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
+from sequence_settings import sequence_config
 
 from seasonloop.data.datasets import count_folds, fold_dir, fold_dirs
 from seasonloop.data.ground_truth import aligned_truth
@@ -21,7 +22,7 @@ from seasonloop.evaluation.blocks import evaluate_in_blocks
 from seasonloop.evaluation.folds import pooled_evaluation
 from seasonloop.evaluation.metrics import evaluate_truth
 from seasonloop.params.schema import check_params
-from seasonloop.params.settings import EvaluateConfig, SequenceConfig, SplitConfig
+from seasonloop.params.settings import EvaluateConfig, SplitConfig
 from seasonloop.reporting.html import Text
 from seasonloop.reporting.sections import dataset_section
 from tools.small_runs import SMALL
@@ -168,15 +169,7 @@ def fold_evaluation(rng, places, n_database=None):
     truth = aligned_truth(database, places, 0)
     distances = rng.random((len(places), len(database)))
     distances[np.arange(len(database)), np.arange(len(database))] -= rng.random(len(database)) * 0.8
-    sequence = SequenceConfig(
-        length=10,
-        v_min=0.8,
-        v_max=1.2,
-        v_steps=5,
-        window=10,
-        window_at_breaks="ignore",
-        descriptor_window_at_breaks="shift",
-    )
+    sequence = sequence_config(length=10, v_min=0.8, v_max=1.2, v_steps=5, window=10, window_at_breaks="ignore")
     return evaluate_in_blocks(lambda rows: distances[rows], len(database), truth, "single", EVALUATE, sequence), (
         distances,
         truth,

@@ -9,11 +9,12 @@ import cv2
 import numpy as np
 import pandas as pd
 import pytest
+from sequence_settings import sequence_config
 
 from seasonloop.data.extract import check_sources, extract_seasons, preview_grid
 from seasonloop.data.ground_truth import aligned_truth
 from seasonloop.evaluation.learner_evaluation import evaluate_learner
-from seasonloop.params.settings import EvaluateConfig, ExtractConfig, SequenceConfig, StatisticsConfig
+from seasonloop.params.settings import EvaluateConfig, ExtractConfig, StatisticsConfig
 
 EXTRACT = ExtractConfig(fps=1.0, height=6, width=8, trim_to_shortest=False, max_offset=0)
 
@@ -96,15 +97,7 @@ def test_evaluate_learner_writes_every_pair_metric_and_matcher(tmp_path):
         tolerance_m=10.0,
         matchers=("single", "sequence"),
     )
-    sequence = SequenceConfig(
-        length=3,
-        v_min=1.0,
-        v_max=1.0,
-        v_steps=1,
-        window=4,
-        window_at_breaks="clip",
-        descriptor_window_at_breaks="shift",
-    )
+    sequence = sequence_config()
     statistics = StatisticsConfig(level=0.95, degrees_scale=0.15, persistence_scale=0.38, alpha=0.05)
     dirs = [tmp_path / name for name in ("metrics", "pr", "similarity", "outcomes")]
     for folder in dirs:

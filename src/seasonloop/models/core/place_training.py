@@ -112,6 +112,7 @@ def train_on_places(
     config: TrainingConfig,
     device: torch.device,
     dtype: torch.dtype = torch.float32,
+    memory_format: torch.memory_format = torch.contiguous_format,
     progress: bool = True,
     on_epoch: EpochCallback | None = None,
     description: str = "train",
@@ -124,7 +125,7 @@ def train_on_places(
     """
     images, places = train
     rng = np.random.default_rng(config.seed)
-    model.to(device)
+    model.to(device=device, memory_format=memory_format)  # one-channel images are NCHW and NHWC alike
     optimiser = adam(model, config.learning_rate)
     loss_function = losses.MultiSimilarityLoss(alpha=loss.alpha, beta=loss.beta, base=loss.base)
     miner = miners.MultiSimilarityMiner(epsilon=loss.epsilon)

@@ -1,0 +1,116 @@
+"""Which settings of the place-supervised network, judged on validation places alone: place_cnn
+fitted as the fit stage fits it (every training season, augmented, each image's place and
+traverse) to its validation plateau under params.yaml's section with each candidate's widths and
+learning rate, recording recall@1 of the held-out training places after every epoch, where the
+stopping rule ended it and how long the fit took. No test place enters: the candidates are told
+apart by the network's own validation, the measure its stopping rule reads.
+
+    dvc repro fit@place_cnn      # the default run's data/split and data/augmented
+    python -m benchmarks.studies.choose_place_cnn [--seeds 0]
+
+Writes benchmarks/results/choose_place_cnn.json (table: docs/pipeline.md, "How the
+place-supervised network is trained").
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import yaml
+
+from benchmarks.common import load_note, save_and_report
+from benchmarks.speed.bench_place_cnn import AUGMENTED, SPLIT
+from seasonloop.data import datasets
+from seasonloop.models.core.lookup import get_learner
+from tools.records import machine
+
+WIDE, NARROW = [16, 32, 64], [8, 16, 32, 64]
+CANDIDATES = {  # the widths and learning rates compared; every other setting is params.yaml's
+    f"{name} lr {rate:g}": {"channels": channels, "learning_rate": rate}
+    for name, channels in (("wide", WIDE), ("narrow", NARROW))
+    for rate in (1e-3, 3e-3, 1e-2)
+}
+
+
+def fit_candidate(changes: dict, params: dict, seed: int) -> dict:
+    """place_cnn with `changes` over params.yaml's section, fitted to its plateau on the pipeline's
+    training set: its validation recall after every epoch and how the fit ended."""
+    seasons = [season for season in params["data"]["seasons"] if season in params["train"]["seasons"]]
+    copies = params["augment"]["copies"] if params["train"]["augmented"] else 0
+    images = datasets.training_images(SPLIT, AUGMENTED if params["train"]["augmented"] else None, seasons)
+    places = datasets.training_places(SPLIT, seasons, copies)
+    traverses = datasets.training_traverses(SPLIT, seasons, copies)
+    learner = get_learner("place_cnn")({**params["place_cnn"], **changes}, seed=seed)
+    learner.import_libraries()
+    curve: list[float] = []
+    start = time.perf_counter()
+    info = learner.fit(
+        images,
+        progress=False,
+        places=places,
+        traverses=traverses,
+        on_epoch=lambda epoch, values: curve.append(1.0 - values["validation_loss"]),
+    )
+    seconds = time.perf_counter() - start
+    return {
+        "seed": seed,
+        "seconds": seconds,
+        "seconds_per_epoch": seconds / len(curve),
+        "validation_recall": curve,
+        **{key: info[key] for key in ("epochs_run", "best_epoch", "converged", "best_validation_recall")},
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, nargs="+", default=[0], help="each candidate fitted from each")
+    arguments = parser.parse_args()
+    if not (SPLIT / "split.json").is_file():
+        raise SystemExit(f"{SPLIT}: not found (run `dvc repro fit@place_cnn` first: the default run's training set)")
+    params = yaml.safe_load(Path("params.yaml").read_text())
+    measured_on = machine()
+    fits: dict[str, list[dict]] = {}
+    for name, changes in CANDIDATES.items():
+        fits[name] = [fit_candidate(changes, params, seed) for seed in arguments.seeds]
+        for fit in fits[name]:
+            print(
+                f"{name} seed {fit['seed']}: recall@1 {fit['best_validation_recall']:.3f} at epoch "
+                f"{fit['best_epoch']} of {fit['epochs_run']}, {fit['seconds']:.0f} s",
+                flush=True,
+            )
+    best = max(fits, key=lambda name: min(fit["best_validation_recall"] for fit in fits[name]))
+    headline = f"highest validation recall@1: {best} ({fits[best][0]['best_validation_recall']:.3f}, seed {arguments.seeds[0]})"
+    record = {"candidates": CANDIDATES, "fits": fits, "headline": headline, "load_note": load_note(measured_on)}
+    save_and_report("choose_place_cnn", record, measured_on)
+
+
+def choose_place_cnn_table(path: Path) -> str:
+    """choose_place_cnn's record: each candidate's best validation recall, where it stopped, its time."""
+    from benchmarks.common import where_measured
+
+    record = json.loads(path.read_text())
+    lines = [
+        "| candidate | channels | learning rate | seed | best validation recall@1 | best epoch | epochs | converged | fit (s) | s an epoch |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for name, fits in record["fits"].items():
+        changes = record["candidates"][name]
+        for fit in fits:
+            lines.append(
+                f"| {name} | {changes['channels']} | {changes['learning_rate']:g} | {fit['seed']} | "
+                f"{fit['best_validation_recall']:.3f} | {fit['best_epoch']} | {fit['epochs_run']} | "
+                f"{'yes' if fit['converged'] else 'no'} | {fit['seconds']:.0f} | {fit['seconds_per_epoch']:.1f} |"
+            )
+    return "\n".join(lines) + f"\n\n{record['headline']}.\n\n{where_measured(record)}\n"
+
+
+TABLES = {
+    "choose_place_cnn": ("benchmarks/results/choose_place_cnn.json", "choose_place_cnn.json", choose_place_cnn_table)
+}
+
+
+if __name__ == "__main__":
+    main()

@@ -90,7 +90,7 @@ def _headline(path: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _autoencoder_training(path: Path) -> str:
+def _network_training(path: Path) -> str:
     record = json.loads(path.read_text())
     columns = [
         "stop_reason",
@@ -311,7 +311,7 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "comparisons": ("plots/comparisons.md", "comparisons.md", _whole),
     "claims": ("metrics/comparisons.json", "comparisons.json", _claims_of("default")),
     "runtime": ("plots/summary/runtime.md", "runtime.md", _fraction_correct),
-    "autoencoder_training": ("metrics/autoencoder_training.json", "autoencoder_training.json", _autoencoder_training),
+    "network_training": ("metrics/network_training.json", "network_training.json", _network_training),
     "cae_widths": ("metrics/cae_widths.json", "cae_widths_sweep.json", _cae_widths),
     # the global ICA's fit and its basis images (docs/ica.md)
     "ica_basis": ("metrics/fit/ica.json", "ica_fit.json", _ica_fit),
@@ -333,10 +333,11 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     # outputs in the run's own folder (--from FOLDER)
     "full_fraction_correct": ("plots/summary/fraction_correct.md", "full_fraction_correct.md", _fraction_correct),
     "full_pr_landmarks": ("plots/summary/pr_landmarks.md", "full_pr_landmarks.md", _fraction_correct),
+    # the full run's file before it held place_cnn too (network_training.json since): rerun, rename
     "full_autoencoder_training": (
         "metrics/autoencoder_training.json",
         "full_autoencoder_training.json",
-        _autoencoder_training,
+        _network_training,
     ),
     "full_training_seasons": ("metrics/training_seasons.json", "full_training_seasons.json", _training_seasons),
     "full_cae_widths": ("metrics/cae_widths.json", "full_cae_widths_sweep.json", _cae_widths),

@@ -23,7 +23,7 @@ similarity.png (every learner's similarity matrix of every pair, single images, 
 from the evaluate stages' thumbnails in plots/similarity/); for
 `dvc plots show`, plots/summary/pr/<pair>.csv (every learner's curve under evaluate.metric, a
 `learner` column) and plots/summary/training_loss.csv (the dvclive loss curves of the learners
-that train in epochs); metrics/autoencoder_training.json (how each of those learners' training
+that train in epochs); metrics/network_training.json (how each of those learners' training
 ended, with its time, from metrics/fit/). What each file holds: seasonloop.reporting.summary_files.
 """
 
@@ -37,7 +37,7 @@ from seasonloop.io import staged_dir, write_json
 from seasonloop.params.seasons import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.reporting.dvcplots import training_curves
-from seasonloop.reporting.results import autoencoder_training, load_evaluations, load_runtime
+from seasonloop.reporting.results import load_evaluations, load_runtime, network_training
 from seasonloop.reporting.summary_files import (
     compare_record,
     mean_intervals,
@@ -67,7 +67,7 @@ def main() -> None:
     write_json(Path("metrics/summary.json"), summary_record(results, intervals))
     write_json(COMPARE, compare_record(results))
     write_json(Path("metrics/runtime.json"), runtime)
-    write_json(Path("metrics/autoencoder_training.json"), autoencoder_training(Path("metrics/fit"), learners))
+    write_json(Path("metrics/network_training.json"), network_training(Path("metrics/fit"), learners))
     with staged_dir(Path("plots/summary")) as out:
         write_summary_files(out, results, runtime, training_curves(Path("logs"), learners))
         write_similarity_figure(out / "similarity.png", Path("plots/similarity"), learners, pairs)

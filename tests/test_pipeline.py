@@ -134,8 +134,7 @@ def test_learners_metrics_and_plots_exist(workspace):
             )
         info = json.loads((workspace / f"metrics/fit/{name}.json").read_text())["info"]
         assert info["stop_reason"] == "max_epochs" and info["converged"] is False and info["epochs_run"] == epochs
-    training = json.loads((workspace / "metrics/autoencoder_training.json").read_text())
-    # every learner that trains in epochs, place_cnn too (the file keeps the auto-encoders' name)
+    training = json.loads((workspace / "metrics/network_training.json").read_text())  # every learner trained in epochs
     assert set(training) == {name for name in learners if get_learner(name).trains_in_epochs} >= {"fae", "cae"}
     assert training["cae"]["epochs_run"] == 1
     assert (workspace / "plots/figures/fig19b_autoencoder_reconstructions.png").is_file()

@@ -48,7 +48,7 @@ def test_the_snapshots_say_where_they_came_from():
         assert {"commit", "dirty", "command", "cpu"} <= set(record[name])
 
 
-@pytest.mark.parametrize("name", ["fraction_correct", "autoencoder_training", "pr_landmarks", "runtime"])
+@pytest.mark.parametrize("name", ["fraction_correct", "network_training", "pr_landmarks", "runtime"])
 def test_snapshots_of_the_default_run_match_its_outputs_when_present(name):
     """Where this clone holds the run a snapshot names (the default `dvc repro` with the committed
     lock, or a preset applied and run), the copies in docs/results/ must be its outputs (otherwise

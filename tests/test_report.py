@@ -13,7 +13,7 @@ from seasonloop.evaluation.records import block_records
 from seasonloop.plots import plot_image_grid
 from seasonloop.reporting.examples import example_grid_png, examples_section, outcome_examples
 from seasonloop.reporting.html import Image, Section, Table, Text, build_report
-from seasonloop.reporting.model_sections import autoencoder_training_section, figures_section, training_seasons_section
+from seasonloop.reporting.model_sections import figures_section, network_training_section, training_seasons_section
 from seasonloop.reporting.sections import (
     dataset_section,
     fraction_correct_section,
@@ -191,15 +191,15 @@ def test_runtime_training_and_figures_sections(pngs):
     assert page.count("data:image/png;base64,") == 2
 
 
-def test_autoencoder_training_section_shows_how_training_ended():
+def test_network_training_section_shows_how_training_ended():
     training = {
         "fae": {"stop_reason": "plateau", "converged": True, "epochs_run": 57, "best_validation_loss": 0.00412},
         "cae": {"stop_reason": "max_epochs", "converged": False, "epochs_run": 3, "best_validation_loss": 0.0213},
     }
-    page = build_report("r", [autoencoder_training_section(training)])
+    page = build_report("r", [network_training_section(training)])
     for value in ["plateau", "max_epochs", "True", "False", "57", "0.00412", "0.0213"]:
         assert f">{value}</" in page, value
-    assert "No auto-encoder" in build_report("r", [autoencoder_training_section({})])
+    assert "No learner that trains in epochs" in build_report("r", [network_training_section({})])
 
 
 def test_sections_show_what_a_subset_run_has(pngs):

@@ -53,7 +53,7 @@ def report_files(root) -> ReportFiles:
         runtime=root / "runtime.json",
         training_seasons=root / "training.json",
         autoencoder_descriptors=root / "ae.json",
-        autoencoder_training=root / "ae_training.json",
+        network_training=root / "network_training.json",
         outcomes=root / "outcomes",
         season_preview=png,
         summary=root / "summary",
@@ -103,7 +103,7 @@ def report_files(root) -> ReportFiles:
     )
     write_json(files.training_seasons, {"skipped": "skipped: a test"})
     write_json(files.autoencoder_descriptors, {})
-    write_json(files.autoencoder_training, {})
+    write_json(files.network_training, {})
     width = {
         "width": 0.0625,
         "channels": [6, 16, 24],
@@ -171,7 +171,7 @@ def test_study_report_from_files(tmp_path):
         "Example matches and failures, summer-fall",
         "Runtimes",
         "Training-season effect",
-        "Auto-encoder training",
+        "Network training",
         "CAE width",
         "The study&#x27;s other figures",
         "Software",

@@ -39,7 +39,7 @@ class FigureRecords:
     """What the figures leave besides PNGs: fraction correct with its interval per auto-encoder,
     descriptor and pair ([learner][descriptor], as fraction_correct_record gives it);
     one line per figure left out. (How each auto-encoder's training ended is the summary stage's
-    metrics/autoencoder_training.json, from the fit records: seasonloop.reporting.results.)"""
+    metrics/network_training.json, from the fit records: seasonloop.reporting.results.)"""
 
     autoencoder_descriptors: dict[str, dict[str, dict[str, Any]]] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)

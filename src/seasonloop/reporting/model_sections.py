@@ -127,20 +127,21 @@ def figures_section(
     return Section("The study's other figures", blocks)
 
 
-def autoencoder_training_section(training: Mapping[str, Mapping[str, Any]]) -> Section:
-    """How each auto-encoder's training ended, training[learner][key] (metrics/autoencoder_training.json)."""
+def network_training_section(training: Mapping[str, Mapping[str, Any]]) -> Section:
+    """How each network's training ended (the learners that train in epochs: the auto-encoders and
+    the place-supervised network), training[learner][key] (metrics/network_training.json)."""
     if not training:
-        return Section("Auto-encoder training", [Text("No auto-encoder is in learners.")])
+        return Section("Network training", [Text("No learner that trains in epochs is in learners.")])
     table = pd.DataFrame.from_dict(training, orient="index")
     return Section(
-        "Auto-encoder training",
+        "Network training",
         [
             Text(
-                "Each auto-encoder trains until its loss on held-out training places stops improving "
+                "Each network trains until its validation measure on held-out training places stops improving "
                 "(stop reason 'plateau', converged), or stops at its maximum number of epochs or its "
-                "wall-clock budget (not converged); the weights of the lowest validation loss are kept. "
-                "The loss curves and reconstructions are under 'The study's other figures'."
+                "wall-clock budget (not converged); the weights of the best validation measure are kept (the auto-encoders' loss; the place-supervised network's 1 - recall@1 across traverses). "
+                "The auto-encoders' loss curves and reconstructions are under 'The study's other figures'."
             ),
-            Table("Auto-encoder training (metrics/autoencoder_training.json)", table, float_format="{:.4g}"),
+            Table("Network training (metrics/network_training.json)", table, float_format="{:.4g}"),
         ],
     )

@@ -22,9 +22,9 @@ from seasonloop.reporting.comparisons import comparisons_section
 from seasonloop.reporting.examples import example_grids, examples_section
 from seasonloop.reporting.html import build_report
 from seasonloop.reporting.model_sections import (
-    autoencoder_training_section,
     cae_widths_section,
     figures_section,
+    network_training_section,
     training_seasons_section,
 )
 from seasonloop.reporting.results import (
@@ -58,7 +58,7 @@ class ReportFiles:
     runtime: Path  # seasonloop.reporting.results.load_runtime, as written
     training_seasons: Path  # the training-season ablation's record
     autoencoder_descriptors: Path  # fraction correct per auto-encoder descriptor
-    autoencoder_training: Path  # how each auto-encoder's training ended
+    network_training: Path  # how each network's training ended
     outcomes: Path  # <learner>/<pair><suffix>.csv: each query's outcome and best match (the evaluate stage's)
     season_preview: Path  # a PNG
     summary: Path  # fraction_correct[@<metric>].png, pr_<pair>.png, similarity.png
@@ -117,7 +117,7 @@ def study_report(
         training_seasons_section(
             load_training_seasons(files.training_seasons, ablation_learners), files.training_seasons_figure
         ),
-        autoencoder_training_section(read_json(files.autoencoder_training)),
+        network_training_section(read_json(files.network_training)),
         cae_widths_section(read_json(files.cae_widths), files.cae_widths_figure),
         figures_section(
             _figures(files.figures), load_autoencoder_descriptors(files.autoencoder_descriptors, learners), pairs

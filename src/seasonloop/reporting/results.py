@@ -106,7 +106,7 @@ TRAINING_RECORD = (
 )
 
 
-def autoencoder_training(fit_dir: Path, learners: Sequence[str]) -> dict[str, dict[str, Any]]:
+def network_training(fit_dir: Path, learners: Sequence[str]) -> dict[str, dict[str, Any]]:
     """learner -> how its training ended, for the learners of `learners` that train in epochs, from
     the fit stage's records fit_dir/<learner>.json (the model's facts and the run's: time, threads)."""
     training = {}

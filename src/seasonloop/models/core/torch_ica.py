@@ -85,11 +85,11 @@ class TorchICA(ABC):
 
     After `fit`: mean_ (D,), whitening_ (k, D) in float32, unmixing_ (k, k) scaled so the training
     sources have unit variance and components_ = unmixing_ @ whitening_, both in the iterations'
-    precision, n_iter_, converged_ (the solver's own test met within max_iter), criterion_ (the last value of that test), gradient_ (the
-    stationarity measure every solver reports, ica_stationarity.relative_gradient, of the sources
-    the stored model gives the training data) and trace_ (seconds since fit began, whitening
-    included, and the gradient at the start of each iteration).
-    On the CPU a fit is deterministic for a seed (at a given torch thread count)."""
+    precision, n_iter_, converged_ (the solver's own test met within max_iter), criterion_ (its
+    last value), gradient_ (the stationarity measure every solver reports, ica_stationarity's
+    relative_gradient, of the sources the stored model gives the training data) and trace_ (seconds
+    since fit began, whitening included, and the gradient at each iteration's start). On the CPU a
+    fit is deterministic for a seed (at a given torch thread count)."""
 
     algorithm: ClassVar[str]
     criterion_name: ClassVar[str]

@@ -426,10 +426,24 @@ def rewrite(text: str, provenance: dict, folder: str = "docs/results") -> str:
     return re.sub(r"<!-- table: (\w+) -->\n.*?<!-- /table -->", replace, text, flags=re.S)
 
 
+def dvc_entries_only(workspace: Path, path: str) -> bool:
+    """Whether `path` is a .gitignore whose only changes are lines added for DVC's outputs ("/name",
+    as `dvc repro` writes for an output new to the commit): the run's bookkeeping, as dvc.lock."""
+    if Path(path).name != ".gitignore":
+        return False
+    before = subprocess.run(
+        ["git", "-C", str(workspace), "show", f"HEAD:{path}"], capture_output=True, text=True
+    ).stdout.splitlines()
+    after = (workspace / path).read_text().splitlines() if (workspace / path).is_file() else []
+    added = [line for line in after if line not in before]
+    return set(before) <= set(after) and all(line.startswith("/") for line in added)
+
+
 def run_state(workspace: Path, command: str, preset: str | None = None) -> tuple[str, bool, str]:
     """(commit, changes not committed, command) of the run in `workspace`. `preset`: the workspace is
     its commit with that preset applied and `dvc repro` run (checked: params.yaml is exactly the
-    preset's text over the commit's, no other tracked file but dvc.lock changed), so its tables
+    preset's text over the commit's, no other tracked file but dvc.lock and DVC's .gitignore entries
+    changed), so its tables
     come from a committed state and the command that reproduces them."""
     git = ["git", "-C", str(workspace)]
     commit = subprocess.run(
@@ -445,7 +459,11 @@ def run_state(workspace: Path, command: str, preset: str | None = None) -> tuple
     if preset is None:
         return commit, bool(changed), command
     committed = subprocess.run([*git, "show", "HEAD:params.yaml"], capture_output=True, text=True, check=True).stdout
-    others = [line[3:] for line in changed if line[3:] not in ("params.yaml", "dvc.lock")]
+    others = [
+        line[3:]
+        for line in changed
+        if line[3:] not in ("params.yaml", "dvc.lock") and not dvc_entries_only(workspace, line[3:])
+    ]
     if others or (workspace / "params.yaml").read_text() != preset_text(preset, committed, workspace / "presets"):
         reason = f"changed: {', '.join(others)}" if others else f"params.yaml is not preset {preset} applied"
         raise ValueError(f"{workspace}: not commit {commit} with preset {preset} applied ({reason})")

@@ -27,6 +27,8 @@ def clone(tmp_path: Path) -> Path:
     (tmp_path / "presets" / "wide.yaml").write_text("split:\n  folds: 10\n")
     (tmp_path / "params.yaml").write_text("split:\n  folds: 1  # the study's split\n")
     (tmp_path / "dvc.lock").write_text("schema: '2.0'\n")
+    (tmp_path / "metrics").mkdir()
+    (tmp_path / "metrics" / ".gitignore").write_text("/summary.json\n")
     git(tmp_path, "init", "-q")
     git(tmp_path, "-c", "user.name=t", "-c", "user.email=t@t", "add", ".")
     git(tmp_path, "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "start")
@@ -39,6 +41,19 @@ def test_a_preset_run_is_its_commit_and_the_command_that_reproduces_it(clone):
     commit, dirty, command = run_state(clone, "dvc repro", "wide")
     assert not dirty and command == "python -m seasonloop.preset wide && dvc repro" and len(commit) >= 7
     assert run_state(clone, "dvc repro")[1]  # without the preset named: changes not committed
+
+
+def test_dvc_entries_added_to_a_gitignore_are_the_run_s_bookkeeping_other_lines_are_not(clone):
+    apply_preset("wide", clone / "params.yaml", clone / "presets")
+    ignore = clone / "metrics" / ".gitignore"
+    ignore.write_text("/summary.json\n/network_training.json\n")  # dvc repro: an output new to the commit
+    assert run_state(clone, "dvc repro", "wide")[1] is False
+    ignore.write_text("/summary.json\n*.json\n")
+    with pytest.raises(ValueError, match="changed: metrics/.gitignore"):
+        run_state(clone, "dvc repro", "wide")
+    ignore.write_text("/network_training.json\n")  # an entry removed
+    with pytest.raises(ValueError, match="changed: metrics/.gitignore"):
+        run_state(clone, "dvc repro", "wide")
 
 
 def test_params_edited_beyond_the_preset_are_refused(clone):

@@ -21,7 +21,7 @@ from pathlib import Path
 
 from benchmarks.common import capped_environment, copy_repository, load_note, machine_line, save_and_report
 from benchmarks.pipeline_run import timed_repro
-from tools.records import ISA_CAP, machine
+from tools.records import ISA_CAP, git_state, machine
 
 
 def main() -> None:
@@ -36,6 +36,8 @@ def main() -> None:
     if args.keep:
         args.keep.mkdir(parents=True)
         copy_repository(args.keep)
+        # the commit the copy was made from: docs/write_tables.py --from names it, not the copy's own
+        (args.keep / "bench_source.json").write_text(json.dumps({"made_from": git_state()}) + "\n")
         total, measured = timed_repro(args.keep, env)
     else:
         with tempfile.TemporaryDirectory(prefix="default-run-") as folder:

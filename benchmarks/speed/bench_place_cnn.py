@@ -18,6 +18,7 @@ import json
 import statistics
 from pathlib import Path
 
+import numpy as np
 import yaml
 
 from benchmarks.common import load_note, save_and_report, timed
@@ -29,13 +30,17 @@ LEARNERS = ("cae", "place_cnn")
 SPLIT, AUGMENTED = Path("data/split"), Path("data/augmented")
 
 
-def fit_once(name: str, params: dict) -> dict:
-    """One fit of learner `name` on the pipeline's training set, as stages/fit.py makes it."""
+def training_set(params: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pipeline's training set as stages/fit.py makes it: (images, their places, their traverses)."""
     seasons = [season for season in params["data"]["seasons"] if season in params["train"]["seasons"]]
     copies = params["augment"]["copies"] if params["train"]["augmented"] else 0
     images = datasets.training_images(SPLIT, AUGMENTED if params["train"]["augmented"] else None, seasons)
-    places = datasets.training_places(SPLIT, seasons, copies)
-    traverses = datasets.training_traverses(SPLIT, seasons, copies)
+    return images, datasets.training_places(SPLIT, seasons, copies), datasets.training_traverses(SPLIT, seasons, copies)
+
+
+def fit_once(name: str, params: dict) -> dict:
+    """One fit of learner `name` on the pipeline's training set."""
+    images, places, traverses = training_set(params)
     learner = get_learner(name)(params[name], seed=int(params["seed"]))
     learner.import_libraries()
     info, seconds = timed(lambda: learner.fit(images, progress=False, places=places, traverses=traverses))

@@ -22,8 +22,7 @@ from pathlib import Path
 import yaml
 
 from benchmarks.common import load_note, save_and_report
-from benchmarks.speed.bench_place_cnn import AUGMENTED, SPLIT
-from seasonloop.data import datasets
+from benchmarks.speed.bench_place_cnn import SPLIT, training_set
 from seasonloop.models.core.lookup import get_learner
 from tools.records import machine
 
@@ -38,11 +37,7 @@ CANDIDATES = {  # the widths and learning rates compared; every other setting is
 def fit_candidate(changes: dict, params: dict, seed: int) -> dict:
     """place_cnn with `changes` over params.yaml's section, fitted to its plateau on the pipeline's
     training set: its validation recall after every epoch and how the fit ended."""
-    seasons = [season for season in params["data"]["seasons"] if season in params["train"]["seasons"]]
-    copies = params["augment"]["copies"] if params["train"]["augmented"] else 0
-    images = datasets.training_images(SPLIT, AUGMENTED if params["train"]["augmented"] else None, seasons)
-    places = datasets.training_places(SPLIT, seasons, copies)
-    traverses = datasets.training_traverses(SPLIT, seasons, copies)
+    images, places, traverses = training_set(params)
     learner = get_learner("place_cnn")({**params["place_cnn"], **changes}, seed=seed)
     learner.import_libraries()
     curve: list[float] = []

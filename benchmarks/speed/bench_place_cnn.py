@@ -38,9 +38,9 @@ def training_set(params: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return images, datasets.training_places(SPLIT, seasons, copies), datasets.training_traverses(SPLIT, seasons, copies)
 
 
-def fit_once(name: str, params: dict) -> dict:
-    """One fit of learner `name` on the pipeline's training set."""
-    images, places, traverses = training_set(params)
+def fit_once(name: str, params: dict, training: tuple[np.ndarray, ...]) -> dict:
+    """One fit of learner `name` on `training` (training_set)."""
+    images, places, traverses = training
     learner = get_learner(name)(params[name], seed=int(params["seed"]))
     learner.import_libraries()
     info, seconds = timed(lambda: learner.fit(images, progress=False, places=places, traverses=traverses))
@@ -62,10 +62,11 @@ def main() -> None:
         raise SystemExit(f"{SPLIT}: not found (run `dvc repro fit@cae` first: the default run's training set)")
     params = yaml.safe_load(Path("params.yaml").read_text())
     measured_on = machine()
+    training = training_set(params)  # read once: both learners, every round, fit the same images
     fits: dict[str, list[dict]] = {name: [] for name in LEARNERS}
     for round_ in range(arguments.repeats):
         for name in LEARNERS if round_ % 2 == 0 else reversed(LEARNERS):
-            fits[name].append(fit_once(name, params))
+            fits[name].append(fit_once(name, params, training))
             print(f"round {round_ + 1}: {name} {fits[name][-1]['seconds']:.1f} s", flush=True)
     median = {name: statistics.median(fit["seconds"] for fit in fits[name]) for name in LEARNERS}
     converged = {name: all(fit["converged"] for fit in fits[name]) for name in LEARNERS}

@@ -16,12 +16,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import time
 from pathlib import Path
 
+import numpy as np
 import yaml
 
-from benchmarks.common import load_note, save_and_report
+from benchmarks.common import load_note, save_and_report, timed
 from benchmarks.speed.bench_place_cnn import SPLIT, training_set
 from seasonloop.models.core.lookup import get_learner
 from tools.records import machine
@@ -34,22 +34,22 @@ CANDIDATES = {  # the widths and learning rates compared; every other setting is
 }
 
 
-def fit_candidate(changes: dict, params: dict, seed: int) -> dict:
-    """place_cnn with `changes` over params.yaml's section, fitted to its plateau on the pipeline's
-    training set: its validation recall after every epoch and how the fit ended."""
-    images, places, traverses = training_set(params)
+def fit_candidate(changes: dict, params: dict, seed: int, training: tuple[np.ndarray, ...]) -> dict:
+    """place_cnn with `changes` over params.yaml's section, fitted to its plateau on `training`
+    (bench_place_cnn.training_set): its validation recall after every epoch and how the fit ended."""
+    images, places, traverses = training
     learner = get_learner("place_cnn")({**params["place_cnn"], **changes}, seed=seed)
     learner.import_libraries()
     curve: list[float] = []
-    start = time.perf_counter()
-    info = learner.fit(
-        images,
-        progress=False,
-        places=places,
-        traverses=traverses,
-        on_epoch=lambda epoch, values: curve.append(1.0 - values["validation_loss"]),
+    info, seconds = timed(
+        lambda: learner.fit(
+            images,
+            progress=False,
+            places=places,
+            traverses=traverses,
+            on_epoch=lambda epoch, values: curve.append(1.0 - values["validation_loss"]),
+        )
     )
-    seconds = time.perf_counter() - start
     return {
         "seed": seed,
         "seconds": seconds,
@@ -67,9 +67,10 @@ def main() -> None:
         raise SystemExit(f"{SPLIT}: not found (run `dvc repro fit@place_cnn` first: the default run's training set)")
     params = yaml.safe_load(Path("params.yaml").read_text())
     measured_on = machine()
+    training = training_set(params)  # read once: every candidate fits the same images
     fits: dict[str, list[dict]] = {}
     for name, changes in CANDIDATES.items():
-        fits[name] = [fit_candidate(changes, params, seed) for seed in arguments.seeds]
+        fits[name] = [fit_candidate(changes, params, seed, training) for seed in arguments.seeds]
         for fit in fits[name]:
             print(
                 f"{name} seed {fit['seed']}: recall@1 {fit['best_validation_recall']:.3f} at epoch "

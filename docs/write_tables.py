@@ -442,9 +442,8 @@ def dvc_entries_only(workspace: Path, path: str) -> bool:
 def run_state(workspace: Path, command: str, preset: str | None = None) -> tuple[str, bool, str]:
     """(commit, changes not committed, command) of the run in `workspace`. `preset`: the workspace is
     its commit with that preset applied and `dvc repro` run (checked: params.yaml is exactly the
-    preset's text over the commit's, no other tracked file but dvc.lock and DVC's .gitignore entries
-    changed), so its tables
-    come from a committed state and the command that reproduces them."""
+    preset's text over the commit's, no other tracked file changed but dvc.lock and DVC's .gitignore
+    entries), so its tables come from a committed state and the command that reproduces them."""
     git = ["git", "-C", str(workspace)]
     commit = subprocess.run(
         [*git, "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True

@@ -31,7 +31,7 @@ from _datasets import SPLIT, training_images, training_places, training_traverse
 from seasonloop.data.datasets import count_folds, fold_dir, split_images_file, trained_on
 from seasonloop.io import staged_dir, write_json
 from seasonloop.models.core.learner import FeatureLearner
-from seasonloop.models.core.lookup import get_learner, load_learner
+from seasonloop.models.core.lookup import get_learner, load_fitted_elsewhere
 from seasonloop.models.core.parallel import fit_threads, run_each
 
 
@@ -82,26 +82,17 @@ def fit_here(
 
 
 def fitted_elsewhere(name: str, models_dir: Path, season: str) -> tuple[FeatureLearner, dict, dict]:
-    """The learner fitted in models_dir/<learner>, checked to be that learner and to take this run's
-    image size; nothing is fitted here."""
-    learner = load_learner(models_dir / name)
-    if learner.name != name:
-        raise ValueError(f"{models_dir / name}: holds a '{learner.name}' learner, not '{name}' (train.models_dir)")
+    """The learner fitted in models_dir/<learner> (load_fitted_elsewhere); nothing is fitted here."""
     size = tuple(np.load(split_images_file(SPLIT, season, "test"), mmap_mode="r").shape[1:])
-    if learner.image_shape != size:
-        raise ValueError(
-            f"{models_dir / name}: fitted on {learner.image_shape[0]}x{learner.image_shape[1]} images, this run's "
-            f"are {size[0]}x{size[1]} (preprocess.height, preprocess.width)"
-        )
+    learner, info = load_fitted_elsewhere(models_dir, name, size)
     Path("logs", name).mkdir(parents=True, exist_ok=True)  # a declared output, empty: nothing trained here
-    assert learner.fit_info is not None, "a loaded learner carries its fit record"
     facts = {
         "fit_seconds": None,
         "n_train_images": None,
         "train_seasons": [],
         "trained_on": f"elsewhere: {models_dir / name} (not this dataset; its own params)",
     }
-    return learner, learner.fit_info, facts
+    return learner, info, facts
 
 
 def save_fold(learner: FeatureLearner, out: Path, fold: int, folds: int) -> None:

@@ -7,6 +7,7 @@ import pandas as pd
 import pytest
 
 from seasonloop.io import write_json
+from seasonloop.models.core.lookup import get_learner, load_fitted_elsewhere
 from seasonloop.reporting.results import (
     load_autoencoder_descriptors,
     load_dataset,
@@ -14,8 +15,10 @@ from seasonloop.reporting.results import (
     load_runtime,
     load_runtime_record,
     load_training_seasons,
+    network_training,
     ordered,
 )
+from tools.repository import learner_params
 
 LEARNERS = ["pca", "ica"]
 PAIRS = ["summer-fall", "winter-fall"]
@@ -154,3 +157,22 @@ def test_records_in_the_run_order(tmp_path):
     write_json(tmp_path / "ae.json", {"fae": {"code": {}}, "cae": {"code": {}}})
     assert list(load_autoencoder_descriptors(tmp_path / "ae.json", ["pca", "fae", "cae"])) == ["fae", "cae"]
     assert load_autoencoder_descriptors(tmp_path / "ae.json", ["pca"]) == {}
+
+
+def test_a_network_fitted_elsewhere_has_its_models_training_facts_and_no_times_of_this_run(tmp_path):
+    # train.fitted: elsewhere takes another run's model (load_fitted_elsewhere): how its training
+    # ended is the model's, its seconds and threads were that run's
+    images = np.random.default_rng(0).integers(0, 256, (24, 8, 16), dtype=np.uint8)
+    learner = get_learner("fae")(learner_params("fae", get_learner("fae").TINY_RUN), seed=0)
+    learner.fit(images, progress=False)
+    learner.save(tmp_path / "models" / "fae")
+    _, info = load_fitted_elsewhere(tmp_path / "models", "fae", (8, 16))
+    write_json(tmp_path / "fit" / "fae.json", {"info": info})
+    training = network_training(tmp_path / "fit", ["fae"])["fae"]
+    assert training["training_seconds"] is None and training["torch_threads"] is None
+    assert training["epochs_run"] == learner.fit_info["epochs_run"] and training["converged"] is not None
+    with pytest.raises(ValueError, match=r"models/fae: fitted on 8x16 images, this run's are 32x64"):
+        load_fitted_elsewhere(tmp_path / "models", "fae", (32, 64))
+    (tmp_path / "models" / "fae").rename(tmp_path / "models" / "cae")
+    with pytest.raises(ValueError, match=r"models/cae: holds a 'fae' learner, not 'cae'"):
+        load_fitted_elsewhere(tmp_path / "models", "cae", (8, 16))

@@ -89,7 +89,7 @@ def load_runtime(
     return runtime
 
 
-# what the auto-encoder training record keeps of each auto-encoder's fit record
+# what the network training record keeps of each network's fit record
 TRAINING_RECORD = (
     "stop_reason",
     "converged",

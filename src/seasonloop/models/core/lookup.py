@@ -13,7 +13,7 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 
-from seasonloop.models.core.learner import FeatureLearner, read_learner_record
+from seasonloop.models.core.learner import RUN_KEYS, FeatureLearner, read_learner_record
 
 # learner names, sorted: the modules of seasonloop.models (each its params section); the tables
 # list a run's learners in the order of params.yaml's `learners:`
@@ -49,3 +49,19 @@ def get_learner(name: str) -> type[FeatureLearner]:
 def load_learner(directory: Path) -> FeatureLearner:
     """Load a saved learner of any kind from its directory."""
     return get_learner(read_learner_record(directory)["name"]).load(directory)
+
+
+def load_fitted_elsewhere(models_dir: Path, name: str, image_shape: tuple[int, ...]) -> tuple[FeatureLearner, dict]:
+    """Learner `name` as another run fitted it (models_dir/<name>, train.fitted: elsewhere), checked
+    to be that learner and to take images of `image_shape`; (the learner, its fit record: the
+    model's facts, and None for its run's, RUN_KEYS: that run's time and threads, not this one's)."""
+    learner = load_learner(models_dir / name)
+    if learner.name != name:
+        raise ValueError(f"{models_dir / name}: holds a '{learner.name}' learner, not '{name}' (train.models_dir)")
+    if learner.image_shape != tuple(image_shape):
+        raise ValueError(
+            f"{models_dir / name}: fitted on {learner.image_shape[0]}x{learner.image_shape[1]} images, this run's "
+            f"are {image_shape[0]}x{image_shape[1]} (preprocess.height, preprocess.width)"
+        )
+    assert learner.fit_info is not None, "a loaded learner carries its fit record"
+    return learner, {**learner.fit_info, **dict.fromkeys(RUN_KEYS)}

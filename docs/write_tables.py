@@ -34,7 +34,7 @@ from seasonloop.ablations.cae_widths import width_table  # noqa: E402
 from seasonloop.machine import cpu_model  # noqa: E402
 from seasonloop.preset import preset_text  # noqa: E402
 from seasonloop.reporting.comparisons import claim_cell, claims_markdown, legend  # noqa: E402
-from seasonloop.reporting.readings import READINGS, claims_beside, claims_every_record_holds  # noqa: E402
+from seasonloop.reporting.readings import READINGS, claims_beside, claims_read_beside  # noqa: E402
 from seasonloop.reporting.summary import percent_cell  # noqa: E402
 
 
@@ -107,7 +107,9 @@ def _network_training(path: Path) -> str:
     lines = ["| learner | " + " | ".join(columns) + " |", "|---|" + "---|" * len(columns)]
     for learner, row in record.items():
         cells = [
-            f"{row[key]:.5f}"
+            "n/a"  # a learner fitted elsewhere: its run's facts are that run's
+            if row[key] is None
+            else f"{row[key]:.5f}"
             if key == "best_validation_loss"
             else f"{row[key]:.0f}"
             if key == "training_seconds"
@@ -273,7 +275,7 @@ def _claims_beside_runs(path: Path) -> str:
     record = json.loads(path.read_text())
     synthetic = synthetic_records()
     default_claims = {name: claim for name, claim in yaml.safe_load(CLAIMS.read_text()).items() if "run" not in claim}
-    claims, left_out = claims_every_record_holds([*synthetic.values(), record], default_claims)
+    claims, left_out = claims_read_beside(record, list(synthetic.values()), default_claims)
     columns = [*SYNTHETIC_RUNS, "real frames"]
     lines = [
         "| claim | compares | pair | " + " | ".join(columns) + " | on real frames |",
@@ -283,7 +285,9 @@ def _claims_beside_runs(path: Path) -> str:
     for pair in record["order"]["pairs"]:
         for name, claim in claims.items():
             values = beside[name][pair]["values"]
-            cells = " | ".join(claim_cell(values[column]) for column in [*SYNTHETIC_RUNS, "other"])
+            cells = " | ".join(
+                "n/a" if values[column] is None else claim_cell(values[column]) for column in [*SYNTHETIC_RUNS, "other"]
+            )
             lines.append(f"| {name} | {claim['says']} | {pair} | {cells} | {beside[name][pair]['reading']} |")
     readings = "; ".join(f"{key}: {meaning}" for key, meaning in READINGS.items())
     return (
@@ -291,9 +295,9 @@ def _claims_beside_runs(path: Path) -> str:
         + "\n\n"
         + legend(record["statistics"])
         + " Whole tables: significant differences each way. Five routes, pooled: every route's queries together "
-        + f"(docs/results.md). On real frames: {readings}."
+        + f"(docs/results.md). n/a: a run made before the claim's learner or matcher existed. On real frames: {readings}."
         + (
-            f" Not in every run's record yet (a run older than its learner or matcher): {', '.join(left_out)}."
+            f" Not read here (no verdict on this data or on any synthetic run yet): {', '.join(left_out)}."
             if left_out
             else ""
         )
@@ -301,7 +305,6 @@ def _claims_beside_runs(path: Path) -> str:
     )
 
 
-# table name -> (the output file it is written from, its snapshot in docs/results/, how)
 # table name -> (the output file it is written from, its snapshot in docs/results/, how): the
 # pipeline's own outputs here, each benchmark's and the replicate routes' tables in its own module
 TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
@@ -328,7 +331,11 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "real_comparisons": ("plots/comparisons.md", "real_comparisons.md", _whole),
     "real_claims": ("metrics/comparisons.json", "real_comparisons.json", _claims_beside_runs),
     "real_training_seasons": ("metrics/training_seasons.json", "real_training_seasons.json", _training_seasons),
+    "real_network_training": ("metrics/network_training.json", "real_network_training.json", _network_training),
     "real_ica_basis": ("metrics/fit/ica.json", "real_ica_fit.json", _ica_fit),
+    # the same frames described by the learners a default run fitted on the synthetic route
+    # (presets/real_elsewhere.yaml; docs/real-data.md)
+    "real_elsewhere_headline": ("plots/summary/fraction_correct.md", "real_elsewhere_fraction_correct.md", _headline),
     # presets/full.yaml run in one piece by benchmarks/speed/bench_full_run.py (docs/full-scale.md): its
     # outputs in the run's own folder (--from FOLDER)
     "full_fraction_correct": ("plots/summary/fraction_correct.md", "full_fraction_correct.md", _fraction_correct),
@@ -360,7 +367,9 @@ OTHER_RUNS = (
     "real_comparisons",
     "real_claims",
     "real_training_seasons",
+    "real_network_training",
     "real_ica_basis",
+    "real_elsewhere_headline",
     "full_fraction_correct",
     "full_pr_landmarks",
     "full_autoencoder_training",

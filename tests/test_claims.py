@@ -25,7 +25,7 @@ import pytest
 import yaml
 
 from seasonloop.reporting.comparisons import claim_cells
-from seasonloop.reporting.readings import READINGS, claims_beside, claims_every_record_holds, reading_beside
+from seasonloop.reporting.readings import READINGS, claim_direction, claims_beside, claims_read_beside, reading_beside
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCUMENTS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
@@ -223,8 +223,8 @@ def real_readings() -> dict[str, set[str]]:
     pairs (the table real_claims, from the same snapshots)."""
     record = json.loads(RUNS["real"][0].read_text())
     synthetic = write_tables.synthetic_records()
-    claims, _ = claims_every_record_holds(
-        [*synthetic.values(), record], {name: claim for name, claim in CLAIMS.items() if "run" not in claim}
+    claims, _ = claims_read_beside(
+        record, list(synthetic.values()), {name: claim for name, claim in CLAIMS.items() if "run" not in claim}
     )
     return {
         name: {value["reading"] for value in by_pair.values()}
@@ -253,3 +253,19 @@ def test_readings_beside_the_synthetic_runs():
     assert reading_beside(["no difference"] * 3, "no difference") == "shown nowhere"
     assert reading_beside(["better", "better", "better"], "mixed") == "turns"
     assert reading_beside(["better"] * 3, "not enough queries") == "too few queries"
+
+
+def test_a_run_older_than_a_claims_learner_reads_n_a_and_the_others_decide():
+    record = json.loads(RUNS["real"][0].read_text())
+    synthetic = write_tables.synthetic_records()
+    older = {column for column, run in synthetic.items() if "place_cnn" not in json.dumps(run)}
+    assert older and older != set(synthetic), "needs a synthetic snapshot with place_cnn and one without"
+    claims = {"place_over_ica": CLAIMS["place_over_ica"]}
+    held, left_out = claims_read_beside(record, list(synthetic.values()), claims)
+    assert set(held) == {"place_over_ica"} and not left_out
+    for value in claims_beside(record, synthetic, held)["place_over_ica"].values():
+        assert all(value["values"][column] is None for column in older)
+        newer = [claim_direction(value["values"][column]) for column in synthetic if column not in older]
+        assert value["reading"] == reading_beside(newer, claim_direction(value["values"]["other"]))
+    _, left_out = claims_read_beside(record, [synthetic[column] for column in older], claims)
+    assert left_out == ["place_over_ica"]

@@ -120,7 +120,7 @@ def in_order(record: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
     }
 
 
-def _cell(difference: float, verdict: str) -> str:
+def verdict_cell(difference: float, verdict: str) -> str:
     # + 0.0 turns -0.0 (a tie seen from the other side) into +0.0
     return f"{100 * difference + 0.0:+.1f} {SYMBOLS[verdict]}"
 
@@ -130,8 +130,8 @@ def learner_matrix(rows: Sequence[Mapping[str, Any]], labels: Sequence[str]) -> 
     cells = {(row, column): "" for row in labels for column in labels}
     for comparison in rows:
         first, second = comparison["first"], comparison["second"]
-        cells[(first, second)] = _cell(comparison["difference"], comparison["verdict"])
-        cells[(second, first)] = _cell(-comparison["difference"], FLIPPED[comparison["verdict"]])
+        cells[(first, second)] = verdict_cell(comparison["difference"], comparison["verdict"])
+        cells[(second, first)] = verdict_cell(-comparison["difference"], FLIPPED[comparison["verdict"]])
     return pd.DataFrame([[cells[(row, column)] for column in labels] for row in labels], index=labels, columns=labels)
 
 
@@ -141,7 +141,7 @@ def versus_table(pairs: Mapping[str, Mapping[str, Sequence[Mapping[str, Any]]]],
     columns = {}
     for pair, tables in pairs.items():
         columns[pair] = {
-            f"{entry['first']} vs {entry['second']}": _cell(entry["difference"], entry["verdict"])
+            f"{entry['first']} vs {entry['second']}": verdict_cell(entry["difference"], entry["verdict"])
             for entry in tables[table]
         }
     return pd.DataFrame(columns)
@@ -248,7 +248,7 @@ def claim_values(record: Mapping[str, Any], claim: Mapping[str, str]) -> dict[st
 def claim_cell(value: Mapping[str, Any]) -> str:
     """One pair's claim_values as a cell: "+5.1 ▲" for one comparison, "3 ▲ 0 ▼ of 7" for a whole table."""
     if "verdict" in value:
-        return _cell(value["difference"], value["verdict"])
+        return verdict_cell(value["difference"], value["verdict"])
     return f"{value['better']} ▲ {value['worse']} ▼ of {value['of']}"
 
 

@@ -55,24 +55,31 @@ def claims_beside(
 ) -> dict[str, dict[str, dict[str, Any]]]:
     """claim -> pair of `other` (a run on other data: its comparisons record) -> {"values": column
     -> the claim's numbers (claim_value_in) in each synthetic record and in `other` (column
-    "other"), "reading": how other's verdict reads beside theirs (reading_beside)}."""
+    "other"), None in a synthetic run made before the claim's learner or matcher existed,
+    "reading": how other's verdict reads beside the synthetic runs that have one (reading_beside)}."""
     beside: dict[str, dict[str, dict[str, Any]]] = {}
     for name, claim in claims.items():
         beside[name] = {}
+        held = {column: record for column, record in synthetic.items() if record_holds(record, name, claim)}
         for pair in other["order"]["pairs"]:
-            values = {column: claim_value_in(record, name, claim, pair) for column, record in synthetic.items()}
+            values: dict[str, Any] = {column: None for column in synthetic}
+            values.update({column: claim_value_in(record, name, claim, pair) for column, record in held.items()})
             values["other"] = claim_value_in(other, name, claim, pair)
             reading = reading_beside(
-                [claim_direction(values[column]) for column in synthetic], claim_direction(values["other"])
+                [claim_direction(values[column]) for column in held], claim_direction(values["other"])
             )
             beside[name][pair] = {"values": values, "reading": reading}
     return beside
 
 
-def claims_every_record_holds(
-    records: Sequence[Mapping[str, Any]], claims: Mapping[str, Mapping[str, str]]
+def claims_read_beside(
+    other: Mapping[str, Any], synthetic: Sequence[Mapping[str, Any]], claims: Mapping[str, Mapping[str, str]]
 ) -> tuple[dict[str, Mapping[str, str]], list[str]]:
-    """(the claims every record has numbers for, the names of the others): a run made before a
-    claim's learner or matcher existed cannot be read beside the others on it."""
-    held = {name: claim for name, claim in claims.items() if all(record_holds(r, name, claim) for r in records)}
+    """(the claims `other` and at least one synthetic record have numbers for, the names of the
+    others): a claim needs its verdict on this data and on a synthetic run to be read beside it."""
+    held = {
+        name: claim
+        for name, claim in claims.items()
+        if record_holds(other, name, claim) and any(record_holds(record, name, claim) for record in synthetic)
+    }
     return held, [name for name in claims if name not in held]

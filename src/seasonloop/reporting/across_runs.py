@@ -87,7 +87,7 @@ def runs_against_markdown(record: Mapping[str, Any]) -> str:
             },
             index=record["learners"],
         )
-        blocks.append(markdown_table(frame, "learner"))
+        blocks.append(markdown_table(frame, "learner").strip())
     return (
         "\n\n".join(blocks)
         + f"\n\nEach learner {first} against itself {second}, its {100 * record['statistics']['level']:.0f}% "

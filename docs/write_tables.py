@@ -19,7 +19,6 @@ import json
 import pkgutil
 import re
 import shutil
-import subprocess
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -32,10 +31,10 @@ sys.path[:0] = [str(ROOT / "src"), str(ROOT)]  # the library, and the benchmarks
 
 from seasonloop.ablations.cae_widths import width_table  # noqa: E402
 from seasonloop.machine import cpu_model  # noqa: E402
-from seasonloop.preset import preset_text  # noqa: E402
 from seasonloop.reporting.comparisons import claim_cell, claims_markdown, legend  # noqa: E402
 from seasonloop.reporting.readings import READINGS, claims_beside, claims_read_beside  # noqa: E402
 from seasonloop.reporting.summary import percent_cell  # noqa: E402
+from tools.run_state import commit_state  # noqa: E402
 
 
 def measured_modules() -> list[Any]:
@@ -435,47 +434,16 @@ def rewrite(text: str, provenance: dict, folder: str = "docs/results") -> str:
     return re.sub(r"<!-- table: (\w+) -->\n.*?<!-- /table -->", replace, text, flags=re.S)
 
 
-def dvc_entries_only(workspace: Path, path: str) -> bool:
-    """Whether `path` is a .gitignore whose only changes are lines added for DVC's outputs ("/name",
-    as `dvc repro` writes for an output new to the commit): the run's bookkeeping, as dvc.lock."""
-    if Path(path).name != ".gitignore":
-        return False
-    before = subprocess.run(
-        ["git", "-C", str(workspace), "show", f"HEAD:{path}"], capture_output=True, text=True
-    ).stdout.splitlines()
-    after = (workspace / path).read_text().splitlines() if (workspace / path).is_file() else []
-    added = [line for line in after if line not in before]
-    return set(before) <= set(after) and all(line.startswith("/") for line in added)
-
-
 def run_state(workspace: Path, command: str, preset: str | None = None) -> tuple[str, bool, str]:
-    """(commit, changes not committed, command) of the run in `workspace`. `preset`: the workspace is
-    its commit with that preset applied and `dvc repro` run (checked: params.yaml is exactly the
-    preset's text over the commit's, no other tracked file changed but dvc.lock and DVC's .gitignore
-    entries), so its tables come from a committed state and the command that reproduces them."""
-    git = ["git", "-C", str(workspace)]
-    commit = subprocess.run(
-        [*git, "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
-    ).stdout.strip()
-    changed = subprocess.run(
-        [*git, "status", "--porcelain", "--untracked-files=no"], capture_output=True, text=True, check=True
-    ).stdout.splitlines()
+    """(commit, changes not committed, command) of the run in `workspace` (tools.run_state.commit_state:
+    with `preset`, checked to be its commit with that preset applied), so its tables come from a
+    committed state and the command that reproduces them."""
     bench_source = workspace / "bench_source.json"  # a folder of bench_full_run.py: its own commit only sets params
     if bench_source.is_file():
         made_from = json.loads(bench_source.read_text())["made_from"]
         return made_from["commit"], made_from["dirty"], command
-    if preset is None:
-        return commit, bool(changed), command
-    committed = subprocess.run([*git, "show", "HEAD:params.yaml"], capture_output=True, text=True, check=True).stdout
-    others = [
-        line[3:]
-        for line in changed
-        if line[3:] not in ("params.yaml", "dvc.lock") and not dvc_entries_only(workspace, line[3:])
-    ]
-    if others or (workspace / "params.yaml").read_text() != preset_text(preset, committed, workspace / "presets"):
-        reason = f"changed: {', '.join(others)}" if others else f"params.yaml is not preset {preset} applied"
-        raise ValueError(f"{workspace}: not commit {commit} with preset {preset} applied ({reason})")
-    return commit, False, f"python -m seasonloop.preset {preset} && dvc repro"
+    commit, dirty = commit_state(workspace, preset)
+    return commit, dirty, command if preset is None else f"python -m seasonloop.preset {preset} && dvc repro"
 
 
 def refuse_dirty(source: Path, measured: bool, dirty: bool) -> None:

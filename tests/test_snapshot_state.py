@@ -1,5 +1,5 @@
-"""docs/write_tables.py's run_state: a table from a preset's run names a committed state only when
-the run's folder is exactly that commit with the preset applied."""
+"""docs/write_tables.py's run_state (tools.run_state): a table from a preset's run names a committed
+state only when the run's folder is exactly that commit with the preset applied."""
 
 from __future__ import annotations
 
@@ -15,6 +15,7 @@ sys.path.insert(0, str(ROOT / "docs"))
 from write_tables import refuse_dirty, run_state  # noqa: E402
 
 from seasonloop.preset import apply_preset  # noqa: E402
+from tools.run_state import applied_preset  # noqa: E402
 
 
 def git(folder: Path, *args: str) -> None:
@@ -81,3 +82,14 @@ def test_a_table_from_changes_not_committed_is_refused(clone):
     with pytest.raises(SystemExit, match="changes not committed"):
         refuse_dirty(clone / "dvc.lock", measured=False, dirty=True)
     refuse_dirty(clone / "dvc.lock", measured=False, dirty=False)
+
+
+def test_the_preset_a_run_applied_is_found_from_its_params_alone(clone):
+    # the studies over finished runs (benchmarks/studies/) name each run's preset without being told
+    assert applied_preset(clone) is None
+    apply_preset("wide", clone / "params.yaml", clone / "presets")
+    assert applied_preset(clone) == "wide"
+    with (clone / "params.yaml").open("a") as file:
+        file.write("seed: 1\n")
+    with pytest.raises(ValueError, match="params.yaml: neither the commit's nor any preset"):
+        applied_preset(clone)

@@ -6,10 +6,10 @@ the pipeline's paired test along the route and Holm per table (seasonloop.report
 
 FIRST and SECOND are clones that ran `dvc repro` to the end (`dvc status` clean) with the same
 learners, pairs, evaluations and statistics settings; their per-query outcomes (data/outcomes)
-must be of the same query places. Training-free learners (raw_patchnorm, hog, precomputed) are the
+must be of the same query places; each is its commit with at most a preset applied
+(tools.run_state.finished_run). Training-free learners (raw_patchnorm, hog, precomputed) are the
 same model in both runs and are left out: each table holds the learners that learn. Writes benchmarks/results/compare_runs.json, naming each run's
-commit and the preset its params.yaml holds (its first line, as `python -m seasonloop.preset`
-writes it). Used for docs/real-data.md: the real half with learners fitted on it against the same
+commit and preset. Used for docs/real-data.md: the real half with learners fitted on it against the same
 learners fitted on the synthetic route (presets/real_half.yaml, presets/real_elsewhere.yaml).
 """
 
@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import subprocess
 from pathlib import Path
 
 import yaml
@@ -29,21 +28,10 @@ from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.reporting.across_runs import runs_against, runs_against_markdown
 from seasonloop.reporting.comparisons import csv_reader
 from tools.records import machine, write_result
+from tools.run_state import finished_run
 
 # what both runs must share for their outcomes to be compared query by query
 SHARED = ("learners", "data.seasons", "evaluate", "statistics")
-
-
-def run_state(folder: Path) -> dict[str, str]:
-    """The commit a finished run was made at and its preset; a ValueError when its outputs are not
-    those of its params and code (`dvc status` not clean)."""
-    status = subprocess.run(["dvc", "status", "--quiet"], cwd=folder, capture_output=True, text=True)
-    if status.returncode != 0:
-        raise ValueError(f"{folder}: `dvc status` is not clean (run `dvc repro` there first)")
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=folder, capture_output=True, text=True)
-    first_line = (folder / "params.yaml").read_text().splitlines()[0]
-    preset = first_line.split(" applied")[0].removeprefix("# ") if " applied over this file" in first_line else "none"
-    return {"folder": str(folder), "commit": commit.stdout.strip(), "preset": preset}
 
 
 def shared_value(params: dict, key: str):
@@ -63,7 +51,7 @@ def main() -> None:
     for key in SHARED:
         if shared_value(params[0], key) != shared_value(params[1], key):
             raise SystemExit(f"{folders[1]}/params.yaml: {key} differs from {folders[0]}'s: not the same evaluations")
-    states = {name: run_state(folder) for name, folder in zip(args.names, folders)}
+    states = {name: finished_run(folder) for name, folder in zip(args.names, folders)}
     evaluate = EvaluateConfig.from_params(params[0])
     pairs = [pair_name(a, b) for a, b in available_pairs(params[0]["data"]["seasons"], evaluate.pairs)]
     learning = [name for name in params[0]["learners"] if get_learner(name).learns]
@@ -83,7 +71,8 @@ def _runs_against(path: Path) -> str:
     """compare_runs' record as runs_against_markdown's tables, with the runs it compared."""
     record = json.loads(path.read_text())
     made = "; ".join(
-        f"{name}: commit {state['commit']}, {state['preset']}" for name, state in record["run_states"].items()
+        f"{name}: commit {state['commit']}" + (f", presets/{state['preset']}.yaml" if state["preset"] else "")
+        for name, state in record["run_states"].items()
     )
     return runs_against_markdown(record) + f"\nRuns: {made}.\n"
 

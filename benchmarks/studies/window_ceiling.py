@@ -5,8 +5,8 @@ each rule of `sequence.descriptor_window_at_breaks`, on a finished run's own tes
 
 A query's sequence descriptor is computed over its window (seasonloop.evaluation.
 descriptor_sequences.sequence_windows); queries that share a window share one descriptor, so at
-most one of them can match its own place. For each WORKSPACE (a clone that ran `dvc repro`: its
-data/split, every fold's, and params.yaml's sequence.length) this counts the distinct windows of
+most one of them can match its own place. For each WORKSPACE (a clone that ran `dvc repro` to the end, its commit with at most a
+preset applied: tools.run_state.finished_run; its data/split, every fold's, and sequence.length) this counts the distinct windows of
 each fold's test places and writes the ceiling, distinct windows / queries, with the test blocks
 (runs of consecutive place ids) behind it, to benchmarks/results/window_ceiling.json.
 """
@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +25,7 @@ from seasonloop.evaluation.descriptor_sequences import sequence_windows
 from seasonloop.evaluation.sequence import segment_offsets
 from seasonloop.params.choices import DESCRIPTOR_WINDOW_RULES
 from tools.records import machine, write_result
+from tools.run_state import finished_run
 
 
 def run_ceiling(workspace: Path) -> dict:
@@ -42,9 +42,7 @@ def run_ceiling(workspace: Path) -> dict:
     for rule in DESCRIPTOR_WINDOW_RULES:
         distinct = sum(len(set(zip(*sequence_windows(test, length, rule)))) for test in places)
         rules[rule] = {"distinct_windows": distinct, "ceiling": distinct / queries}
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=workspace, capture_output=True, text=True)
     return {
-        "commit": commit.stdout.strip(),
         "sequence_length": length,
         "folds": len(places),
         "queries": queries,
@@ -58,7 +56,10 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("workspaces", type=Path, nargs="+")
     args = parser.parse_args()
-    runs = {str(workspace): run_ceiling(workspace.resolve()) for workspace in args.workspaces}
+    runs = {
+        str(workspace): {**finished_run(workspace.resolve()), **run_ceiling(workspace.resolve())}
+        for workspace in args.workspaces
+    }
     for workspace, run in runs.items():
         ceilings = ", ".join(f"{rule} {100 * row['ceiling']:.1f}%" for rule, row in run["rules"].items())
         print(
@@ -77,10 +78,10 @@ def _window_ceiling(path: Path) -> str:
         + " |",
         "|---|---|---|---|---|---|" + "---|" * len(rules),
     ]
-    for workspace, run in record["runs"].items():
+    for run in record["runs"].values():
         cells = " | ".join(f"{100 * run['rules'][rule]['ceiling']:.1f}%" for rule in rules)
         lines.append(
-            f"| {Path(workspace).name} | {run['commit']} | {run['sequence_length']} | {run['queries']} | {run['blocks']} "
+            f"| {run['preset'] or 'default'} | {run['commit']} | {run['sequence_length']} | {run['queries']} | {run['blocks']} "
             f"| {run['median_block']:g} | {cells} |"
         )
     return "\n".join(lines) + "\n"

@@ -33,7 +33,7 @@ def test_each_learner_is_compared_with_itself_in_the_other_run_as_the_paired_tes
     record = runs_against(
         {"here": reader(here), "elsewhere": reader(elsewhere)}, ["ica", "pca"], VARIANTS, ["winter-summer"], SETTINGS
     )
-    single = record["pairs"]["winter-summer"][""]
+    single = record["pairs"]["winter-summer"]["runs"]
     assert [(row["first"], row["second"]) for row in single] == [
         ("ica (here)", "ica (elsewhere)"),
         ("pca (here)", "pca (elsewhere)"),
@@ -44,7 +44,13 @@ def test_each_learner_is_compared_with_itself_in_the_other_run_as_the_paired_tes
     assert [row["verdict"] for row in single] == ["better", "no difference"]
     assert single[1]["difference"] == 0.0
     markdown = runs_against_markdown(record)
-    assert "| ica | " in markdown and "▲ [+" in markdown and "Each learner here against itself elsewhere" in markdown
+    assert record["order"]["tables"] == ["runs", "runs+seq"]
+    assert (
+        "| learner | winter-summer | winter-summer+seq |" in markdown
+        and "| ica | " in markdown
+        and "▲ [+" in markdown
+        and "Each learner here against itself elsewhere" in markdown
+    )
 
 
 def test_runs_of_other_queries_are_refused():

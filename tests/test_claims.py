@@ -37,6 +37,8 @@ RUNS = {
     "full": (ROOT / "docs" / "results" / "full_comparisons.json", ROOT / "docs" / "full-scale.md"),
     # real Nordland frames: no claim is on this run alone; its verdicts are the [real: <id>] citations
     "real": (ROOT / "docs" / "results" / "real_comparisons.json", ROOT / "docs" / "real-data.md"),
+    # the real frames' learners trained there against themselves trained on the synthetic route
+    "transfer": (ROOT / "docs" / "results" / "real_here_against_elsewhere.json", ROOT / "docs" / "real-data.md"),
 }
 
 

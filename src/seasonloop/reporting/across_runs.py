@@ -20,6 +20,8 @@ from seasonloop.reporting.comparisons import Reader, legend, verdict_cell
 from seasonloop.reporting.summary import markdown_table
 from seasonloop.significance.tables import Variant, pair_comparisons
 
+TABLE = "runs"  # a table's name: TABLE and the evaluation's suffix ("runs", "runs+seq", ...)
+
 
 def runs_against(
     runs: Mapping[str, Reader],
@@ -29,14 +31,15 @@ def runs_against(
     settings: StatisticsConfig,
 ) -> dict[str, Any]:
     """The record of `runs` (two: name -> its per-query outcomes) compared learner by learner:
-    per pair, table "<suffix>" (the evaluation: "" single images, "+seq", "@cityblock", ...) of
-    each learner in the first run against itself in the second."""
+    per pair, table "runs<suffix>" (the evaluation's suffix: "" single images, "+seq",
+    "@cityblock", ...) of each learner in the first run against itself in the second, its rows
+    "<learner><suffix> (<run>)" (the shape of the compare stage's record, so claims can cite it)."""
     if len(runs) != 2:
         raise ValueError(f"compare two runs, not {len(runs)}")
     first, second = runs
     suffixes = [suffix for _, _, suffix in variants]
     tables = {
-        suffix: [(f"{learner}{suffix} ({first})", f"{learner}{suffix} ({second})") for learner in learners]
+        TABLE + suffix: [(f"{learner}{suffix} ({first})", f"{learner}{suffix} ({second})") for learner in learners]
         for suffix in suffixes
     }
     source = {
@@ -57,7 +60,7 @@ def runs_against(
         "runs": [first, second],
         "learners": list(learners),
         "statistics": asdict(settings),
-        "order": {"pairs": list(pairs), "tables": suffixes},
+        "order": {"pairs": list(pairs), "tables": list(tables)},
         "pairs": {pair: pair_comparisons(reader(pair), tables, settings) for pair in pairs},
     }
 
@@ -82,8 +85,8 @@ def runs_against_markdown(record: Mapping[str, Any]) -> str:
         tables = record["pairs"][pair]
         frame = pd.DataFrame(
             {
-                f"{pair}{suffix}": [with_difference_interval(row) for row in tables[suffix]]
-                for suffix in record["order"]["tables"]
+                pair + name.removeprefix(TABLE): [with_difference_interval(row) for row in tables[name]]
+                for name in record["order"]["tables"]
             },
             index=record["learners"],
         )

@@ -1,7 +1,7 @@
 """Which settings of the place-supervised network, judged on validation places alone: place_cnn
 fitted as the fit stage fits it (every training season, augmented, each image's place and
 traverse) to its validation plateau under params.yaml's section with each candidate's widths and
-learning rate, recording recall@1 of the held-out training places after every epoch, where the
+learning rate (and first layer: pooled or strided), recording recall@1 of the held-out training places after every epoch, where the
 stopping rule ended it and how long the fit took. No test place enters: the candidates are told
 apart by the network's own validation, the measure its stopping rule reads.
 
@@ -27,10 +27,15 @@ from seasonloop.models.core.lookup import get_learner
 from tools.records import machine
 
 WIDE, NARROW = [16, 32, 64], [8, 16, 32, 64]
-CANDIDATES = {  # the widths and learning rates compared; every other setting is params.yaml's
-    f"{name} lr {rate:g}": {"channels": channels, "learning_rate": rate}
+# the widths, learning rates and first layers compared; every other setting is params.yaml's
+CANDIDATES = {
+    f"{name} lr {rate:g}": {"channels": channels, "learning_rate": rate, "first_downsampling": "pool"}
     for name, channels in (("wide", WIDE), ("narrow", NARROW))
     for rate in (1e-3, 3e-3, 1e-2)
+} | {
+    # the first convolution strided instead of pooled: half the cost of a batch (benchmarks.md)
+    f"wide strided lr {rate:g}": {"channels": WIDE, "learning_rate": rate, "first_downsampling": "stride"}
+    for rate in (3e-3, 1e-2)
 }
 
 
@@ -89,14 +94,16 @@ def choose_place_cnn_table(path: Path) -> str:
 
     record = json.loads(path.read_text())
     lines = [
-        "| candidate | channels | learning rate | seed | best validation recall@1 | best epoch | epochs | converged | fit (s) | s an epoch |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| candidate | channels | first layer | learning rate | seed | best validation recall@1 | best epoch | epochs "
+        "| converged | fit (s) | s an epoch |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name, fits in record["fits"].items():
         changes = record["candidates"][name]
         for fit in fits:
             lines.append(
-                f"| {name} | {changes['channels']} | {changes['learning_rate']:g} | {fit['seed']} | "
+                f"| {name} | {changes['channels']} | {changes.get('first_downsampling', 'pool')} | "
+                f"{changes['learning_rate']:g} | {fit['seed']} | "
                 f"{fit['best_validation_recall']:.3f} | {fit['best_epoch']} | {fit['epochs_run']} | "
                 f"{'yes' if fit['converged'] else 'no'} | {fit['seconds']:.0f} | {fit['seconds_per_epoch']:.1f} |"
             )

@@ -11,15 +11,21 @@ import numpy as np
 
 from seasonloop.models.core.learner import EpochCallback
 from seasonloop.models.core.torch_learner import TorchLearner
-from seasonloop.params.checks import integer, list_of, number
+from seasonloop.params.checks import integer, list_of, number, one_of
 
 if TYPE_CHECKING:
     from torch import nn
 
 
+# how the first layer halves the image for the second: pool (its convolution at full size, then a
+# 2x2 max pool, as between the later layers) | stride (its convolution strides by 2: a quarter of
+# the positions, about half the cost of a batch at the default widths)
+FIRST_DOWNSAMPLING = ("pool", "stride")
+
+
 class PlaceCNN(TorchLearner):
-    """Convolutions (3x3, batch norm, ReLU; a 2x2 max pool between two), GeM pooling of the last
-    channels, a linear layer to `dim`, L2-normalised."""
+    """Convolutions (3x3, batch norm, ReLU; a 2x2 max pool between two, or the first strided:
+    first_downsampling), GeM pooling of the last channels, a linear layer to `dim`, L2-normalised."""
 
     name = "place_cnn"
     channels_last = True  # oneDNN's NHWC convolutions and pooling: 1.5x faster a batch here (benchmarks.md)
@@ -29,6 +35,7 @@ class PlaceCNN(TorchLearner):
     PARAMS = {
         "channels": list_of(integer(1), unique=False),
         "dim": integer(1),
+        "first_downsampling": one_of(*FIRST_DOWNSAMPLING),
         "gem_p": number(1, None),
         "images_per_place": integer(2),
         "loss_alpha": number(0, None, low_open=True),
@@ -60,10 +67,13 @@ class PlaceCNN(TorchLearner):
 
         layers: list[nn.Module] = []
         before = 1
-        for index, channels in enumerate(self.params["channels"]):
-            if index:
+        widths = self.params["channels"]
+        strided = self.params["first_downsampling"] == "stride" and len(widths) > 1
+        for index, channels in enumerate(widths):
+            if index and not (index == 1 and strided):
                 layers.append(nn.MaxPool2d(2))
-            layers += [nn.Conv2d(before, channels, 3, padding=1), nn.BatchNorm2d(channels), nn.ReLU()]
+            stride = 2 if index == 0 and strided else 1
+            layers += [nn.Conv2d(before, channels, 3, stride=stride, padding=1), nn.BatchNorm2d(channels), nn.ReLU()]
             before = channels
         head = [GeM(self.params["gem_p"]), nn.Linear(before, self.params["dim"]), L2Normalised()]
         return nn.Sequential(*layers, *head)

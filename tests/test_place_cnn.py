@@ -142,3 +142,19 @@ def test_the_same_seed_gives_the_same_model_bytes(trained, tmp_path):
     again.save(tmp_path / "second")
     for name in ("learner.json", "model.pt"):
         assert (tmp_path / "first" / name).read_bytes() == (tmp_path / "second" / name).read_bytes(), name
+
+
+def test_a_strided_first_layer_replaces_the_first_pool_and_keeps_the_sizes_after_it():
+    sizes = {}
+    for downsampling in ("pool", "stride"):
+        params = learner_params("place_cnn", {**TINY, "channels": [4, 8, 8], "first_downsampling": downsampling})
+        model = untrained(get_learner("place_cnn"), params, (HEIGHT, WIDTH)).model
+        pools = sum(isinstance(layer, torch.nn.MaxPool2d) for layer in model)
+        first = next(layer for layer in model if isinstance(layer, torch.nn.Conv2d))
+        # the activations entering the last convolution: the same grid either way
+        convolutions = [index for index, layer in enumerate(model) if isinstance(layer, torch.nn.Conv2d)]
+        with torch.no_grad():
+            before_last = model[: convolutions[-1]](torch.zeros(1, 1, HEIGHT, WIDTH))
+        sizes[downsampling] = (pools, first.stride, tuple(before_last.shape[2:]))
+    assert sizes["pool"] == (2, (1, 1), (HEIGHT // 4, WIDTH // 4))
+    assert sizes["stride"] == (1, (2, 2), (HEIGHT // 4, WIDTH // 4))

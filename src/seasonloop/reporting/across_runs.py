@@ -66,13 +66,13 @@ def runs_against(
 
 
 def with_difference_interval(row: Mapping[str, Any]) -> str:
-    """ "+5.1 ▲ [+2, +8]": a comparison's difference (points), verdict and interval, what a "no
+    """ "+5.1 ▲ [+2.3, +7.9]": a comparison's difference (points), verdict and interval, what a "no
     difference" leaves room for; the interval left out where the route is too short to give one."""
     cell = verdict_cell(row["difference"], row["verdict"])
     if row["low"] is None:
         return cell
-    low, high = (round(100 * row[end]) + 0 for end in ("low", "high"))  # + 0: no "-0"
-    return f"{cell} [{low:+d}, {high:+d}]"
+    # a tenth: whole points would round an end just below 0 to "+0"
+    return f"{cell} [{100 * row['low'] + 0.0:+.1f}, {100 * row['high'] + 0.0:+.1f}]"
 
 
 def runs_against_markdown(record: Mapping[str, Any]) -> str:

@@ -2,13 +2,14 @@
 
     python -m benchmarks.studies.check_power --real REAL_DIR [--workspace DIR] [--replicates R]
 
-A table of the docs compares eight learners on one pair: 28 comparisons, Holm-corrected together.
+A table of the docs compares the default run's learners on one pair (`learners:` of the workspace's
+params.yaml: 9 learners, 36 comparisons), Holm-corrected together.
 For each n the docs report (the real half's and the default route's queries a pair on the study's
 split, about every place of either, five routes of every place pooled) and each dependence fitted
 to a run's own outcomes (benchmarks.studies.check_calibration.measure_dependence: the default run's
-single images and +seq, the real run's every matcher), one learner is `d` points ahead of seven
-equal others at fraction p = 0.5 (where a fraction's variance is largest) and 0.8; the power is how
-often its comparison with one of them is called, the right way, under Holm over the table of 28
+single images and +seq, the real run's every matcher), one learner is `d` points ahead of the
+other, equal learners at fraction p = 0.5 (where a fraction's variance is largest) and 0.8; the power is how
+often its comparison with one of them is called, the right way, under Holm over the table
 (the verdict a reader sees). The smallest d on the grid found at least 80% of the time is what a
 "no difference" there can still hide; a "none on the grid" says a gap of DIFFERENCES[-1] points
 can hide. Seeded (--seed); the same arguments give the same record.
@@ -38,11 +39,15 @@ from seasonloop.params.settings import StatisticsConfig
 
 DIFFERENCES = (0.03, 0.05, 0.075, 0.10, 0.15, 0.20, 0.30, 0.40)
 FRACTIONS = (0.5, 0.8)
-TABLE_LEARNERS = 8  # the default run's learners: a table of 28 comparisons
 # (queries a route, routes pooled): the study's split on the real half and the default route,
 # every place of either, five routes of every place
 SIZES = ((147, 1), (158, 1), (1800, 1), (1800, 5))
 FOUND = 0.8  # the power a difference needs to count as one the test finds
+
+
+def comparisons(learners: int) -> int:
+    """A learner table's comparisons: every two of its learners."""
+    return learners * (learners - 1) // 2
 
 
 def smallest_found(powers: dict[str, float | None]) -> float | None:
@@ -55,7 +60,9 @@ def smallest_found(powers: dict[str, float | None]) -> float | None:
     return None
 
 
-def run(settings: StatisticsConfig, dependences: dict[str, Any], replicates: int, seed: int) -> list[dict]:
+def run(
+    settings: StatisticsConfig, dependences: dict[str, Any], replicates: int, seed: int, learners: int
+) -> list[dict]:
     rows = []
     for k, (name, dependence) in enumerate(dependences.items()):
         for n, routes in SIZES:
@@ -63,7 +70,7 @@ def run(settings: StatisticsConfig, dependences: dict[str, Any], replicates: int
                 started = time.perf_counter()
                 rng = np.random.default_rng([seed, k, n, routes, int(100 * p)])
                 cells = {
-                    f"{d:.3f}": power_cell(rng, settings, n, p, d, dependence, replicates, TABLE_LEARNERS, routes)
+                    f"{d:.3f}": power_cell(rng, settings, n, p, d, dependence, replicates, learners, routes)
                     for d in DIFFERENCES
                 }
                 holm = {d: cell["power_holm"]["rate"] for d, cell in cells.items()}
@@ -95,24 +102,26 @@ def main() -> None:
     from benchmarks.common import save_and_report
     from tools.records import machine
 
-    settings = StatisticsConfig.from_params(yaml.safe_load((args.workspace / "params.yaml").read_text()))
+    params = yaml.safe_load((args.workspace / "params.yaml").read_text())
+    settings = StatisticsConfig.from_params(params)
+    learners = len(params["learners"])  # a table of learners x (learners - 1) / 2 comparisons
     default = measure_dependence(read_evaluations(args.workspace))
     real = measure_dependence(read_evaluations(args.real), matcher_of)
     dependences = {
         **{f"default {kind}": Dependence(**fit["dependence"]) for kind, fit in default.items()},
         **{f"real {kind}": Dependence(**fit["dependence"]) for kind, fit in real.items()},
     }
-    rows = run(settings, dependences, args.replicates, args.seed)
+    rows = run(settings, dependences, args.replicates, args.seed, learners)
     record = {
         "replicates": args.replicates,
         "seed": args.seed,
         "statistics": {key: getattr(settings, key) for key in ("level", "degrees_scale", "persistence_scale", "alpha")},
         "differences": DIFFERENCES,
-        "table_learners": TABLE_LEARNERS,
+        "table_learners": learners,
         "fitted": {"default": default, "real": real},
         "workspaces": {"default": str(args.workspace), "real": str(args.real)},
         "rows": rows,
-        "headline": "smallest difference found 80% of the time under Holm over 28: "
+        "headline": f"smallest difference found 80% of the time under Holm over {comparisons(learners)}: "
         + ", ".join(
             f"{row['dependence']} n={row['n']}x{row['routes']} p={row['p']}: {row['smallest_found']}" for row in rows
         ),
@@ -138,8 +147,9 @@ def _power_table(path: Path) -> str:
                 cells.append(f"> {100 * max(record['differences']):.0f}" if found is None else f"{100 * found:g}")
             lines.append(f"| {name} | {p} | " + " | ".join(cells) + " |")
     legend = (
-        f"Points of fraction correct; one learner that far ahead of seven equal others, found the right way "
-        f"under Holm over the table of 28 at alpha {record['statistics']['alpha']} in at least 80% of "
+        f"Points of fraction correct; one learner that far ahead of {record['table_learners'] - 1} equal others, "
+        f"found the right way under Holm over the table of {comparisons(record['table_learners'])} at alpha "
+        f"{record['statistics']['alpha']} in at least 80% of "
         f"{record['replicates']} simulated routes (grid: {', '.join(f'{100 * d:g}' for d in record['differences'])} "
         f"points; '> {100 * max(record['differences']):.0f}': none on the grid). A \"no difference\" in such a cell "
         "can hide a gap up to about this size."

@@ -352,7 +352,7 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     # the claims on the real frames' learners trained there against themselves trained on the
     # synthetic route (benchmarks/studies/compare_runs.py's record; its table: real_here_against_elsewhere)
     "transfer_claims": (
-        "benchmarks/results/compare_runs.json",
+        "benchmarks/results/compare_runs_here_elsewhere.json",
         "real_here_against_elsewhere.json",
         _claims_of("transfer"),
     ),

@@ -193,6 +193,17 @@ def test_saved_learner_loads_with_identical_descriptors(name, fitted, families, 
         get_learner("raw_patchnorm" if name != "raw_patchnorm" else "pca").load(tmp_path)
 
 
+def test_a_model_saved_before_a_params_key_existed_names_its_file(fitted, tmp_path):
+    # code that added a key to a learner's section cannot load a model saved without it (train.fitted:
+    # elsewhere at an older clone's models/): the error names that model's learner.json
+    fitted("pca").save(tmp_path)
+    record = json.loads((tmp_path / "learner.json").read_text())
+    del record["params"]["n_keep"]
+    (tmp_path / "learner.json").write_text(json.dumps(record))
+    with pytest.raises(ValueError, match=r"learner\.json: pca\.n_keep: missing .*fit it again"):
+        load_learner(tmp_path)
+
+
 def test_pca_without_discard_reconstructs_like_sklearn(families):
     images = families[0]
     learner = get_learner("pca")(learner_params("pca", {"n_discard": 0, "n_keep": 12}), seed=5)

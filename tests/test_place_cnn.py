@@ -158,3 +158,12 @@ def test_a_strided_first_layer_replaces_the_first_pool_and_keeps_the_sizes_after
         sizes[downsampling] = (pools, first.stride, tuple(before_last.shape[2:]))
     assert sizes["pool"] == (2, (1, 1), (HEIGHT // 4, WIDTH // 4))
     assert sizes["stride"] == (1, (2, 2), (HEIGHT // 4, WIDTH // 4))
+
+
+def test_a_strided_first_layer_needs_a_second_layer():
+    with pytest.raises(
+        ValueError, match=r"place_cnn\.first_downsampling = stride: .* place_cnn\.channels has one layer"
+    ):
+        get_learner("place_cnn")(
+            learner_params("place_cnn", {**TINY, "channels": [4], "first_downsampling": "stride"}), seed=0
+        )

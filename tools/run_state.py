@@ -62,13 +62,15 @@ def applied_preset(workspace: Path) -> str | None:
     raise ValueError(f"{workspace}/params.yaml: neither the commit's nor any preset of {folder} applied over it")
 
 
-def finished_run(workspace: Path) -> dict[str, str | bool | None]:
-    """A finished run's state: its folder, commit, preset (applied_preset) and whether anything but
-    the preset and the run's bookkeeping changed; a ValueError where `dvc status` is not clean (its
-    outputs are not those of its params and code)."""
+def finished_run(workspace: Path) -> dict[str, str | None]:
+    """A finished run's state, what a table made from it names: its folder, commit and preset
+    (applied_preset). A ValueError where it is not that commit with that preset and its `dvc repro`
+    (commit_state; without a preset, dvc.lock committed too) or `dvc status` is not clean."""
     status = subprocess.run(["dvc", "status", "--quiet"], cwd=workspace, capture_output=True, text=True)
     if status.returncode != 0:
         raise ValueError(f"{workspace}: `dvc status` is not clean (run `dvc repro` there first)")
     preset = applied_preset(workspace)
     commit, dirty = commit_state(workspace, preset)
-    return {"folder": str(workspace), "commit": commit, "preset": preset, "dirty": dirty}
+    if dirty:
+        raise ValueError(f"{workspace}: changes not committed on {commit} (commit them, dvc.lock included)")
+    return {"folder": str(workspace), "commit": commit, "preset": preset}

@@ -3,7 +3,7 @@
     python -m benchmarks.studies.check_power --real REAL_DIR [--workspace DIR] [--replicates R]
 
 A table of the docs compares the default run's learners on one pair (`learners:` of the workspace's
-params.yaml: 9 learners, 36 comparisons), Holm-corrected together.
+params.yaml), every two of them, Holm-corrected together.
 For each n the docs report (the real half's and the default route's queries a pair on the study's
 split, about every place of either, five routes of every place pooled) and each dependence fitted
 to a run's own outcomes (benchmarks.studies.check_calibration.measure_dependence: the default run's

@@ -29,8 +29,16 @@ from tools.run_state import finished_run
 
 
 def run_ceiling(workspace: Path) -> dict:
-    """One run's test blocks (count, median length) and, per rule, its distinct windows and ceiling."""
-    length = int(yaml.safe_load((workspace / "params.yaml").read_text())["sequence"]["length"])
+    """One run's test blocks (count, median length) and, per rule, its distinct windows and ceiling:
+    a bound where a query is right at its own place alone (aligned, tolerance_frames 0); with a
+    tolerance, queries that share a window can all be right, and the run is refused."""
+    params = yaml.safe_load((workspace / "params.yaml").read_text())
+    if params["data"]["ground_truth"] != "aligned" or params["evaluate"]["tolerance_frames"] != 0:
+        raise ValueError(
+            f"{workspace}/params.yaml: a ceiling needs data.ground_truth aligned and evaluate.tolerance_frames 0 "
+            "(one right place a query)"
+        )
+    length = int(params["sequence"]["length"])
     split = workspace / "data" / "split"
     places = [np.asarray(read_split(folder)["test"]) for folder in fold_dirs(split, count_folds(split))]
     blocks: list[int] = []

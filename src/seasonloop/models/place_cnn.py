@@ -47,6 +47,11 @@ class PlaceCNN(TorchLearner):
     }
 
     def _validate_params(self) -> None:
+        if self.params["first_downsampling"] == "stride" and len(self.params["channels"]) < 2:
+            raise ValueError(
+                f"{self._key('first_downsampling')} = stride: the first layer strides instead of the pool before "
+                f"the second, and {self._key('channels')} has one layer"
+            )
         if self.params["batch_size"] < 2 * self.params["images_per_place"]:
             raise ValueError(
                 f"{self._key('batch_size')} = {self.params['batch_size']}: a batch needs two places or more of "
@@ -69,7 +74,7 @@ class PlaceCNN(TorchLearner):
         layers: list[nn.Module] = []
         before = 1
         widths = self.params["channels"]
-        strided = self.params["first_downsampling"] == "stride" and len(widths) > 1
+        strided = self.params["first_downsampling"] == "stride"
         for index, channels in enumerate(widths):
             if index and not (index == 1 and strided):
                 layers.append(nn.MaxPool2d(2))

@@ -66,8 +66,8 @@ def runs_against(
 
 
 def with_difference_interval(row: Mapping[str, Any]) -> str:
-    """ "+5.1 ▲ [+2.3, +7.9]": a comparison's difference (points), verdict and interval, what a "no
-    difference" leaves room for; the interval left out where the route is too short to give one."""
+    """ "+5.1 ▲ [+2.3, +7.9]": a comparison's difference (points), its verdict (Holm's, over the
+    table) and its own interval; the interval left out where the route is too short to give one."""
     cell = verdict_cell(row["difference"], row["verdict"])
     if row["low"] is None:
         return cell
@@ -93,10 +93,9 @@ def runs_against_markdown(record: Mapping[str, Any]) -> str:
         blocks.append(markdown_table(frame, "learner").strip())
     return (
         "\n\n".join(blocks)
-        + f"\n\nEach learner {first} against itself {second}, its {100 * record['statistics']['level']:.0f}% "
-        + "interval in brackets (points). "
-        + legend(record["statistics"]).replace(
-            "the row's fraction correct minus the column's", f"{first} minus {second}"
-        )
+        + f"\n\nEach learner {first} against itself {second}; in brackets the difference's "
+        + f"{100 * record['statistics']['level']:.0f}% interval (points), each comparison's own, before Holm's "
+        + "correction, so an interval can leave out 0 where the table's verdict is no difference. "
+        + legend(record["statistics"], f"{first} minus {second}")
         + "\n"
     )

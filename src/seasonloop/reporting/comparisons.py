@@ -35,9 +35,10 @@ FLIPPED = {
 }
 
 
-def legend(settings: Mapping[str, Any]) -> str:
-    """What a cell says, at the record's statistics settings (a record written before 36a7aeb, whose
-    settings name a bootstrap block length, says so: its verdicts are the old rule's)."""
+def legend(settings: Mapping[str, Any], cell: str = "the row's fraction correct minus the column's") -> str:
+    """What a cell says (`cell`: what its number is), at the record's statistics settings (a record
+    written before 36a7aeb, whose settings name a bootstrap block length, says so: its verdicts are
+    the old rule's)."""
     if "block_length" in settings:
         test = (
             "by the rule before 36a7aeb (McNemar's exact test Holm-corrected across the table, and a paired "
@@ -50,7 +51,7 @@ def legend(settings: Mapping[str, Any]) -> str:
             "the table; its real error rates: docs/statistics.md)."
         )
     return (
-        "Cells: the row's fraction correct minus the column's, percentage points, on the same queries; "
+        f"Cells: {cell}, percentage points, on the same queries; "
         f"▲ significantly better, ▼ significantly worse, · no difference shown at {100 * settings['alpha']:g}% " + test
     )
 

@@ -235,10 +235,7 @@ class FeatureLearner(ABC):
         record = read_learner_record(directory)
         if record["name"] != cls.name:
             raise ValueError(f"{Path(directory) / LEARNER_FILE} holds a '{record['name']}' learner, not '{cls.name}'")
-        try:
-            learner = cls(record["params"], seed=record["seed"])
-        except ValueError as error:  # a model saved by older code: its params lack a key added since
-            raise ValueError(f"{Path(directory) / LEARNER_FILE}: {error} (saved by other code: fit it again)") from None
+        learner = cls(record["params"], seed=record["seed"])
         learner.input_shape = (int(record["input_shape"][0]), int(record["input_shape"][1]))
         learner.fit_info = record["fit_info"]
         learner._load_state(Path(directory))

@@ -13,7 +13,7 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 
-from seasonloop.models.core.learner import RUN_KEYS, FeatureLearner, read_learner_record
+from seasonloop.models.core.learner import LEARNER_FILE, RUN_KEYS, FeatureLearner, read_learner_record
 
 # learner names, sorted: the modules of seasonloop.models (each its params section); the tables
 # list a run's learners in the order of params.yaml's `learners:`
@@ -47,8 +47,13 @@ def get_learner(name: str) -> type[FeatureLearner]:
 
 
 def load_learner(directory: Path) -> FeatureLearner:
-    """Load a saved learner of any kind from its directory."""
-    return get_learner(read_learner_record(directory)["name"]).load(directory)
+    """Load a saved learner of any kind from its directory; a model whose params no longer check
+    (saved by code older than a key of its section) is one line naming its learner.json."""
+    learner_class = get_learner(read_learner_record(directory)["name"])
+    try:
+        return learner_class.load(directory)
+    except ValueError as error:
+        raise ValueError(f"{Path(directory) / LEARNER_FILE}: {error} (saved by other code: fit it again)") from None
 
 
 def load_fitted_elsewhere(models_dir: Path, name: str, image_shape: tuple[int, ...]) -> tuple[FeatureLearner, dict]:

@@ -349,13 +349,6 @@ TABLES: dict[str, tuple[str, str, Callable[[Path], str]]] = {
     "full_cae_widths": ("metrics/cae_widths.json", "full_cae_widths_sweep.json", _cae_widths),
     "full_ica_basis": ("metrics/fit/ica.json", "full_ica_fit.json", _ica_fit),
     "full_claims": ("metrics/comparisons.json", "full_comparisons.json", _claims_of("full")),
-    # the claims on the real frames' learners trained there against themselves trained on the
-    # synthetic route (benchmarks/studies/compare_runs.py's record; its table: real_here_against_elsewhere)
-    "transfer_claims": (
-        "benchmarks/results/compare_runs_here_elsewhere.json",
-        "real_here_against_elsewhere.json",
-        _claims_of("transfer"),
-    ),
     **{name: table for module in measured_modules() for name, table in module.TABLES.items()},
 }
 

@@ -31,6 +31,10 @@ from seasonloop.reporting.readings import READINGS, claim_direction, claims_besi
 ROOT = Path(__file__).resolve().parents[1]
 DOCUMENTS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 CLAIMS = yaml.safe_load((ROOT / "docs" / "claims.yaml").read_text())
+spec = importlib.util.spec_from_file_location("write_tables", ROOT / "docs" / "write_tables.py")
+write_tables = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(write_tables)
+
 # a claim's run (its `run` key, default "default") -> its comparisons' snapshot and the document
 # whose generated claims table shows it
 RUNS = {
@@ -44,13 +48,9 @@ RUNS = {
 # synthetic route), which states no count of its own
 RECORDS = {
     **RUNS,
-    "transfer": (ROOT / "docs" / "results" / "real_here_against_elsewhere.json", ROOT / "docs" / "real-data.md"),
+    "transfer": (write_tables.RESULTS / write_tables.TABLES["transfer_claims"][1], ROOT / "docs" / "real-data.md"),
 }
 
-
-spec = importlib.util.spec_from_file_location("write_tables", ROOT / "docs" / "write_tables.py")
-write_tables = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(write_tables)
 
 REPLICATES = json.loads((ROOT / "docs" / "results" / "replicate_routes.json").read_text())
 

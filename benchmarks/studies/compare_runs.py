@@ -31,8 +31,9 @@ from seasonloop.models.core.lookup import get_learner
 from seasonloop.params.seasons import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.reporting.across_runs import runs_against, runs_against_markdown
-from seasonloop.reporting.comparisons import csv_reader
+from seasonloop.reporting.comparisons import claims_markdown, csv_reader
 from tools.records import machine, write_result
+from tools.repository import REPO
 from tools.run_state import applied_preset, finished_run, git
 
 # the stages whose params decide a run's outcomes and their statistics (dvc.yaml's own lists)
@@ -134,13 +135,20 @@ def _runs_against(path: Path) -> str:
     return runs_against_markdown(record) + f"\nRuns: {runs}. Code that differs between the two commits: {between}.\n"
 
 
-# docs/write_tables.py's table of this study's record: name -> (record, snapshot, how it is written)
-TABLES = {
-    "real_here_against_elsewhere": (
-        "benchmarks/results/compare_runs_here_elsewhere.json",
-        "real_here_against_elsewhere.json",
-        _runs_against,
+def _transfer_claims(path: Path) -> str:
+    """The claims of docs/claims.yaml with `run: transfer` on the docs' record (real-data.md)."""
+    claims = yaml.safe_load((REPO / "docs" / "claims.yaml").read_text())
+    return claims_markdown(
+        json.loads(path.read_text()), {name: claim for name, claim in claims.items() if claim.get("run") == "transfer"}
     )
+
+
+# docs/write_tables.py's tables of the docs' record (real-data.md: the real half's learners trained
+# here against themselves trained elsewhere): name -> (record, snapshot, how it is written)
+RECORD, SNAPSHOT = "benchmarks/results/compare_runs_here_elsewhere.json", "real_here_against_elsewhere.json"
+TABLES = {
+    "real_here_against_elsewhere": (RECORD, SNAPSHOT, _runs_against),
+    "transfer_claims": (RECORD, SNAPSHOT, _transfer_claims),
 }
 
 

@@ -30,6 +30,7 @@ from seasonloop.evaluation.matchers import evaluations
 from seasonloop.models.core.lookup import get_learner
 from seasonloop.params.seasons import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
+from seasonloop.registries.choices import value_of
 from seasonloop.reporting.across_runs import runs_against, runs_against_markdown
 from seasonloop.reporting.comparisons import claims_markdown, csv_reader
 from tools.records import machine, write_result
@@ -48,12 +49,11 @@ def shared_params(folder: Path) -> list[str]:
 
 
 def param_value(params: dict, key: str, source: Path) -> Any:
-    value = params
-    for part in key.split("."):
-        if not isinstance(value, dict) or part not in value:
-            raise SystemExit(f"{source}: no key {key}")
-        value = value[part]
-    return value
+    """params' value at dotted `key` (seasonloop.registries.choices.value_of), or one line naming the file."""
+    try:
+        return value_of(params, key)
+    except (KeyError, TypeError):
+        raise SystemExit(f"{source}: no key {key}") from None
 
 
 def models_source(folder: Path, params: dict) -> dict[str, Any] | None:

@@ -228,7 +228,7 @@ def _claims_of(run: str) -> Callable[[Path], str]:
 # the synthetic runs a run on other data is read beside (table real_claims): column -> its snapshot
 SYNTHETIC_RUNS = {
     "default route": "comparisons.json",
-    "five routes, pooled": "replicate_routes.json",
+    "routes, pooled": "replicate_routes.json",  # as many routes as its record holds
     "full preset": "full_comparisons.json",
 }
 
@@ -293,8 +293,8 @@ def _claims_beside_runs(path: Path) -> str:
         "\n".join(lines)
         + "\n\n"
         + legend(record["statistics"])
-        + " Whole tables: significant differences each way. Five routes, pooled: every route's queries together "
-        + f"(docs/results.md). n/a: a run made before the claim's learner or matcher existed. On real frames: {readings}."
+        + " Whole tables: significant differences each way. Routes, pooled: every replicate route's queries together "
+        + f"(docs/routes.md: {len(synthetic['routes, pooled']['routes'])} routes). n/a: a run made before the claim's learner or matcher existed. On real frames: {readings}."
         + (
             f" Not read here (no verdict on this data or on any synthetic run yet): {', '.join(left_out)}."
             if left_out

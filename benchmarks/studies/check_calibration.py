@@ -546,7 +546,6 @@ OUT_OF_SAMPLE_GRID = {
     "n": (147, 158, 1800),
     "p": (0.05, 0.2, 0.5, 0.8, 0.95),
     "differences": (0.05, 0.10, 0.20),
-    "table_learners": 8,  # the default run's learners: a table of 28 comparisons
     "pooled_routes": 5,
     "pooled_n": (158, 1800),
     "pooled_pairs": 1,  # the real half's one pair: an evaluation's persistence from its own outcomes
@@ -666,8 +665,10 @@ def main() -> None:
     if args.real is not None:
         real = measure_dependence(read_evaluations(args.real), matcher_of)
         models = out_of_sample_models(fits, real)
+        # a table of the workspace's learners: learners x (learners - 1) / 2 comparisons under Holm
+        grid = {**OUT_OF_SAMPLE_GRID, "table_learners": len(params["learners"])}
         record = calibrate_out_of_sample(
-            settings, models, OUT_OF_SAMPLE_GRID, args.replicates, args.seed, kept("check_calibration_out_of_sample")
+            settings, models, grid, args.replicates, args.seed, kept("check_calibration_out_of_sample")
         )
         record["fitted"] = {"default": fits, "real": real}
         record["workspaces"] = {"default": str(args.workspace), "real": str(args.real)}

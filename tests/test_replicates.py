@@ -8,7 +8,7 @@ import yaml
 
 from seasonloop.evaluation.outcomes import QueryOutcomes
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.reporting.comparisons import claim_cells, run_comparisons
+from seasonloop.reporting.comparisons import claim_cells, csv_reader, run_comparisons
 from seasonloop.reporting.replicates import (
     claim_tally,
     claims_across_routes,
@@ -52,6 +52,11 @@ def routes(tmp_path, n_routes: int, n_queries: int, edge: int):
     return folders
 
 
+def readers(folders):
+    """Each route's reader of its outcomes folder, keyed as `folders`."""
+    return {key: csv_reader(folder) for key, folder in folders.items()}
+
+
 def test_fraction_spread_over_routes():
     summaries = {
         "a": {"fraction_correct": {"pca": {"summer-fall": 0.5, "winter-fall": 0.25}}},
@@ -76,7 +81,7 @@ def test_pooling_routes_finds_what_each_route_is_too_short_to_show(tmp_path):
     # a 12-query edge on each 60-query route: on a single route it is one stretch
     folders = routes(tmp_path, n_routes=10, n_queries=60, edge=12)
     single = [run_comparisons(folder, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS) for folder in folders.values()]
-    pooled = pooled_comparisons(folders, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
+    pooled = pooled_comparisons(readers(folders), LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
     verdicts = [claim_cells(record, CLAIMS["good_over_bad"])["summer-fall"] for record in single]
     # one stretch per route: McNemar would call it (12 wins, p 5e-4); along the route a 12-query
     # stretch is a run too long for 60 queries, and the test says so instead of a verdict
@@ -92,12 +97,12 @@ def test_pooling_routes_finds_what_each_route_is_too_short_to_show(tmp_path):
 
 def test_pooled_verdicts_do_not_depend_on_the_order_routes_are_read_in(tmp_path):
     folders = routes(tmp_path, n_routes=4, n_queries=60, edge=6)
-    pooled = pooled_comparisons(folders, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
+    pooled = pooled_comparisons(readers(folders), LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
     reversed_order = dict(reversed(list(folders.items())))
-    assert pooled_comparisons(reversed_order, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS) == pooled
+    assert pooled_comparisons(readers(reversed_order), LEARNERS, VARIANTS, ["summer-fall"], SETTINGS) == pooled
     # the keys only name the routes: nothing is drawn at random
     rekeyed = {key + 10: folder for key, folder in folders.items()}
-    assert pooled_comparisons(rekeyed, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS) == pooled
+    assert pooled_comparisons(readers(rekeyed), LEARNERS, VARIANTS, ["summer-fall"], SETTINGS) == pooled
 
 
 def test_claim_tally_counts_routes_each_way(tmp_path):
@@ -112,7 +117,7 @@ def test_claim_tally_counts_routes_each_way(tmp_path):
     assert counts["better"] + 0 <= 3 and counts["worse"] == 0
     whole = tally["every_learner"]["summer-fall"]
     assert whole["least_better"] <= whole["most_better"] <= 3 and whole["most_worse"] <= 3
-    pooled = pooled_comparisons(folders, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
+    pooled = pooled_comparisons(readers(folders), LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
     across = claims_across_routes(records, pooled, CLAIMS)
     assert (
         across["good_over_bad"]["summer-fall"]["pooled"] == claim_cells(pooled, CLAIMS["good_over_bad"])["summer-fall"]
@@ -124,7 +129,7 @@ def test_pooling_refuses_routes_with_other_pairs(tmp_path):
     folders = routes(tmp_path, n_routes=2, n_queries=30, edge=5)
     (folders[1] / "bad" / "summer-fall.csv").unlink()
     with pytest.raises(ValueError, match="route1/bad/summer-fall.csv"):
-        pooled_comparisons(folders, LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
+        pooled_comparisons(readers(folders), LEARNERS, VARIANTS, ["summer-fall"], SETTINGS)
 
 
 def test_claims_on_learners_the_run_lacks_are_left_out(tmp_path):
@@ -266,5 +271,6 @@ def test_a_route_runs_the_stages_whose_outputs_the_record_reads():
     from tools.repository import REPO
 
     learners = yaml.safe_load((REPO / "params.yaml").read_text())["learners"]
-    expected = {"summary", "compare", "training_seasons", *(f"evaluate@{learner}" for learner in learners)}
+    # each route's paired tests come from its outcomes (collect computes them), not from its compare stage
+    expected = {"summary", "training_seasons", *(f"evaluate@{learner}" for learner in learners)}
     assert set(route_stages()) == expected

@@ -3,6 +3,7 @@
     python -m tools.replicate_routes run --seeds 1 2 3 4 [--jobs 1]
     python -m tools.replicate_routes collect
     python -m tools.replicate_routes run --preset every_place --seeds 0 1 2 3 4
+    python -m tools.replicate_routes keep --preset every_place
 
 With `--preset NAME` every route, the committed run's own seed among them, is an experiment named
 route-<NAME>-<seed> with the preset's settings (presets/NAME.yaml, as `-S` settings), so the routes
@@ -16,12 +17,15 @@ read, are left as the baseline's), runs the queue
 experiments named route-<seed> of `dvc exp show --json` (of the newest commit that has any, and of
 older commits with the same pipeline: see routes_of) and the committed run they branched from
 (params.yaml's own seed: run `dvc repro` and commit before `run`), each one's metrics/summary.json,
-metrics/comparisons.json, metrics/training_seasons.json and data/outcomes/ through DVC's file system at its revision (from the
-cache: no second copy of the pipeline). It writes benchmarks/results/replicate_routes.json: the
-spread of every fraction correct over the routes (and of the training-season ablation's), each claim of docs/claims.yaml tallied over the
-routes and pooled (seasonloop.reporting.replicates), and the queue's wall time;
+metrics/training_seasons.json and data/outcomes/ through DVC's file system at its revision (from the
+cache: no second copy of the pipeline), together with the routes kept in docs/results/routes/
+(`keep`, tools.route_snapshots: routes run on another machine or day, whose cache is gone), when
+every route ran the same pipeline. It writes benchmarks/results/replicate_routes.json: the
+spread of every fraction correct over the routes (and of the training-season ablation's), each claim
+of docs/claims.yaml tallied over the routes (each route's own paired tests, from its outcomes as its
+compare stage computes them) and pooled (seasonloop.reporting.replicates), and the queue's wall time;
 `python docs/write_tables.py --snapshot replicate_spread replicate_claims replicate_training_seasons`
-puts it in docs/results.md.
+puts it in docs/routes.md.
 """
 
 from __future__ import annotations
@@ -44,6 +48,7 @@ from seasonloop.evaluation.matchers import evaluations
 from seasonloop.params.seasons import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
 from seasonloop.preset import overlay, preset_changes
+from seasonloop.reporting.comparisons import comparisons_of, csv_reader
 from seasonloop.reporting.replicates import (
     claims_across_routes,
     claims_in,
@@ -53,9 +58,20 @@ from seasonloop.reporting.replicates import (
 )
 from tools.records import git_state, machine, write_result
 from tools.repository import REPO, start_queue
+from tools.route_snapshots import (
+    KEPT,
+    SUMMARY,
+    TRAINING,
+    difference,
+    fingerprint,
+    keep,
+    kept_routes,
+    lock_at,
+    npz_reader,
+)
 
 PREFIX = "route-"
-FETCHED = ("metrics/summary.json", "metrics/comparisons.json", "metrics/training_seasons.json", "data/outcomes")
+FETCHED = (SUMMARY, TRAINING, "data/outcomes")  # each route's own paired tests are computed from its outcomes
 CLAIMS = REPO / "docs" / "claims.yaml"
 SEARCHED = 20  # commits back from HEAD whose experiments `collect` looks at
 QUEUE = REPO / "benchmarks" / "results" / "replicate_routes_queue.json"  # the last `run`'s queue
@@ -235,51 +251,119 @@ def fetch(rev: str, folder: Path) -> None:
         fs.get(path, str(target), recursive=path.startswith("data/"))
 
 
-def collect(measured_on: dict[str, Any], preset: str | None = None) -> Path:
+def found_routes(preset: str | None = None) -> dict[str, dict[str, Any]]:
+    """name -> {rev, seed, commit, fingerprint} of the routes among this repository's experiments
+    (routes_of), each with the pipeline it ran (route_snapshots.fingerprint of its dvc.lock)."""
     shown = json.loads(dvc("exp", "show", "--json", "-n", str(SEARCHED)).stdout)
     routes = routes_of(shown, same_pipeline, preset)
-    if not routes:
-        flag = f" --preset {preset}" if preset else ""
-        raise SystemExit(
-            f"replicate_routes: no experiment named {route_name(0, preset)[:-1]}<seed> on the last {SEARCHED} "
-            f"commits: run `replicate_routes.py run{flag}` first"
-        )
-    # the routes' params but for synthetic.seed: the commit's params.yaml, with the preset's values
-    commit = commit_of(shown, next(iter(routes.values()))["rev"])
+    stages = route_stages()
+    for route in routes.values():
+        route["commit"] = commit_of(shown, route["rev"])
+        route["fingerprint"] = fingerprint(lock_at(route["rev"]), stages)
+    return routes
+
+
+def routes_params(commit: str, preset: str | None) -> dict[str, Any]:
+    """The routes' params but for synthetic.seed: the commit's params.yaml, with the preset's values."""
     params = yaml.safe_load(
         subprocess.run(
             ["git", "show", f"{commit}:params.yaml"], cwd=REPO, capture_output=True, text=True, check=True
         ).stdout
     )
-    if preset:
-        params = overlay(params, preset_changes(preset, PRESETS), f"{PRESETS / preset}.yaml")
+    return overlay(params, preset_changes(preset, PRESETS), f"{PRESETS / preset}.yaml") if preset else params
+
+
+def keep_routes(preset: str | None = None) -> list[Path]:
+    """Write every route among the experiments into docs/results/routes/ (tools.route_snapshots),
+    with the cost of the last `run`'s queue where it ran exactly these routes."""
+    routes = found_routes(preset)
+    if not routes:
+        raise SystemExit("replicate_routes: no route experiment to keep: run `replicate_routes.py run` first")
+    params = routes_params(next(iter(routes.values()))["commit"], preset)
+    evaluate = EvaluateConfig.from_params(params)
+    outcomes = {
+        "learners": params["learners"],
+        "suffixes": [suffix for _, _, suffix in evaluations(evaluate)],
+        "pairs": [pair_name(a, b) for a, b in available_pairs(params["data"]["seasons"], evaluate.pairs)],
+    }
+    queue = {**queue_cost([route["seed"] for route in routes.values()], preset), "cpu": machine()["cpu"]}
+    kept = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for index, (name, route) in enumerate(routes.items()):
+            folder = Path(tmp) / f"route{index}"
+            fetch(route["rev"], folder)
+            kept.append(keep(name, folder, {**route, "preset": preset, "queue": queue}, outcomes))
+    return kept
+
+
+def all_routes(preset: str | None) -> dict[str, dict[str, Any]]:
+    """The routes among the experiments and those kept in docs/results/routes/ (a seed the
+    experiments have is read from them), by seed (the baseline first); one line naming a route whose
+    pipeline differs from the first's."""
+    routes = found_routes(preset)
+    seeds = {route["seed"] for route in routes.values()}
+    routes |= {name: route for name, route in kept_routes(preset).items() if route["seed"] not in seeds}
+    if not routes:
+        flag = f" --preset {preset}" if preset else ""
+        raise SystemExit(
+            f"replicate_routes: no experiment named {route_name(0, preset)[:-1]}<seed> on the last {SEARCHED} "
+            f"commits and none kept in {KEPT}: run `replicate_routes.py run{flag}` first"
+        )
+    routes = dict(sorted(routes.items(), key=lambda item: (not item[0].endswith("(baseline)"), item[1]["seed"])))
+    (first_name, first), *others = routes.items()
+    for name, route in others:
+        differs = difference(first["fingerprint"], route["fingerprint"])
+        if differs:
+            raise SystemExit(f"replicate_routes: {name} ran another pipeline than {first_name} ({differs}): not pooled")
+    return routes
+
+
+def collect(measured_on: dict[str, Any], preset: str | None = None) -> Path:
+    routes = all_routes(preset)
+    params = routes_params(next(iter(routes.values()))["commit"], preset)
     evaluate = EvaluateConfig.from_params(params)
     settings = StatisticsConfig.from_params(params)
     seasons = params["data"]["seasons"]
     pairs = [pair_name(a, b) for a, b in available_pairs(seasons, evaluate.pairs)]
+    learners, variants = params["learners"], evaluations(evaluate)
     claims = {name: claim for name, claim in yaml.safe_load(CLAIMS.read_text()).items() if "run" not in claim}
+    summaries, training, readers = {}, {}, {}
     with tempfile.TemporaryDirectory() as tmp:
-        folders = {name: Path(tmp) / f"route{index}" for index, name in enumerate(routes)}
-        for name, route in routes.items():
-            print(f"reading {name} ({route['rev'][:7]})", file=sys.stderr)
-            fetch(route["rev"], folders[name])
-        summaries = {name: json.loads((folders[name] / FETCHED[0]).read_text()) for name in routes}
-        comparisons = {name: json.loads((folders[name] / FETCHED[1]).read_text()) for name in routes}
-        training = {name: json.loads((folders[name] / FETCHED[2]).read_text()) for name in routes}
+        for index, (name, route) in enumerate(routes.items()):
+            print(f"reading {name} ({route['rev'][:7]}{', kept' if 'folder' in route else ''})", file=sys.stderr)
+            if "folder" in route:  # kept: tools.route_snapshots
+                folder = route["folder"]
+                summaries[name] = json.loads((folder / Path(SUMMARY).name).read_text())
+                training[name] = json.loads((folder / Path(TRAINING).name).read_text())
+                readers[name] = npz_reader(folder / "outcomes.npz")
+            else:
+                folder = Path(tmp) / f"route{index}"
+                fetch(route["rev"], folder)
+                summaries[name] = json.loads((folder / SUMMARY).read_text())
+                training[name] = json.loads((folder / TRAINING).read_text())
+                readers[name] = csv_reader(folder / "data" / "outcomes")
+        # each route's own paired tests (what its compare stage writes), and every route's together
+        comparisons = {name: comparisons_of(readers[name], learners, variants, pairs, settings) for name in routes}
         pooled = pooled_comparisons(
-            {route["seed"]: folders[name] / "data/outcomes" for name, route in routes.items()},
-            params["learners"],
-            evaluations(evaluate),
-            pairs,
-            settings,
+            {route["seed"]: readers[name] for name, route in routes.items()}, learners, variants, pairs, settings
         )
     claims, left_out = claims_in(next(iter(comparisons.values())), claims)
+    experiments = [route["seed"] for route in routes.values() if "folder" not in route]
     record = {
-        "routes": routes,
+        "routes": {
+            name: {
+                "rev": route["rev"],
+                "seed": route["seed"],
+                "commit": route["commit"],
+                "kept": "folder" in route,
+                "queue": route.get("queue"),
+            }
+            for name, route in routes.items()
+        },
         "preset": preset,
         "pairs": pairs,
-        # the last `run`'s queue, when it queued these routes' seeds
-        **queue_cost([route["seed"] for route in routes.values()], preset),
+        # the last `run`'s queue, when it queued the experiments read here
+        **queue_cost(experiments, preset),
         "fraction_correct": fraction_spread(summaries),
         # the training-season ablation: label -> training set -> spread; the largest set against the smallest
         "training_seasons": {"fraction_correct": fraction_spread(training), "first_to_last": first_to_last(training)},
@@ -287,7 +371,7 @@ def collect(measured_on: dict[str, Any], preset: str | None = None) -> Path:
         "claims_says": {name: claim["says"] for name, claim in claims.items()},
         # JSON objects come back with sorted keys: the tables' order of rows
         "order": {
-            "labels": [learner + suffix for _, _, suffix in evaluations(evaluate) for learner in params["learners"]],
+            "labels": [learner + suffix for _, _, suffix in variants for learner in learners],
             "claims": list(claims),
         },
         "claims_left_out": left_out,  # on a learner or table this run does not have
@@ -303,7 +387,7 @@ def save_queue(seeds: list[int], jobs: int, seconds: float, preset: str | None =
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("action", choices=["run", "collect"])
+    parser.add_argument("action", choices=["run", "keep", "collect"])
     parser.add_argument(
         "--seeds",
         type=int,
@@ -317,6 +401,10 @@ def main() -> None:
     args = parser.parse_args()
     if args.preset:
         preset_settings(args.preset)  # an unknown preset: one line naming it, before anything is queued
+    if args.action == "keep":
+        for folder in keep_routes(args.preset):
+            print(f"kept {folder.relative_to(REPO)}")
+        return
     measured_on = {**machine(), "source": git_state()}
     if args.action == "run":
         seconds = queue_routes(args.seeds, args.jobs, route_stages(), args.preset)
@@ -324,19 +412,41 @@ def main() -> None:
     print(collect(measured_on, args.preset))
 
 
+def _queue_phrase(what: str, seconds: float | None, jobs: int | None, cpu: str) -> str:
+    """What a queue of routes cost ("" when not timed)."""
+    return f"the queue of {what} took {seconds / 60:.0f} min, {jobs} at a time, on {cpu}" if seconds else ""
+
+
 def _routes_line(record: dict) -> str:
-    """Which routes a replicate record stands on, and what their queue cost."""
-    seeds = ", ".join(str(route["seed"]) for route in record["routes"].values())
+    """Which routes a replicate record stands on, the commit each ran at, and what their queues cost."""
+    routes = list(record["routes"].values())
+    seeds = ", ".join(str(route["seed"]) for route in routes)
     preset = record.get("preset")
-    queued = len(record["routes"]) - (0 if preset else 1)
-    cost = (
-        f"; the queue of the {queued} {'' if preset else 'extra '}routes took {record['queue_seconds'] / 60:.0f} min, "
-        f"{record['jobs']} at a time, on {record['machine']['cpu']}"
-        if record.get("queue_seconds")
-        else ""
-    )
     under = f", each with preset {preset} (`--preset {preset}`)" if preset else ""
-    return f"{len(record['routes'])} routes (synthetic.seed {seeds}){under}{cost}."
+    runs: dict[tuple[str, bool], list[dict]] = {}  # (commit, kept) -> its routes; older records name no commit
+    for route in routes:
+        if route.get("commit"):
+            runs.setdefault((route["commit"][:7], route["kept"]), []).append(route)
+    parts = []
+    for (commit, kept), ran in runs.items():
+        queue = (ran[0]["queue"] or {}) if kept else record
+        cost = _queue_phrase(
+            f"{len(ran)} routes",
+            queue.get("queue_seconds"),
+            queue.get("jobs"),
+            queue.get("cpu") or record["machine"]["cpu"],
+        )
+        where = " (kept in docs/results/routes/)" if kept else ""
+        parts.append(
+            f"seed {', '.join(str(route['seed']) for route in ran)} run at {commit}{where}"
+            + (f": {cost}" if cost else "")
+        )
+    if not runs:
+        queued = len(routes) - (0 if preset else 1)
+        what = f"the {queued} {'' if preset else 'extra '}routes"
+        cost = _queue_phrase(what, record.get("queue_seconds"), record.get("jobs"), record["machine"]["cpu"])
+        parts = [cost] if cost else []
+    return f"{len(routes)} routes (synthetic.seed {seeds}){under}" + "".join(f"; {part}" for part in parts) + "."
 
 
 def _spread_cell(spread: dict) -> str:

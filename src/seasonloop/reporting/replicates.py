@@ -23,13 +23,12 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from seasonloop.params.settings import StatisticsConfig
-from seasonloop.reporting.comparisons import claim_cell, claim_cells, claim_values, comparisons_of, csv_reader
+from seasonloop.reporting.comparisons import Reader, claim_cell, claim_cells, claim_values, comparisons_of
 from seasonloop.significance.tables import Variant
 
 
@@ -74,16 +73,17 @@ def first_to_last(records: Mapping[str, Mapping[str, Any]]) -> dict[str, dict[st
 
 
 def pooled_comparisons(
-    outcomes_dirs: Mapping[int, Path],
+    routes: Mapping[int, Reader],
     learners: Sequence[str],
     variants: Sequence[Variant],
     pairs: Sequence[str],
     settings: StatisticsConfig,
 ) -> dict[str, Any]:
     """The comparisons record (as metrics/comparisons.json) of every route's queries together:
-    outcomes_dirs[key] is the data/outcomes folder of the route keyed by its synthetic.seed."""
+    routes[key] reads the per-query outcomes of the route keyed by its synthetic.seed (csv_reader
+    of its data/outcomes folder, or a kept route's reader)."""
     # in key order: the pooled sums then do not depend on the order the routes are given in
-    readers = {key: csv_reader(folder) for key, folder in sorted(outcomes_dirs.items())}
+    readers = dict(sorted(routes.items()))
 
     # read once: segments_of reads the first evaluation of a pair, which pooled reads again
     @functools.cache

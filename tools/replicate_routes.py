@@ -139,9 +139,10 @@ def preset_settings(preset: str | None) -> list[str]:
     return settings
 
 
-def queue_routes(seeds: list[int], jobs: int, stages: list[str], preset: str | None = None) -> float:
+def queue_routes(seeds: list[int], jobs: int, stages: list[str], preset: str | None = None) -> tuple[float, list[int]]:
     """Queue and run one experiment per seed (with the preset's settings), up to `stages`
-    (route_stages); the queue's wall seconds."""
+    (route_stages); the queue's wall seconds and the seeds whose experiment succeeded (a route
+    removed from the queue by hand, `dvc queue remove`, did not run in that time)."""
     extra = [flag for setting in preset_settings(preset) for flag in ("-S", setting)]
     names = [route_name(seed, preset) for seed in seeds]
     for seed, name in zip(seeds, names):
@@ -174,7 +175,12 @@ def queue_routes(seeds: list[int], jobs: int, stages: list[str], preset: str | N
             time.sleep(1)
     if "Failed" in status:
         raise SystemExit(f"a route's experiment failed (`dvc queue logs <name>`):\n{status}")
-    return time.monotonic() - started
+    ran = [
+        seed
+        for seed, name in zip(seeds, names)
+        if any(f"{name} " in line and "Success" in line for line in status.splitlines())
+    ]
+    return time.monotonic() - started, ran
 
 
 def queue_cost(seeds: list[int], preset: str | None = None) -> dict[str, Any]:
@@ -407,8 +413,8 @@ def main() -> None:
         return
     measured_on = {**machine(), "source": git_state()}
     if args.action == "run":
-        seconds = queue_routes(args.seeds, args.jobs, route_stages(), args.preset)
-        save_queue(args.seeds, args.jobs, seconds, args.preset)
+        seconds, ran = queue_routes(args.seeds, args.jobs, route_stages(), args.preset)
+        save_queue(ran, args.jobs, seconds, args.preset)
     print(collect(measured_on, args.preset))
 
 

@@ -77,9 +77,9 @@ SEARCHED = 20  # commits back from HEAD whose experiments `collect` looks at
 QUEUE = REPO / "benchmarks" / "results" / "replicate_routes_queue.json"  # the last `run`'s queue
 
 
-def dvc(*args: str) -> subprocess.CompletedProcess:
-    """A dvc command in the repository; a one-line error with its message when it fails."""
-    done = subprocess.run(["dvc", *args], cwd=REPO, capture_output=True, text=True)
+def dvc(*args: str, root: Path = REPO) -> subprocess.CompletedProcess:
+    """A dvc command in the repository (or in `root`); a one-line error with its message when it fails."""
+    done = subprocess.run(["dvc", *args], cwd=root, capture_output=True, text=True)
     if done.returncode:
         raise SystemExit(f"dvc {' '.join(args)}: {(done.stderr or done.stdout).strip().splitlines()[-1:]}")
     return done
@@ -183,11 +183,11 @@ def queue_routes(seeds: list[int], jobs: int, stages: list[str], preset: str | N
     return time.monotonic() - started, ran
 
 
-def queue_cost(seeds: list[int], preset: str | None = None) -> dict[str, Any]:
+def queue_cost(seeds: list[int], preset: str | None = None, saved: Path = QUEUE) -> dict[str, Any]:
     """{queue_seconds, jobs, queue_timed (how)} of the last `run` when it queued exactly the routes
     of `seeds` that are experiments (every seed but the first, the baseline's; under a preset every
     seed) with that preset, else None for each."""
-    queued = json.loads(QUEUE.read_text()) if QUEUE.is_file() else {}
+    queued = json.loads(saved.read_text()) if saved.is_file() else {}
     queued_routes = seeds if preset else seeds[1:]
     if sorted(queued.get("seeds", [])) != sorted(queued_routes) or queued.get("preset") != preset:
         return {"queue_seconds": None, "jobs": None, "queue_timed": None}
@@ -239,65 +239,71 @@ def commit_of(shown: list[dict[str, Any]], rev: str) -> str:
     raise ValueError(f"replicate_routes: {rev} is not in `dvc exp show`")
 
 
-def same_pipeline(newer: str, older: str) -> bool:
+def same_pipeline(newer: str, older: str, root: Path = REPO) -> bool:
     """Whether two commits run the same pipeline: no change to dvc.yaml, params.yaml, stages/ or
     src/ between them (git)."""
     paths = ["dvc.yaml", "params.yaml", "stages", "src"]
-    return subprocess.run(["git", "diff", "--quiet", older, newer, "--", *paths], cwd=REPO).returncode == 0
+    return subprocess.run(["git", "diff", "--quiet", older, newer, "--", *paths], cwd=root).returncode == 0
 
 
-def fetch(rev: str, folder: Path) -> None:
-    """The route's outputs FETCHED at revision `rev`, from DVC's cache, into `folder`."""
+def fetch(rev: str, folder: Path, root: Path = REPO) -> None:
+    """The route's outputs FETCHED at revision `rev` of the repository at `root`, from DVC's cache, into `folder`."""
     from dvc.api import DVCFileSystem
 
-    fs = DVCFileSystem(str(REPO), rev=rev)
+    fs = DVCFileSystem(str(root), rev=rev)
     for path in FETCHED:
         target = folder / path
         target.parent.mkdir(parents=True, exist_ok=True)
         fs.get(path, str(target), recursive=path.startswith("data/"))
 
 
-def found_routes(preset: str | None = None) -> dict[str, dict[str, Any]]:
-    """name -> {rev, seed, commit, fingerprint} of the routes among this repository's experiments
-    (routes_of), each with the pipeline it ran (route_snapshots.fingerprint of its dvc.lock)."""
-    shown = json.loads(dvc("exp", "show", "--json", "-n", str(SEARCHED)).stdout)
-    routes = routes_of(shown, same_pipeline, preset)
-    stages = route_stages()
+def found_routes(preset: str | None = None, root: Path = REPO) -> dict[str, dict[str, Any]]:
+    """name -> {rev, seed, commit, fingerprint} of the routes among the experiments of the
+    repository at `root` (routes_of), each with the pipeline it ran (route_snapshots.fingerprint of
+    its dvc.lock)."""
+    shown = json.loads(dvc("exp", "show", "--json", "-n", str(SEARCHED), root=root).stdout)
+    routes = routes_of(shown, lambda newer, older: same_pipeline(newer, older, root), preset)
+    stages = route_stages(root)
     for route in routes.values():
         route["commit"] = commit_of(shown, route["rev"])
-        route["fingerprint"] = fingerprint(lock_at(route["rev"]), stages)
+        route["fingerprint"] = fingerprint(lock_at(route["rev"], root), stages)
     return routes
 
 
-def routes_params(commit: str, preset: str | None) -> dict[str, Any]:
+def routes_params(commit: str, preset: str | None, root: Path = REPO) -> dict[str, Any]:
     """The routes' params but for synthetic.seed: the commit's params.yaml, with the preset's values."""
     params = yaml.safe_load(
         subprocess.run(
-            ["git", "show", f"{commit}:params.yaml"], cwd=REPO, capture_output=True, text=True, check=True
+            ["git", "show", f"{commit}:params.yaml"], cwd=root, capture_output=True, text=True, check=True
         ).stdout
     )
     return overlay(params, preset_changes(preset, PRESETS), f"{PRESETS / preset}.yaml") if preset else params
 
 
-def keep_routes(preset: str | None = None) -> list[Path]:
-    """Write every route among the experiments into docs/results/routes/ (tools.route_snapshots),
-    with the cost of the last `run`'s queue where it ran exactly these routes."""
-    routes = found_routes(preset)
+def keep_routes(preset: str | None = None, root: Path = REPO) -> list[Path]:
+    """Write every route among the experiments of the repository at `root` (this one, or a checkout
+    of an older commit that ran them) into this repository's docs/results/routes/
+    (tools.route_snapshots), with the cost of that repository's last `run` queue where it ran
+    exactly these routes."""
+    routes = found_routes(preset, root)
     if not routes:
-        raise SystemExit("replicate_routes: no route experiment to keep: run `replicate_routes.py run` first")
-    params = routes_params(next(iter(routes.values()))["commit"], preset)
+        raise SystemExit(
+            f"replicate_routes: no route experiment in {root} to keep: run `replicate_routes.py run` first"
+        )
+    params = routes_params(next(iter(routes.values()))["commit"], preset, root)
     evaluate = EvaluateConfig.from_params(params)
     outcomes = {
         "learners": params["learners"],
         "suffixes": [suffix for _, _, suffix in evaluations(evaluate)],
         "pairs": [pair_name(a, b) for a, b in available_pairs(params["data"]["seasons"], evaluate.pairs)],
     }
-    queue = {**queue_cost([route["seed"] for route in routes.values()], preset), "cpu": machine()["cpu"]}
+    queued = root / QUEUE.relative_to(REPO)
+    queue = {**queue_cost([route["seed"] for route in routes.values()], preset, queued), "cpu": machine()["cpu"]}
     kept = []
     with tempfile.TemporaryDirectory() as tmp:
         for index, (name, route) in enumerate(routes.items()):
             folder = Path(tmp) / f"route{index}"
-            fetch(route["rev"], folder)
+            fetch(route["rev"], folder, root)
             kept.append(keep(name, folder, {**route, "preset": preset, "queue": queue}, outcomes))
     return kept
 
@@ -404,11 +410,14 @@ def main() -> None:
     )
     parser.add_argument("--jobs", type=int, default=1, help="experiments run at a time (dvc queue start -j)")
     parser.add_argument("--preset", help="run every route with presets/PRESET.yaml's settings (e.g. every_place)")
+    parser.add_argument(
+        "--repo", type=Path, default=REPO, help="keep: the repository whose experiments are kept (default: this one)"
+    )
     args = parser.parse_args()
     if args.preset:
         preset_settings(args.preset)  # an unknown preset: one line naming it, before anything is queued
     if args.action == "keep":
-        for folder in keep_routes(args.preset):
+        for folder in keep_routes(args.preset, args.repo.resolve()):
             print(f"kept {folder.relative_to(REPO)}")
         return
     measured_on = {**machine(), "source": git_state()}

@@ -102,7 +102,7 @@ def route_stages(root: Path = REPO) -> list[str]:
 
     with Repo(str(root)) as repo:
         return [
-            stage.addressing
+            stage.name  # as dvc.yaml names it (addressing is relative to the working directory)
             for stage in repo.index.stages
             if any(
                 Path(out.def_path) == Path(path) or Path(path) in Path(out.def_path).parents

@@ -96,6 +96,16 @@ def test_routes_of_one_pipeline_differ_only_in_their_seed():
         "stage acquire: code src/seasonloop/data/synthetic"
     )
     assert difference(first, fingerprint(lock(7, n_keep=50), ["evaluate@pca"])) == "stage fit@pca: params"
+    # data a stage reads from outside the pipeline (pretrained models, descriptors) is part of it too
+    outside = lock(7)
+    outside["stages"]["fit@pca"]["deps"].append({"path": "data/nordland/models", "hash": "md5", "md5": "x.dir"})
+    other = lock(7)
+    other["stages"]["fit@pca"]["deps"].append({"path": "data/nordland/models", "hash": "md5", "md5": "y.dir"})
+    assert difference(fingerprint(outside, ["evaluate@pca"]), fingerprint(other, ["evaluate@pca"])) == (
+        "stage fit@pca: code data/nordland/models"
+    )
+    # a stage a route's lock does not have (a preset with fewer learners) is left out, not a KeyError
+    assert fingerprint(lock(0), ["evaluate@pca", "evaluate@hog"]) == first
     # a stage the routes do not run (the report) is not part of it
     changed = lock(7)
     changed["stages"]["report"]["deps"][1]["md5"] = "r2"
@@ -134,7 +144,8 @@ def test_collect_pools_kept_routes_with_experiments_of_the_same_pipeline_only(mo
     same = fingerprint(lock(0), ["evaluate@pca"])
 
     def route(seed: int, print_: dict, folder: bool) -> dict:
-        return {"seed": seed, "rev": f"{seed}" * 40, "commit": "c" * 40, "fingerprint": print_} | (
+        params = {"synthetic": {"seed": seed, "seconds": 300}, "learners": ["pca"]}
+        return {"seed": seed, "rev": f"{seed}" * 40, "commit": "c" * 40, "fingerprint": print_, "params": params} | (
             {"folder": tmp_path} if folder else {}
         )
 
@@ -148,4 +159,12 @@ def test_collect_pools_kept_routes_with_experiments_of_the_same_pipeline_only(mo
     assert "folder" not in routes["route-every_place-2"]
     kept["route-every_place-1"] = route(1, fingerprint(lock(1, n_keep=50), ["evaluate@pca"]), True)
     with pytest.raises(SystemExit, match="route-every_place-1 ran another pipeline than route-every_place-0 "):
+        replicate.all_routes("every_place")
+    kept["route-every_place-1"] = route(1, same, True) | {"params": {"synthetic": {"seed": 1}, "learners": ["ica"]}}
+    with pytest.raises(SystemExit, match=r"route-every_place-1 ran another pipeline .*\(params.yaml\)"):
+        replicate.all_routes("every_place")
+    # one seed kept twice (two checkouts' experiments): refused, not pooled twice
+    kept["route-every_place-1"] = route(1, same, True)
+    kept["route-every_place-1 (other)"] = route(1, same, True)
+    with pytest.raises(SystemExit, match="two routes of one seed"):
         replicate.all_routes("every_place")

@@ -47,7 +47,7 @@ from tqdm import tqdm
 from seasonloop.evaluation.matchers import evaluations
 from seasonloop.params.seasons import available_pairs, pair_name
 from seasonloop.params.settings import EvaluateConfig, StatisticsConfig
-from seasonloop.preset import overlay, preset_changes
+from seasonloop.preset import preset_changes
 from seasonloop.reporting.comparisons import comparisons_of, csv_reader
 from seasonloop.reporting.replicates import (
     claims_across_routes,
@@ -68,6 +68,7 @@ from tools.route_snapshots import (
     kept_routes,
     lock_at,
     npz_reader,
+    without_seed,
 )
 
 PREFIX = "route-"
@@ -267,17 +268,12 @@ def found_routes(preset: str | None = None, root: Path = REPO) -> dict[str, dict
     for route in routes.values():
         route["commit"] = commit_of(shown, route["rev"])
         route["fingerprint"] = fingerprint(lock_at(route["rev"], root), stages)
+        # the params the route ran with (an experiment's commit holds its -S settings)
+        shown_params = subprocess.run(
+            ["git", "show", f"{route['rev']}:params.yaml"], cwd=root, capture_output=True, text=True, check=True
+        )
+        route["params"] = yaml.safe_load(shown_params.stdout)
     return routes
-
-
-def routes_params(commit: str, preset: str | None, root: Path = REPO) -> dict[str, Any]:
-    """The routes' params but for synthetic.seed: the commit's params.yaml, with the preset's values."""
-    params = yaml.safe_load(
-        subprocess.run(
-            ["git", "show", f"{commit}:params.yaml"], cwd=root, capture_output=True, text=True, check=True
-        ).stdout
-    )
-    return overlay(params, preset_changes(preset, PRESETS), f"{PRESETS / preset}.yaml") if preset else params
 
 
 def keep_routes(preset: str | None = None, root: Path = REPO) -> list[Path]:
@@ -290,7 +286,7 @@ def keep_routes(preset: str | None = None, root: Path = REPO) -> list[Path]:
         raise SystemExit(
             f"replicate_routes: no route experiment in {root} to keep: run `replicate_routes.py run` first"
         )
-    params = routes_params(next(iter(routes.values()))["commit"], preset, root)
+    params = next(iter(routes.values()))["params"]
     evaluate = EvaluateConfig.from_params(params)
     outcomes = {
         "learners": params["learners"],
@@ -323,8 +319,13 @@ def all_routes(preset: str | None) -> dict[str, dict[str, Any]]:
         )
     routes = dict(sorted(routes.items(), key=lambda item: (not item[0].endswith("(baseline)"), item[1]["seed"])))
     (first_name, first), *others = routes.items()
+    seeds = [route["seed"] for route in routes.values()]
+    if len(set(seeds)) < len(seeds):
+        raise SystemExit(f"replicate_routes: two routes of one seed among {', '.join(routes)}: keep one")
     for name, route in others:
         differs = difference(first["fingerprint"], route["fingerprint"])
+        if differs is None and without_seed(first["params"]) != without_seed(route["params"]):
+            differs = "params.yaml"
         if differs:
             raise SystemExit(f"replicate_routes: {name} ran another pipeline than {first_name} ({differs}): not pooled")
     return routes
@@ -332,7 +333,7 @@ def all_routes(preset: str | None) -> dict[str, dict[str, Any]]:
 
 def collect(measured_on: dict[str, Any], preset: str | None = None) -> Path:
     routes = all_routes(preset)
-    params = routes_params(next(iter(routes.values()))["commit"], preset)
+    params = next(iter(routes.values()))["params"]  # every route's, but the seed (all_routes)
     evaluate = EvaluateConfig.from_params(params)
     settings = StatisticsConfig.from_params(params)
     seasons = params["data"]["seasons"]

@@ -33,7 +33,7 @@ SUMMARY, TRAINING = "metrics/summary.json", "metrics/training_seasons.json"
 CODE = ("src/", "stages/")  # a stage's dependencies that are code (the rest are other stages' outputs)
 
 
-def _without_seed(params: Mapping[str, Any]) -> dict[str, Any]:
+def without_seed(params: Mapping[str, Any]) -> dict[str, Any]:
     """A stage's params from dvc.lock but the route's seed (declared as the section `synthetic` or
     as `synthetic.seed`)."""
     kept = {key: value for key, value in params.items() if key != "synthetic.seed"}
@@ -65,18 +65,30 @@ def upstream(lock: Mapping[str, Any], stages: Iterable[str]) -> list[str]:
 
 
 def fingerprint(lock: Mapping[str, Any], stages: Iterable[str]) -> dict[str, dict[str, Any]]:
-    """stage -> {cmd, code: {path: md5}, params} of `stages` and the stages upstream of them in a
-    route's dvc.lock, its seed left out: what two routes must share to pool as one set."""
+    """stage -> {cmd, code: {path: its hash entry}, params} of `stages` (those the lock has) and the
+    stages upstream of them in a route's dvc.lock, its seed left out: what two routes must share to
+    pool as one set. "code" holds every dependency no stage of the lock writes (code under src/ and
+    stages/, and data from outside: data/nordland/...); one another stage writes is followed upstream."""
     entries = lock["stages"]
+    written = [out["path"] for entry in entries.values() for out in entry.get("outs", [])]
+
+    def from_outside(path: str) -> bool:
+        return path.startswith(CODE) or not any(
+            path == out or path.startswith(out.rstrip("/") + "/") or out.startswith(path.rstrip("/") + "/")
+            for out in written
+        )
+
     return {
         name: {
             "cmd": entries[name]["cmd"],
             "code": {
-                dep["path"]: dep.get("md5") for dep in entries[name].get("deps", []) if dep["path"].startswith(CODE)
+                dep["path"]: {key: value for key, value in dep.items() if key != "path"}
+                for dep in entries[name].get("deps", [])
+                if from_outside(dep["path"])
             },
-            "params": {file: _without_seed(values) for file, values in entries[name].get("params", {}).items()},
+            "params": {file: without_seed(values) for file, values in entries[name].get("params", {}).items()},
         }
-        for name in upstream(lock, stages)
+        for name in upstream(lock, [stage for stage in stages if stage in entries])
     }
 
 
@@ -152,7 +164,8 @@ def keep(name: str, fetched: Path, route: Mapping[str, Any], outcomes: Mapping[s
             outcomes["pairs"],
         )
         (staged / "route.json").write_text(json.dumps(route, indent=1, sort_keys=True) + "\n")
-        shutil.rmtree(target, ignore_errors=True)
+        if target.exists():  # the route kept before stays until the new one is in place
+            target.rename(Path(tmp) / "replaced")
         staged.rename(target)
     return target
 

@@ -66,9 +66,9 @@ from tools.route_snapshots import (
     fingerprint,
     keep,
     kept_routes,
-    lock_at,
     npz_reader,
     without_seed,
+    yaml_at,
 )
 
 PREFIX = "route-"
@@ -259,7 +259,7 @@ def fetch(rev: str, folder: Path, root: Path = REPO) -> None:
 
 
 def found_routes(preset: str | None = None, root: Path = REPO) -> dict[str, dict[str, Any]]:
-    """name -> {rev, seed, commit, fingerprint} of the routes among the experiments of the
+    """name -> {rev, seed, commit, fingerprint, params} of the routes among the experiments of the
     repository at `root` (routes_of), each with the pipeline it ran (route_snapshots.fingerprint of
     its dvc.lock)."""
     shown = json.loads(dvc("exp", "show", "--json", "-n", str(SEARCHED), root=root).stdout)
@@ -267,12 +267,8 @@ def found_routes(preset: str | None = None, root: Path = REPO) -> dict[str, dict
     stages = route_stages(root)
     for route in routes.values():
         route["commit"] = commit_of(shown, route["rev"])
-        route["fingerprint"] = fingerprint(lock_at(route["rev"], root), stages)
-        # the params the route ran with (an experiment's commit holds its -S settings)
-        shown_params = subprocess.run(
-            ["git", "show", f"{route['rev']}:params.yaml"], cwd=root, capture_output=True, text=True, check=True
-        )
-        route["params"] = yaml.safe_load(shown_params.stdout)
+        route["fingerprint"] = fingerprint(yaml_at(route["rev"], "dvc.lock", root), stages)
+        route["params"] = yaml_at(route["rev"], "params.yaml", root)  # with an experiment's -S settings
     return routes
 
 

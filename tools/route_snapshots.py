@@ -7,7 +7,7 @@ docs/results/routes/<route>/, which git carries: its metrics/summary.json and
 metrics/training_seasons.json, its per-query outcomes as outcomes.npz (each pair's query places
 and, per learner and evaluation, which queries were right: the columns the paired tests read;
 seasonloop.reporting.comparisons) and route.json (seed, preset, experiment, commit, and the
-pipeline it ran: `fingerprint`). `collect` pools kept routes with the experiments it finds when
+pipeline it ran: `fingerprint`, and the params it ran with). `collect` pools kept routes with the experiments it finds when
 every fingerprint is the same, and refuses one that differs with a line naming the route, the stage
 and what differs.
 """
@@ -30,7 +30,7 @@ from tools.repository import REPO
 
 KEPT = REPO / "docs" / "results" / "routes"
 SUMMARY, TRAINING = "metrics/summary.json", "metrics/training_seasons.json"
-CODE = ("src/", "stages/")  # a stage's dependencies that are code (the rest are other stages' outputs)
+CODE = ("src/", "stages/")  # a stage's dependencies that are code (always part of the fingerprint)
 
 
 def without_seed(params: Mapping[str, Any]) -> dict[str, Any]:
@@ -42,12 +42,14 @@ def without_seed(params: Mapping[str, Any]) -> dict[str, Any]:
     return kept
 
 
+def overlap(out: str, dep: str) -> bool:
+    """Whether a stage that writes path `out` writes some of what path `dep` reads (the same path,
+    one inside the other)."""
+    return dep == out or dep.startswith(out.rstrip("/") + "/") or out.startswith(dep.rstrip("/") + "/")
+
+
 def upstream(lock: Mapping[str, Any], stages: Iterable[str]) -> list[str]:
     """`stages` and every stage of a dvc.lock whose outputs they read, directly or not, sorted."""
-
-    def feeds(out: str, dep: str) -> bool:
-        return dep == out or dep.startswith(out.rstrip("/") + "/") or out.startswith(dep.rstrip("/") + "/")
-
     entries = lock["stages"]
     found, todo = set(), list(stages)
     while todo:
@@ -59,7 +61,7 @@ def upstream(lock: Mapping[str, Any], stages: Iterable[str]) -> list[str]:
         todo += [
             other
             for other, entry in entries.items()
-            if any(feeds(out["path"], dep) for out in entry.get("outs", []) for dep in deps)
+            if any(overlap(out["path"], dep) for out in entry.get("outs", []) for dep in deps)
         ]
     return sorted(found)
 
@@ -73,10 +75,7 @@ def fingerprint(lock: Mapping[str, Any], stages: Iterable[str]) -> dict[str, dic
     written = [out["path"] for entry in entries.values() for out in entry.get("outs", [])]
 
     def from_outside(path: str) -> bool:
-        return path.startswith(CODE) or not any(
-            path == out or path.startswith(out.rstrip("/") + "/") or out.startswith(path.rstrip("/") + "/")
-            for out in written
-        )
+        return path.startswith(CODE) or not any(overlap(out, path) for out in written)
 
     return {
         name: {
@@ -92,11 +91,11 @@ def fingerprint(lock: Mapping[str, Any], stages: Iterable[str]) -> dict[str, dic
     }
 
 
-def lock_at(rev: str, root: Path = REPO) -> dict[str, Any]:
-    """The dvc.lock of a git revision (an experiment's commit, or a branch's)."""
-    shown = subprocess.run(["git", "show", f"{rev}:dvc.lock"], cwd=root, capture_output=True, text=True)
+def yaml_at(rev: str, path: str, root: Path = REPO) -> dict[str, Any]:
+    """A YAML file of a git revision (an experiment's dvc.lock or params.yaml)."""
+    shown = subprocess.run(["git", "show", f"{rev}:{path}"], cwd=root, capture_output=True, text=True)
     if shown.returncode:
-        raise SystemExit(f"replicate_routes: no dvc.lock at {rev[:7]}: {shown.stderr.strip()}")
+        raise SystemExit(f"replicate_routes: no {path} at {rev[:7]}: {shown.stderr.strip()}")
     return yaml.safe_load(shown.stdout)
 
 
@@ -147,7 +146,7 @@ def npz_reader(path: Path) -> Reader:
 
 def keep(name: str, fetched: Path, route: Mapping[str, Any], outcomes: Mapping[str, Sequence[str]]) -> Path:
     """Write route `name` (its outputs fetched into `fetched`; route: seed, preset, rev, commit,
-    fingerprint) into KEPT/name, replacing a route kept before under that name; outcomes: the
+    fingerprint, params, queue) into KEPT/name, replacing a route kept before under that name; outcomes: the
     learners, evaluation suffixes and pairs whose outcomes the record reads."""
     target = KEPT / name
     KEPT.mkdir(parents=True, exist_ok=True)

@@ -104,11 +104,29 @@ def test_max_epochs_and_budget_stop_without_converging():
 
 def test_training_is_reproducible_and_leaves_the_global_rng_alone():
     train, validation = images(64, 0), images(16, 1)
+    # built first: small_autoencoder seeds the global generator itself
+    models = small_autoencoder(), small_autoencoder()
     state = torch.random.get_rng_state()
-    first = train_until_plateau(small_autoencoder(), train, validation, config(max_epochs=3), CPU, progress=False)
+    first = train_until_plateau(models[0], train, validation, config(max_epochs=3), CPU, progress=False)
     assert torch.equal(state, torch.random.get_rng_state())
-    second = train_until_plateau(small_autoencoder(), train, validation, config(max_epochs=3), CPU, progress=False)
+    second = train_until_plateau(models[1], train, validation, config(max_epochs=3), CPU, progress=False)
     assert first.validation_loss == second.validation_loss
+
+
+def test_training_asks_for_deterministic_kernels_and_restores_the_callers_choice():
+    assert not torch.are_deterministic_algorithms_enabled()
+    with _training.deterministic_algorithms(CPU):
+        assert torch.are_deterministic_algorithms_enabled()
+        assert not torch.is_deterministic_algorithms_warn_only_enabled()  # on the CPU a kernel without one raises
+        assert torch.backends.cudnn.deterministic and not torch.backends.cudnn.benchmark
+    assert not torch.are_deterministic_algorithms_enabled() and not torch.backends.cudnn.deterministic
+    torch.use_deterministic_algorithms(True, warn_only=True)
+    try:
+        with _training.deterministic_algorithms(torch.device("cuda")):
+            assert torch.is_deterministic_algorithms_warn_only_enabled()  # CUDA: some kernels only warn
+        assert torch.are_deterministic_algorithms_enabled() and torch.is_deterministic_algorithms_warn_only_enabled()
+    finally:
+        torch.use_deterministic_algorithms(False)
 
 
 def test_precision_choice(monkeypatch):

@@ -168,3 +168,30 @@ def test_collect_pools_kept_routes_with_experiments_of_the_same_pipeline_only(mo
     kept["route-every_place-1 (other)"] = route(1, same, True)
     with pytest.raises(SystemExit, match="two routes of one seed"):
         replicate.all_routes("every_place")
+
+
+def test_a_kept_route_names_the_queue_that_ran_it_and_the_line_counts_that_queue(tmp_path):
+    import tools.replicate_routes as replicate
+
+    saved = tmp_path / "queue.json"
+    saved.write_text(json.dumps({"seeds": [3, 2], "jobs": 1, "seconds": 7200.0, "preset": "every_place"}))
+    # other experiments in the repository (routes 0 and 1, from an earlier queue) do not matter
+    assert replicate.queue_of(2, "every_place", saved)["seeds"] == [2, 3]
+    assert replicate.queue_of(2, "every_place", saved)["queue_seconds"] == 7200.0
+    assert replicate.queue_of(0, "every_place", saved)["queue_seconds"] is None  # another queue ran it
+    assert replicate.queue_of(2, None, saved)["queue_seconds"] is None  # not under this preset
+    assert replicate.queue_of(2, "every_place", tmp_path / "none.json")["seeds"] is None
+    cpu = "AMD EPYC"
+    timed = {**replicate.queue_of(2, "every_place", saved), "cpu": cpu}
+    untimed = {**replicate.queue_of(0, "every_place", saved), "cpu": cpu}
+    record = {
+        "preset": "every_place",
+        "machine": {"cpu": cpu},
+        "routes": {
+            f"route-every_place-{seed}": {"seed": seed, "commit": "93e7ecc" + "0" * 33, "kept": True, "queue": queue}
+            for seed, queue in ((0, untimed), (1, untimed), (2, timed))
+        },
+    }
+    line = replicate._routes_line(record)
+    assert "seed 0, 1 run at 93e7ecc (kept in docs/results/routes/);" in line
+    assert "seed 2 run at 93e7ecc (kept in docs/results/routes/): the queue of 2 routes took 120 min" in line

@@ -184,6 +184,9 @@ def queue_routes(seeds: list[int], jobs: int, stages: list[str], preset: str | N
     return time.monotonic() - started, ran
 
 
+QUEUE_TIMED = "by `replicate_routes.py run`, from `dvc queue start` to an empty queue"
+
+
 def queue_cost(seeds: list[int], preset: str | None = None, saved: Path = QUEUE) -> dict[str, Any]:
     """{queue_seconds, jobs, queue_timed (how)} of the last `run` when it queued exactly the routes
     of `seeds` that are experiments (every seed but the first, the baseline's; under a preset every
@@ -192,11 +195,7 @@ def queue_cost(seeds: list[int], preset: str | None = None, saved: Path = QUEUE)
     queued_routes = seeds if preset else seeds[1:]
     if sorted(queued.get("seeds", [])) != sorted(queued_routes) or queued.get("preset") != preset:
         return {"queue_seconds": None, "jobs": None, "queue_timed": None}
-    return {
-        "queue_seconds": queued["seconds"],
-        "jobs": queued["jobs"],
-        "queue_timed": queued.get("timed", "by `replicate_routes.py run`, from `dvc queue start` to an empty queue"),
-    }
+    return {"queue_seconds": queued["seconds"], "jobs": queued["jobs"], "queue_timed": queued.get("timed", QUEUE_TIMED)}
 
 
 def routes_of(
@@ -275,8 +274,8 @@ def found_routes(preset: str | None = None, root: Path = REPO) -> dict[str, dict
 def keep_routes(preset: str | None = None, root: Path = REPO) -> list[Path]:
     """Write every route among the experiments of the repository at `root` (this one, or a checkout
     of an older commit that ran them) into this repository's docs/results/routes/
-    (tools.route_snapshots), with the cost of that repository's last `run` queue where it ran
-    exactly these routes."""
+    (tools.route_snapshots), each with the cost of that repository's last `run` queue where that
+    queue ran it (queue_of)."""
     routes = found_routes(preset, root)
     if not routes:
         raise SystemExit(
@@ -290,14 +289,29 @@ def keep_routes(preset: str | None = None, root: Path = REPO) -> list[Path]:
         "pairs": [pair_name(a, b) for a, b in available_pairs(params["data"]["seasons"], evaluate.pairs)],
     }
     queued = root / QUEUE.relative_to(REPO)
-    queue = {**queue_cost([route["seed"] for route in routes.values()], preset, queued), "cpu": machine()["cpu"]}
     kept = []
     with tempfile.TemporaryDirectory() as tmp:
         for index, (name, route) in enumerate(routes.items()):
             folder = Path(tmp) / f"route{index}"
             fetch(route["rev"], folder, root)
+            queue = {**queue_of(route["seed"], preset, queued), "cpu": machine()["cpu"]}
             kept.append(keep(name, folder, {**route, "preset": preset, "queue": queue}, outcomes))
     return kept
+
+
+def queue_of(seed: int, preset: str | None, saved: Path) -> dict[str, Any]:
+    """{seeds, queue_seconds, jobs, queue_timed} of the last `run`'s queue (saved) when it ran the
+    route of `seed` under `preset`, else None for each: a kept route names the queue it ran in,
+    whatever other experiments the repository holds."""
+    queued = json.loads(saved.read_text()) if saved.is_file() else {}
+    if seed not in queued.get("seeds", []) or queued.get("preset") != preset:
+        return {"seeds": None, "queue_seconds": None, "jobs": None, "queue_timed": None}
+    return {
+        "seeds": sorted(queued["seeds"]),
+        "queue_seconds": queued["seconds"],
+        "jobs": queued["jobs"],
+        "queue_timed": queued.get("timed", QUEUE_TIMED),
+    }
 
 
 def all_routes(preset: str | None) -> dict[str, dict[str, Any]]:
@@ -435,15 +449,18 @@ def _routes_line(record: dict) -> str:
     seeds = ", ".join(str(route["seed"]) for route in routes)
     preset = record.get("preset")
     under = f", each with preset {preset} (`--preset {preset}`)" if preset else ""
-    runs: dict[tuple[str, bool], list[dict]] = {}  # (commit, kept) -> its routes; older records name no commit
+    # (commit, kept, the seeds of a kept route's queue) -> its routes; older records name no commit
+    runs: dict[tuple[str, bool, tuple], list[dict]] = {}
     for route in routes:
         if route.get("commit"):
-            runs.setdefault((route["commit"][:7], route["kept"]), []).append(route)
+            queued = tuple((route.get("queue") or {}).get("seeds") or ()) if route["kept"] else ()
+            runs.setdefault((route["commit"][:7], route["kept"], queued), []).append(route)
     parts = []
-    for (commit, kept), ran in runs.items():
+    for (commit, kept, queued), ran in runs.items():
         queue = (ran[0]["queue"] or {}) if kept else record
+        count = len(queued) if kept else len(ran)  # a kept route's queue may have run routes not read here
         cost = _queue_phrase(
-            f"{len(ran)} routes",
+            f"{count} route{'s' if count > 1 else ''}",
             queue.get("queue_seconds"),
             queue.get("jobs"),
             queue.get("cpu") or record["machine"]["cpu"],
@@ -454,8 +471,8 @@ def _routes_line(record: dict) -> str:
             + (f": {cost}" if cost else "")
         )
     if not runs:
-        queued = len(routes) - (0 if preset else 1)
-        what = f"the {queued} {'' if preset else 'extra '}routes"
+        extra = len(routes) - (0 if preset else 1)
+        what = f"the {extra} {'' if preset else 'extra '}routes"
         cost = _queue_phrase(what, record.get("queue_seconds"), record.get("jobs"), record["machine"]["cpu"])
         parts = [cost] if cost else []
     return f"{len(routes)} routes (synthetic.seed {seeds}){under}" + "".join(f"; {part}" for part in parts) + "."

@@ -185,17 +185,31 @@ def queue_routes(seeds: list[int], jobs: int, stages: list[str], preset: str | N
 
 
 QUEUE_TIMED = "by `replicate_routes.py run`, from `dvc queue start` to an empty queue"
+UNTIMED = {"queue_seconds": None, "jobs": None, "queue_timed": None}
+
+
+def saved_queue(saved: Path) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The last `run`'s queue file (saved; {} when there is none) and its cost {queue_seconds, jobs,
+    queue_timed (how)}."""
+    queued = json.loads(saved.read_text()) if saved.is_file() else {}
+    if not queued:
+        return queued, dict(UNTIMED)
+    return queued, {
+        "queue_seconds": queued["seconds"],
+        "jobs": queued["jobs"],
+        "queue_timed": queued.get("timed", QUEUE_TIMED),
+    }
 
 
 def queue_cost(seeds: list[int], preset: str | None = None, saved: Path = QUEUE) -> dict[str, Any]:
     """{queue_seconds, jobs, queue_timed (how)} of the last `run` when it queued exactly the routes
     of `seeds` that are experiments (every seed but the first, the baseline's; under a preset every
     seed) with that preset, else None for each."""
-    queued = json.loads(saved.read_text()) if saved.is_file() else {}
+    queued, cost = saved_queue(saved)
     queued_routes = seeds if preset else seeds[1:]
     if sorted(queued.get("seeds", [])) != sorted(queued_routes) or queued.get("preset") != preset:
-        return {"queue_seconds": None, "jobs": None, "queue_timed": None}
-    return {"queue_seconds": queued["seconds"], "jobs": queued["jobs"], "queue_timed": queued.get("timed", QUEUE_TIMED)}
+        return dict(UNTIMED)
+    return cost
 
 
 def routes_of(
@@ -288,13 +302,13 @@ def keep_routes(preset: str | None = None, root: Path = REPO) -> list[Path]:
         "suffixes": [suffix for _, _, suffix in evaluations(evaluate)],
         "pairs": [pair_name(a, b) for a, b in available_pairs(params["data"]["seasons"], evaluate.pairs)],
     }
-    queued = root / QUEUE.relative_to(REPO)
+    queued, cpu = root / QUEUE.relative_to(REPO), machine()["cpu"]
     kept = []
     with tempfile.TemporaryDirectory() as tmp:
         for index, (name, route) in enumerate(routes.items()):
             folder = Path(tmp) / f"route{index}"
             fetch(route["rev"], folder, root)
-            queue = {**queue_of(route["seed"], preset, queued), "cpu": machine()["cpu"]}
+            queue = {**queue_of(route["seed"], preset, queued), "cpu": cpu}
             kept.append(keep(name, folder, {**route, "preset": preset, "queue": queue}, outcomes))
     return kept
 
@@ -303,15 +317,10 @@ def queue_of(seed: int, preset: str | None, saved: Path) -> dict[str, Any]:
     """{seeds, queue_seconds, jobs, queue_timed} of the last `run`'s queue (saved) when it ran the
     route of `seed` under `preset`, else None for each: a kept route names the queue it ran in,
     whatever other experiments the repository holds."""
-    queued = json.loads(saved.read_text()) if saved.is_file() else {}
+    queued, cost = saved_queue(saved)
     if seed not in queued.get("seeds", []) or queued.get("preset") != preset:
-        return {"seeds": None, "queue_seconds": None, "jobs": None, "queue_timed": None}
-    return {
-        "seeds": sorted(queued["seeds"]),
-        "queue_seconds": queued["seconds"],
-        "jobs": queued["jobs"],
-        "queue_timed": queued.get("timed", QUEUE_TIMED),
-    }
+        return {"seeds": None, **UNTIMED}
+    return {"seeds": sorted(queued["seeds"]), **cost}
 
 
 def all_routes(preset: str | None) -> dict[str, dict[str, Any]]:

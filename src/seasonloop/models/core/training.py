@@ -26,7 +26,10 @@ def deterministic_algorithms(device: torch.device) -> Iterator[None]:
     """Ask torch for deterministic kernels while training, then restore the caller's settings.
 
     On CUDA some kernels (e.g. nearest-upsampling backward) have no deterministic version, so
-    there torch only warns instead of raising.
+    there torch only warns instead of raising. Set through torch._C, the setter that
+    torch.use_deterministic_algorithms calls after importing torch._inductor's config only to set
+    its flag for torch.compile, which no learner uses: that import costs ~1.1 s of CPU in every
+    process that trains (AMD EPYC Zen 4), more than a tiny run's whole fit.
     """
     previous = (
         torch.are_deterministic_algorithms_enabled(),
@@ -34,12 +37,12 @@ def deterministic_algorithms(device: torch.device) -> Iterator[None]:
         torch.backends.cudnn.deterministic,
         torch.backends.cudnn.benchmark,
     )
-    torch.use_deterministic_algorithms(True, warn_only=device.type != "cpu")
+    torch._C._set_deterministic_algorithms(True, warn_only=device.type != "cpu")
     torch.backends.cudnn.deterministic, torch.backends.cudnn.benchmark = True, False
     try:
         yield
     finally:
-        torch.use_deterministic_algorithms(previous[0], warn_only=previous[1])
+        torch._C._set_deterministic_algorithms(previous[0], warn_only=previous[1])
         torch.backends.cudnn.deterministic, torch.backends.cudnn.benchmark = previous[2:]
 
 

@@ -174,19 +174,19 @@ def test_a_kept_route_names_the_queue_that_ran_it_and_the_line_counts_that_queue
     import tools.replicate_routes as replicate
 
     saved = tmp_path / "queue.json"
-    saved.write_text(json.dumps({"seeds": [3, 2], "jobs": 1, "seconds": 7200.0, "preset": "every_place"}))
+    queue = {"seeds": [3, 2], "jobs": 1, "seconds": 7200.0, "preset": "every_place", "cpu": "AMD EPYC"}
+    saved.write_text(json.dumps(queue))
     # other experiments in the repository (routes 0 and 1, from an earlier queue) do not matter
     assert replicate.queue_of(2, "every_place", saved)["seeds"] == [2, 3]
     assert replicate.queue_of(2, "every_place", saved)["queue_seconds"] == 7200.0
     assert replicate.queue_of(0, "every_place", saved)["queue_seconds"] is None  # another queue ran it
     assert replicate.queue_of(2, None, saved)["queue_seconds"] is None  # not under this preset
     assert replicate.queue_of(2, "every_place", tmp_path / "none.json")["seeds"] is None
-    cpu = "AMD EPYC"
-    timed = {**replicate.queue_of(2, "every_place", saved), "cpu": cpu}
-    untimed = {**replicate.queue_of(0, "every_place", saved), "cpu": cpu}
+    timed, untimed = replicate.queue_of(2, "every_place", saved), replicate.queue_of(0, "every_place", saved)
+    assert timed["queue_cpu"] == "AMD EPYC" and untimed["queue_cpu"] is None
     record = {
         "preset": "every_place",
-        "machine": {"cpu": cpu},
+        "machine": {"cpu": "Intel Xeon"},  # the machine that collects, not the one that ran the queue
         "routes": {
             f"route-every_place-{seed}": {"seed": seed, "commit": "93e7ecc" + "0" * 33, "kept": True, "queue": queue}
             for seed, queue in ((0, untimed), (1, untimed), (2, timed))
@@ -194,4 +194,7 @@ def test_a_kept_route_names_the_queue_that_ran_it_and_the_line_counts_that_queue
     }
     line = replicate._routes_line(record)
     assert "seed 0, 1 run at 93e7ecc (kept in docs/results/routes/);" in line
-    assert "seed 2 run at 93e7ecc (kept in docs/results/routes/): the queue of 2 routes took 120 min" in line
+    assert (
+        "seed 2 run at 93e7ecc (kept in docs/results/routes/): the queue of 2 routes took 120 min, 1 at a time, on AMD EPYC"
+        in line
+    )

@@ -185,12 +185,12 @@ def queue_routes(seeds: list[int], jobs: int, stages: list[str], preset: str | N
 
 
 QUEUE_TIMED = "by `replicate_routes.py run`, from `dvc queue start` to an empty queue"
-UNTIMED = {"queue_seconds": None, "jobs": None, "queue_timed": None}
+UNTIMED = {"queue_seconds": None, "jobs": None, "queue_timed": None, "queue_cpu": None}
 
 
 def saved_queue(saved: Path) -> tuple[dict[str, Any], dict[str, Any]]:
     """The last `run`'s queue file (saved; {} when there is none) and its cost {queue_seconds, jobs,
-    queue_timed (how)}."""
+    queue_timed (how), queue_cpu (the machine that ran it; None in a file from before it was kept)}."""
     queued = json.loads(saved.read_text()) if saved.is_file() else {}
     if not queued:
         return queued, dict(UNTIMED)
@@ -198,6 +198,7 @@ def saved_queue(saved: Path) -> tuple[dict[str, Any], dict[str, Any]]:
         "queue_seconds": queued["seconds"],
         "jobs": queued["jobs"],
         "queue_timed": queued.get("timed", QUEUE_TIMED),
+        "queue_cpu": queued.get("cpu"),
     }
 
 
@@ -302,13 +303,13 @@ def keep_routes(preset: str | None = None, root: Path = REPO) -> list[Path]:
         "suffixes": [suffix for _, _, suffix in evaluations(evaluate)],
         "pairs": [pair_name(a, b) for a, b in available_pairs(params["data"]["seasons"], evaluate.pairs)],
     }
-    queued, cpu = root / QUEUE.relative_to(REPO), machine()["cpu"]
+    queued = root / QUEUE.relative_to(REPO)
     kept = []
     with tempfile.TemporaryDirectory() as tmp:
         for index, (name, route) in enumerate(routes.items()):
             folder = Path(tmp) / f"route{index}"
             fetch(route["rev"], folder, root)
-            queue = {**queue_of(route["seed"], preset, queued), "cpu": cpu}
+            queue = queue_of(route["seed"], preset, queued)
             kept.append(keep(name, folder, {**route, "preset": preset, "queue": queue}, outcomes))
     return kept
 
@@ -411,10 +412,12 @@ def collect(measured_on: dict[str, Any], preset: str | None = None) -> Path:
     return write_result("replicate_routes", record, measured_on)
 
 
-def save_queue(seeds: list[int], jobs: int, seconds: float, preset: str | None = None) -> None:
-    """The queue's cost, kept apart so that a later `collect` reports it (QUEUE)."""
+def save_queue(seeds: list[int], jobs: int, seconds: float, cpu: str, preset: str | None = None) -> None:
+    """The queue's cost and the CPU that ran it, kept apart so that a later `collect` or `keep`
+    (on another machine, too) reports them (QUEUE)."""
     QUEUE.parent.mkdir(parents=True, exist_ok=True)
-    QUEUE.write_text(json.dumps({"seeds": seeds, "jobs": jobs, "seconds": seconds, "preset": preset}) + "\n")
+    queue = {"seeds": seeds, "jobs": jobs, "seconds": seconds, "preset": preset, "cpu": cpu}
+    QUEUE.write_text(json.dumps(queue) + "\n")
 
 
 def main() -> None:
@@ -443,7 +446,7 @@ def main() -> None:
     measured_on = {**machine(), "source": git_state()}
     if args.action == "run":
         seconds, ran = queue_routes(args.seeds, args.jobs, route_stages(), args.preset)
-        save_queue(ran, args.jobs, seconds, args.preset)
+        save_queue(ran, args.jobs, seconds, measured_on["cpu"], args.preset)
     print(collect(measured_on, args.preset))
 
 
@@ -468,11 +471,10 @@ def _routes_line(record: dict) -> str:
     for (commit, kept, queued), ran in runs.items():
         queue = (ran[0]["queue"] or {}) if kept else record
         count = len(queued) if kept else len(ran)  # a kept route's queue may have run routes not read here
+        # the CPU that ran the queue (a record from before queue_cpu names the collecting machine, as it did)
+        cpu = queue.get("queue_cpu") or ("a CPU not recorded" if kept else record["machine"]["cpu"])
         cost = _queue_phrase(
-            f"{count} route{'s' if count > 1 else ''}",
-            queue.get("queue_seconds"),
-            queue.get("jobs"),
-            queue.get("cpu") or record["machine"]["cpu"],
+            f"{count} route{'s' if count > 1 else ''}", queue.get("queue_seconds"), queue.get("jobs"), cpu
         )
         where = " (kept in docs/results/routes/)" if kept else ""
         parts.append(
@@ -482,7 +484,8 @@ def _routes_line(record: dict) -> str:
     if not runs:
         extra = len(routes) - (0 if preset else 1)
         what = f"the {extra} {'' if preset else 'extra '}routes"
-        cost = _queue_phrase(what, record.get("queue_seconds"), record.get("jobs"), record["machine"]["cpu"])
+        cpu = record.get("queue_cpu") or record["machine"]["cpu"]
+        cost = _queue_phrase(what, record.get("queue_seconds"), record.get("jobs"), cpu)
         parts = [cost] if cost else []
     return f"{len(routes)} routes (synthetic.seed {seeds}){under}" + "".join(f"; {part}" for part in parts) + "."
 

@@ -14,7 +14,7 @@ of params.yaml), the stage script's source is read (never run) to find:
   whose NAME is "x"), in the script and in the stages/_common.py helpers it calls; each must also
   be among the keys its load_params call checks before work starts.
 Each must be covered by a declared dep (a file, or a folder above it) or a declared param (the
-key or a parent of it; `params.yaml:` alone, or params.yaml as a file dep, covers every key).
+key or a parent of it; `params.yaml:` alone covers every key).
 """
 
 from __future__ import annotations
@@ -263,8 +263,6 @@ def resolved_stages() -> list[dict[str, Any]]:
                     params = None if not dep.params else params + list(dep.params)
                 else:
                     deps.append(Path(dep.def_path).as_posix())
-            if "params.yaml" in deps:  # the whole file, as a file: every key and the comments
-                params = None
             stages.append(
                 {"name": stage.addressing, "script": argv[1], "argv": argv[2:], "deps": deps, "params": params}
             )

@@ -198,3 +198,20 @@ def test_a_kept_route_names_the_queue_that_ran_it_and_the_line_counts_that_queue
         "seed 2 run at 93e7ecc (kept in docs/results/routes/): the queue of 2 routes took 120 min, 1 at a time, on AMD EPYC"
         in line
     )
+
+
+def test_a_queue_whose_stages_came_from_the_run_cache_is_not_timed(tmp_path):
+    import tools.replicate_routes as replicate
+
+    log = (
+        "Stage 'acquire' is cached - skipping run, checking out outputs\n"
+        "Running stage 'fit@cae':\n"
+        "Stage 'fit@pca' is cached - skipping run, checking out outputs\n"
+        "Stage 'split' didn't change, skipping\n"
+    )
+    assert replicate.restored_in(log) == ["acquire", "fit@pca"]
+    assert replicate.restored_in("Running stage 'acquire':\n") == []
+    saved = tmp_path / "queue.json"
+    saved.write_text(json.dumps({"seeds": [4], "jobs": 1, "seconds": None, "preset": "every_place", "cpu": "AMD"}))
+    queue = replicate.queue_of(4, "every_place", saved)
+    assert queue["seeds"] == [4] and queue["queue_seconds"] is None and queue["queue_cpu"] is None

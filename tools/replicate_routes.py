@@ -185,6 +185,15 @@ def queue_routes(seeds: list[int], jobs: int, stages: list[str], preset: str | N
 
 
 QUEUE_TIMED = "by `replicate_routes.py run`, from `dvc queue start` to an empty queue"
+RESTORED = " is cached - skipping run"  # DVC's log line of a stage whose outputs came from the run cache
+
+
+def restored_in(log: str) -> list[str]:
+    """The stages an experiment's log (`dvc queue logs`) says DVC restored from its run cache
+    instead of running them."""
+    return [line.split("'")[1] for line in log.splitlines() if RESTORED in line and line.count("'") >= 2]
+
+
 UNTIMED = {"queue_seconds": None, "jobs": None, "queue_timed": None, "queue_cpu": None}
 
 
@@ -192,7 +201,7 @@ def saved_queue(saved: Path) -> tuple[dict[str, Any], dict[str, Any]]:
     """The last `run`'s queue file (saved; {} when there is none) and its cost {queue_seconds, jobs,
     queue_timed (how), queue_cpu (the machine that ran it; None in a file from before it was kept)}."""
     queued = json.loads(saved.read_text()) if saved.is_file() else {}
-    if not queued:
+    if not queued or queued["seconds"] is None:
         return queued, dict(UNTIMED)
     return queued, {
         "queue_seconds": queued["seconds"],
@@ -412,9 +421,9 @@ def collect(measured_on: dict[str, Any], preset: str | None = None) -> Path:
     return write_result("replicate_routes", record, measured_on)
 
 
-def save_queue(seeds: list[int], jobs: int, seconds: float, cpu: str, preset: str | None = None) -> None:
-    """The queue's cost and the CPU that ran it, kept apart so that a later `collect` or `keep`
-    (on another machine, too) reports them (QUEUE)."""
+def save_queue(seeds: list[int], jobs: int, seconds: float | None, cpu: str, preset: str | None = None) -> None:
+    """The queue's cost (None: not a cost of its routes) and the CPU that ran it, kept apart so
+    that a later `collect` or `keep` (on another machine, too) reports them (QUEUE)."""
     QUEUE.parent.mkdir(parents=True, exist_ok=True)
     queue = {"seeds": seeds, "jobs": jobs, "seconds": seconds, "preset": preset, "cpu": cpu}
     QUEUE.write_text(json.dumps(queue) + "\n")
@@ -446,7 +455,16 @@ def main() -> None:
     measured_on = {**machine(), "source": git_state()}
     if args.action == "run":
         seconds, ran = queue_routes(args.seeds, args.jobs, route_stages(), args.preset)
-        save_queue(ran, args.jobs, seconds, measured_on["cpu"], args.preset)
+        # a stage restored from the run cache ran earlier, elsewhere: the queue's time is no route's cost
+        names = [route_name(seed, args.preset) for seed in ran]
+        restored = [f"{name}: {stage}" for name in names for stage in restored_in(dvc("queue", "logs", name).stdout)]
+        if restored:
+            print(
+                f"replicate_routes: {len(restored)} stages came from DVC's run cache ({restored[0]}, ...): "
+                "the queue's time is not recorded",
+                file=sys.stderr,
+            )
+        save_queue(ran, args.jobs, None if restored else seconds, measured_on["cpu"], args.preset)
     print(collect(measured_on, args.preset))
 
 

@@ -212,9 +212,9 @@ def saved_queue(saved: Path) -> tuple[dict[str, Any], dict[str, Any]]:
 
 
 def queue_cost(seeds: list[int], preset: str | None = None, saved: Path = QUEUE) -> dict[str, Any]:
-    """{queue_seconds, jobs, queue_timed (how)} of the last `run` when it queued exactly the routes
-    of `seeds` that are experiments (every seed but the first, the baseline's; under a preset every
-    seed) with that preset, else None for each."""
+    """{queue_seconds, jobs, queue_timed, queue_cpu} (saved_queue) of the last `run` when it queued
+    exactly the routes of `seeds` that are experiments (every seed but the first, the baseline's;
+    under a preset every seed) with that preset, else None for each."""
     queued, cost = saved_queue(saved)
     queued_routes = seeds if preset else seeds[1:]
     if sorted(queued.get("seeds", [])) != sorted(queued_routes) or queued.get("preset") != preset:
@@ -324,7 +324,7 @@ def keep_routes(preset: str | None = None, root: Path = REPO) -> list[Path]:
 
 
 def queue_of(seed: int, preset: str | None, saved: Path) -> dict[str, Any]:
-    """{seeds, queue_seconds, jobs, queue_timed} of the last `run`'s queue (saved) when it ran the
+    """{seeds, queue_seconds, jobs, queue_timed, queue_cpu} of the last `run`'s queue (saved) when it ran the
     route of `seed` under `preset`, else None for each: a kept route names the queue it ran in,
     whatever other experiments the repository holds."""
     queued, cost = saved_queue(saved)
